@@ -1,0 +1,46 @@
+# Pavilion quick start (Debian 12):
+#   make demo   installs dependencies, builds, runs the default scenario headless
+#   make test   installs dependencies, builds, runs the test suite
+# Other targets: build, format, format-check, asan-test, bench, clean.
+
+BUILD      ?= build
+ASAN_BUILD ?= build-asan
+JOBS       ?= $(shell nproc)
+SCENARIO   ?= scenarios/expo_visitors.yaml
+DEMO_OUT   ?= out/demo
+
+.PHONY: deps configure build demo test format format-check asan-test bench clean
+
+deps:
+	bash scripts/install-deps.sh
+
+configure: deps
+	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release
+
+build: configure
+	cmake --build $(BUILD) -j $(JOBS)
+
+demo: build
+	./$(BUILD)/pavilion run $(SCENARIO) --out $(DEMO_OUT)
+
+test: build
+	ctest --test-dir $(BUILD) --output-on-failure -j $(JOBS)
+
+format: configure
+	cmake --build $(BUILD) --target format
+
+format-check: configure
+	cmake --build $(BUILD) --target format-check
+
+# Unit tests under AddressSanitizer + UndefinedBehaviorSanitizer.
+asan-test: deps
+	cmake -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPAVILION_SANITIZE=ON \
+	  -DPAVILION_BUILD_BENCHMARKS=OFF
+	cmake --build $(ASAN_BUILD) -j $(JOBS)
+	ctest --test-dir $(ASAN_BUILD) --output-on-failure -j $(JOBS) -L unit
+
+bench: build
+	./$(BUILD)/tests/bench/physics_bench --benchmark_counters_tabular=true
+
+clean:
+	rm -rf $(BUILD) $(ASAN_BUILD) out

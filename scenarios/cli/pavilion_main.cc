@@ -1,0 +1,220 @@
+// The `pavilion` command line: run scenarios, validate input files, inspect worlds.
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "scenarios/data_paths.h"
+#include "scenarios/input_error.h"
+#include "scenarios/png.h"
+#include "scenarios/scenario.h"
+#include "scenarios/scenario_runner.h"
+#include "scenarios/validate.h"
+#include "scenarios/version.h"
+#include "scenarios/world_loader.h"
+#include "sim/top_down_view.h"
+#include "sim/world.h"
+
+namespace {
+
+using namespace pavilion;
+
+constexpr int kExitBadInput = 1;
+constexpr int kExitBadUsage = 2;
+
+bool ProgressWanted() { return ::isatty(STDERR_FILENO) == 1 && std::getenv("CI") == nullptr; }
+
+int Fail(const std::string& message) {
+  std::fprintf(stderr, "pavilion: error: %s\n", message.c_str());
+  return kExitBadInput;
+}
+
+struct RunArgs {
+  std::string scenario;
+  std::string out;
+  std::int64_t seed = -1;
+  double duration_s = -1.0;
+  std::vector<std::string> set;
+  int threads = 1;
+};
+
+int Run(const RunArgs& a) {
+  scenarios::ScenarioOverrides overrides;
+  if (a.seed >= 0) overrides.seed = static_cast<std::uint64_t>(a.seed);
+  if (a.duration_s > 0) overrides.duration_s = a.duration_s;
+  overrides.assignments = a.set;
+  const scenarios::Scenario scenario = scenarios::LoadScenarioFile(a.scenario, overrides);
+  spdlog::info("running '{}' in world '{}' for {} s, seed {}", scenario.name, scenario.world.name,
+               scenario.duration_s, scenario.seed);
+  scenarios::RunOptions options;
+  options.out_dir = a.out;
+  options.progress = ProgressWanted();
+  options.threads = a.threads;
+  const scenarios::RunSummary s = scenarios::RunScenario(scenario, options);
+  spdlog::info("simulated {:.1f} s in {:.2f} s wall ({:.1f}x real time), {} events",
+               s.sim_duration_s, s.wall_time_s, s.real_time_factor, s.events);
+  std::printf("report: %s\n",
+              (std::filesystem::path(a.out) / "report.html").lexically_normal().c_str());
+  return 0;
+}
+
+int Validate(const std::vector<std::string>& files) {
+  int bad = 0;
+  for (const std::string& file : files) {
+    const auto diagnostics = scenarios::ValidateFile(file);
+    for (const auto& d : diagnostics) std::fprintf(stderr, "%s\n", d.ToString().c_str());
+    if (diagnostics.empty()) {
+      std::printf("%s: ok\n", file.c_str());
+    } else {
+      ++bad;
+    }
+  }
+  if (bad > 0) {
+    std::fprintf(stderr, "pavilion: %d of %zu files have errors\n", bad, files.size());
+    return kExitBadInput;
+  }
+  return 0;
+}
+
+struct WorldArgs {
+  std::string world;
+  std::string png;
+  double z_m = 0.5;
+  int width_px = 1200;
+};
+
+int WorldRender(const WorldArgs& a) {
+  sim::World world(scenarios::LoadWorldFile(scenarios::ResolveWorldPath(a.world)), {});
+  sim::TopDownOptions options;
+  options.section_height_m = a.z_m;
+  options.width_px = a.width_px;
+  scenarios::WritePng(a.png, sim::RenderTopDown(world, {}, options));
+  std::printf("%s\n", a.png.c_str());
+  return 0;
+}
+
+int WorldInfo(const WorldArgs& a) {
+  const std::string path = scenarios::ResolveWorldPath(a.world);
+  sim::World world(scenarios::LoadWorldFile(path), {});
+  const auto& d = world.description();
+  const core::PlanarSection section = world.SectionAt(a.z_m);
+  std::printf("world %s (%s)\n", d.name.c_str(), path.c_str());
+  std::printf("  floor [%.2f, %.2f] x [%.2f, %.2f] m\n", d.floor.min_m.x(), d.floor.max_m.x(),
+              d.floor.min_m.y(), d.floor.max_m.y());
+  std::printf("  %zu walls, %zu boxes, %zu cylinders, %zu meshes, %zu doors, %zu places\n",
+              d.walls.size(), d.boxes.size(), d.cylinders.size(), d.meshes.size(), d.doors.size(),
+              d.places.size());
+  std::size_t visible = 0;
+  double visible_length = 0.0;
+  for (const auto& s : section.segments) {
+    if (section.elements[s.element].laser == core::LaserResponse::kTransparent) continue;
+    ++visible;
+    visible_length += (s.b_m - s.a_m).norm();
+  }
+  std::printf("  section at z = %.2f m: %zu segments (%zu laser-visible, %.1f m), %zu circles\n",
+              a.z_m, section.segments.size(), visible, visible_length, section.circles.size());
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  auto logger = spdlog::stderr_color_mt("pavilion");
+  spdlog::set_default_logger(logger);
+  spdlog::set_pattern("[%l] %v");
+
+  CLI::App app{"Pavilion: a physics-simulation testbed for fleets of mobile robots"};
+  app.require_subcommand(1);
+  app.footer(
+      "Examples:\n  pavilion run scenarios/expo_visitors.yaml --out out/demo\n"
+      "  pavilion validate worlds/*/world.yaml scenarios/*.yaml\n"
+      "  pavilion world render expo_hall --png hall.png");
+  std::string log_level = "info";
+  app.add_option("--log-level", log_level, "trace, debug, info, warn, error or off")
+      ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}))
+      ->capture_default_str();
+
+  RunArgs run_args;
+  auto* run = app.add_subcommand("run", "Run a scenario headless and write its outputs");
+  run->add_option("scenario", run_args.scenario, "Scenario file (YAML)")->required();
+  run->add_option("--out", run_args.out, "Output folder (created if missing)")->required();
+  run->add_option("--seed", run_args.seed, "Seed, replaces the scenario's")
+      ->check(CLI::NonNegativeNumber);
+  run->add_option("--duration", run_args.duration_s, "Simulated seconds, replaces the scenario's")
+      ->check(CLI::PositiveNumber);
+  run->add_option("--set", run_args.set, "Override a scenario key: key.path=value (repeatable)");
+  run->add_option("--threads", run_args.threads, "Worker threads for per-robot work")
+      ->check(CLI::Range(1, 256))
+      ->capture_default_str();
+  run->footer(
+      "Example:\n  pavilion run scenarios/expo_visitors.yaml --out out/demo --seed 3 "
+      "--duration 20 --set physics.rate_hz=100");
+
+  std::vector<std::string> validate_files;
+  auto* validate =
+      app.add_subcommand("validate", "Check world and scenario files, print every error");
+  validate->add_option("files", validate_files, "Files to check")->required();
+  validate->footer("Example:\n  pavilion validate worlds/*/world.yaml scenarios/*.yaml");
+
+  auto* version = app.add_subcommand("version", "Print the version");
+  version->footer("Example:\n  pavilion version");
+
+  WorldArgs world_args;
+  auto* world = app.add_subcommand("world", "Inspect a world");
+  world->require_subcommand(1);
+  auto* render = world->add_subcommand("render", "Draw a world from above into a PNG");
+  render->add_option("world", world_args.world, "World name (under worlds/) or path")->required();
+  render->add_option("--png", world_args.png, "PNG file to write")->required();
+  render->add_option("--z", world_args.z_m, "Height of the outlined section (m)")
+      ->capture_default_str();
+  render->add_option("--width", world_args.width_px, "Image width (px)")
+      ->check(CLI::Range(50, 8000))
+      ->capture_default_str();
+  render->footer("Example:\n  pavilion world render expo_hall --png hall.png --z 0.3");
+  auto* info = world->add_subcommand("info", "Summarize a world and its section at a height");
+  info->add_option("world", world_args.world, "World name (under worlds/) or path")->required();
+  info->add_option("--z", world_args.z_m, "Height of the section (m)")->capture_default_str();
+  info->footer("Example:\n  pavilion world info office_floor --z 0.3");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::fprintf(stderr, "pavilion: usage error: %s (see --help)\n", e.what());
+    return kExitBadUsage;
+  }
+  spdlog::set_level(spdlog::level::from_str(log_level));
+
+  try {
+    if (*run) return Run(run_args);
+    if (*validate) return Validate(validate_files);
+    if (*version) {
+      std::printf("pavilion %s\n", pavilion::kVersion);
+      return 0;
+    }
+    if (*render) return WorldRender(world_args);
+    if (*info) return WorldInfo(world_args);
+  } catch (const scenarios::InputError& e) {
+    for (std::size_t i = 1; i < e.diagnostics().size(); ++i) {
+      spdlog::debug("also: {}", e.diagnostics()[i].ToString());
+    }
+    std::string msg = e.what();
+    if (e.diagnostics().size() > 1) {
+      msg += " (and " + std::to_string(e.diagnostics().size() - 1) +
+             " more; run 'pavilion validate' to list all)";
+    }
+    return Fail(msg);
+  } catch (const std::exception& e) {
+    return Fail(e.what());
+  }
+  return kExitBadUsage;
+}

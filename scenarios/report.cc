@@ -1,0 +1,80 @@
+#include "scenarios/report.h"
+
+#include <sstream>
+
+#include "scenarios/png.h"
+
+namespace pavilion::scenarios {
+namespace {
+
+std::string Escape(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    switch (c) {
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
+    }
+  }
+  return out;
+}
+
+void Row(std::ostringstream& html, const std::string& name, const std::string& value) {
+  html << "<tr><th>" << Escape(name) << "</th><td>" << Escape(value) << "</td></tr>\n";
+}
+
+}  // namespace
+
+std::string RenderReportHtml(const Scenario& scenario, const nlohmann::ordered_json& metrics,
+                             const std::vector<std::uint8_t>& topdown_png) {
+  std::ostringstream html;
+  html
+      << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n"
+      << "<title>Pavilion run: " << Escape(scenario.name) << "</title>\n"
+      << "<style>body{font-family:sans-serif;max-width:1000px;margin:2em auto;color:#222}"
+         "table{border-collapse:collapse;margin:1em 0}th,td{border:1px solid #ccc;padding:4px 10px;"
+         "text-align:left}th{background:#f3f3f3}img{max-width:100%;border:1px solid #ccc}"
+         ".note{color:#666;font-size:90%}</style></head><body>\n";
+  html << "<h1>Pavilion run: " << Escape(scenario.name) << "</h1>\n";
+  if (!scenario.description.empty()) html << "<p>" << Escape(scenario.description) << "</p>\n";
+  html << "<table>\n";
+  Row(html, "scenario file", scenario.source_file);
+  Row(html, "world", scenario.world.name);
+  Row(html, "seed", std::to_string(scenario.seed));
+  Row(html, "simulated time (s)", metrics["sim_duration_s"].dump());
+  Row(html, "physics rate (Hz)", metrics["physics"]["rate_hz"].dump());
+  Row(html, "pavilion version", metrics["pavilion_version"].get<std::string>());
+  if (metrics.contains("bodies_summary")) {
+    const auto& b = metrics["bodies_summary"];
+    Row(html, "bodies", b["count"].dump());
+    Row(html, "distance travelled by all bodies (m)", b["distance_m"].dump());
+    Row(html, "collisions involving bodies", b["collisions"].dump());
+  }
+  html << "</table>\n<h2>Events</h2>\n<table>\n<tr><th>type</th><th>count</th></tr>\n";
+  for (const auto& [type, n] : metrics["events"].items()) {
+    html << "<tr><td>" << Escape(type) << "</td><td>" << n.dump() << "</td></tr>\n";
+  }
+  html << "</table>\n<h2>Top-down view at the end of the run</h2>\n"
+       << "<p class=\"note\">Footprints in material colours; black outline: the world cut at "
+       << scenario.outputs.section_height_m
+       << " m, what a laser at that height can meet (light blue: glass, which it cannot); "
+          "red: body trajectories; green: named places.</p>\n"
+       << "<img alt=\"top-down view\" src=\"data:image/png;base64," << Base64(topdown_png)
+       << "\">\n";
+  html << "<p class=\"note\">Files: metrics.json, performance.json (wall-clock figures), "
+          "events.jsonl, trajectories.csv, snapshots/.</p>\n</body></html>\n";
+  return html.str();
+}
+
+}  // namespace pavilion::scenarios

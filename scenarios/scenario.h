@@ -1,0 +1,72 @@
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "sim/body_motion.h"
+#include "sim/world.h"
+#include "sim/world_description.h"
+
+namespace pavilion::scenarios {
+
+// How a body moves: not at all by itself, a scripted profile, or a random walk.
+struct MotionSpec {
+  enum class Type { kNone, kScripted, kRandomWalk } type = Type::kNone;
+  sim::ScriptedMotionOptions scripted;
+  sim::RandomWalkOptions random_walk;
+};
+
+// A body of the scenario; groups are expanded into bodies at load time with
+// positions drawn later from the run's seeded stream.
+struct BodyEntry {
+  sim::BodySpec spec;
+  MotionSpec motion;
+  std::string spawn_area;  // place name (or key path of an inline polygon)
+  std::optional<core::Polygon2> spawn_polygon;
+};
+
+// A scripted event of the timeline.
+struct ScriptedEvent {
+  enum class Type { kPush, kTeleport, kDoor } type = Type::kPush;
+  double at_s = 0.0;
+  std::string target;  // body id (push, teleport) or door id
+  Eigen::Vector2d impulse_ns{0, 0};
+  core::Pose2 pose;
+  bool open = false;
+};
+
+struct OutputOptions {
+  double trajectory_rate_hz = 10.0;  // rows of trajectories.csv per body per s
+  double section_height_m = 0.5;     // height of the top-down picture's cut
+  int image_width_px = 900;          // top-down picture width
+};
+
+// A fully loaded, validated scenario.
+struct Scenario {
+  std::string name;
+  std::string description;
+  std::string source_file;
+  std::uint64_t seed = 1;
+  double duration_s = 60.0;
+  sim::WorldOptions physics;
+  sim::WorldDescription world;
+  std::vector<BodyEntry> bodies;
+  std::vector<ScriptedEvent> events;  // sorted by time, stable
+  OutputOptions outputs;
+};
+
+// Command-line adjustments applied before validation.
+struct ScenarioOverrides {
+  std::optional<std::uint64_t> seed;
+  std::optional<double> duration_s;
+  std::vector<std::string> assignments;  // "key.path=value"
+};
+
+// Reads and validates a scenario file and the world it names. Throws InputError
+// listing every problem (file:line: key.path: message).
+Scenario LoadScenarioFile(const std::string& path, const ScenarioOverrides& overrides = {});
+
+}  // namespace pavilion::scenarios

@@ -1,0 +1,312 @@
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <set>
+
+#include "scenarios/data_paths.h"
+#include "scenarios/scenario.h"
+#include "scenarios/world_loader.h"
+#include "scenarios/yaml_reader.h"
+
+namespace pavilion::scenarios {
+namespace {
+
+constexpr double kMaxDurationS = 1e7;
+constexpr double kMaxMassKg = 1e5;
+constexpr double kMaxBodySizeM = 100.0;
+constexpr std::int64_t kMaxGroupCount = 100000;
+
+std::string Index(const std::string& list, std::size_t i) {
+  return list + "[" + std::to_string(i) + "]";
+}
+
+std::optional<sim::BodyShape> ReadShape(YamlDocument* doc, MapReader& parent) {
+  MapReader r(doc, parent.Child("shape", true), parent.PathOf("shape"));
+  if (!r.valid()) return std::nullopt;
+  sim::BodyShape shape;
+  const std::string type = r.Choice("type", {"box", "cylinder", "sphere"}, "cylinder", true);
+  bool ok = true;
+  if (type == "box") {
+    shape.type = sim::BodyShapeType::kBox;
+    auto size = r.Numbers("size", 3, true);
+    if (size && size->at(0) > 0 && size->at(1) > 0 && size->at(2) > 0 &&
+        std::max({size->at(0), size->at(1), size->at(2)}) <= kMaxBodySizeM) {
+      shape.box_size_m = {(*size)[0], (*size)[1], (*size)[2]};
+    } else if (size) {
+      doc->Error(r.Child("size"), r.PathOf("size"), "every size must be in (0, 100] m");
+      ok = false;
+    } else {
+      ok = false;
+    }
+  } else if (type == "cylinder") {
+    shape.type = sim::BodyShapeType::kCylinder;
+    auto radius = r.RequiredNumber("radius", 1e-3, kMaxBodySizeM);
+    auto height = r.RequiredNumber("height", 1e-3, kMaxBodySizeM);
+    ok = radius && height;
+    if (ok) {
+      shape.radius_m = *radius;
+      shape.height_m = *height;
+    }
+  } else {
+    shape.type = sim::BodyShapeType::kSphere;
+    auto radius = r.RequiredNumber("radius", 1e-3, kMaxBodySizeM);
+    ok = radius.has_value();
+    if (ok) shape.radius_m = *radius;
+  }
+  r.Finish();
+  if (!ok) return std::nullopt;
+  return shape;
+}
+
+MotionSpec ReadMotion(YamlDocument* doc, MapReader& parent) {
+  MotionSpec motion;
+  YAML::Node node = parent.Child("motion");
+  if (!node.IsDefined()) return motion;
+  MapReader r(doc, node, parent.PathOf("motion"));
+  const std::string type = r.Choice("type", {"none", "scripted", "random_walk"}, "none", true);
+  if (type == "scripted") {
+    motion.type = MotionSpec::Type::kScripted;
+    motion.scripted.body_frame = r.Bool("body_frame", true);
+    motion.scripted.loop = r.Bool("loop", false);
+    YAML::Node segs = r.Child("segments", true);
+    if (segs.IsDefined() && (!segs.IsSequence() || segs.size() == 0)) {
+      doc->Error(segs, r.PathOf("segments"), "expected a non-empty list of segments");
+    } else if (segs.IsDefined()) {
+      for (std::size_t i = 0; i < segs.size(); ++i) {
+        MapReader s(doc, segs[i], Index(r.PathOf("segments"), i));
+        sim::VelocitySegment seg;
+        seg.duration_s = s.RequiredNumber("duration_s", 1e-6, kMaxDurationS).value_or(1.0);
+        if (auto v = s.Numbers("velocity", 2, false)) seg.velocity_mps = {(*v)[0], (*v)[1]};
+        seg.yaw_rate_radps = s.Number("yaw_rate", 0.0, -100.0, 100.0);
+        s.Finish();
+        motion.scripted.segments.push_back(seg);
+      }
+    }
+  } else if (type == "random_walk") {
+    motion.type = MotionSpec::Type::kRandomWalk;
+    auto& o = motion.random_walk;
+    o.speed_mps = r.Number("speed_mps", o.speed_mps, 0.0, 5.0);
+    o.mean_leg_s = r.Number("mean_leg_s", o.mean_leg_s, 1e-3, 1e4);
+  }
+  r.Finish();
+  return motion;
+}
+
+// Fields shared by single bodies and groups.
+void ReadBodyCommon(YamlDocument* doc, MapReader& r, const sim::WorldDescription& world,
+                    BodyEntry* entry) {
+  if (auto shape = ReadShape(doc, r)) entry->spec.shape = *shape;
+  entry->spec.mass_kg = r.RequiredNumber("mass_kg", 1e-3, kMaxMassKg).value_or(1.0);
+  if (auto m = r.RequiredString("material")) {
+    if (!world.materials.contains(*m)) {
+      doc->Error(r.Child("material"), r.PathOf("material"),
+                 "unknown material '" + *m + "' (not in the world or the scenario's materials)");
+    }
+    entry->spec.material = *m;
+  }
+  entry->spec.upright = r.Bool("upright", true);
+  entry->motion = ReadMotion(doc, r);
+  entry->spec.driven = entry->motion.type != MotionSpec::Type::kNone;
+  if (r.Has("area")) {
+    YAML::Node area = r.Child("area");
+    if (area.IsSequence()) {  // an inline polygon
+      core::Polygon2 polygon;
+      for (std::size_t i = 0; i < area.size(); ++i) {
+        if (auto p = ReadNumbers(doc, area[i], Index(r.PathOf("area"), i), 2)) {
+          polygon.emplace_back((*p)[0], (*p)[1]);
+        }
+      }
+      if (polygon.size() != area.size()) return;
+      if (polygon.size() < 3 || !core::IsSimple(polygon)) {
+        doc->Error(area, r.PathOf("area"), "expected a simple polygon of at least 3 [x, y] points");
+        return;
+      }
+      entry->spawn_area = r.PathOf("area");
+      entry->spawn_polygon = polygon;
+    } else if (auto name = r.RequiredString("area")) {
+      auto it = world.places.find(*name);
+      if (it == world.places.end() || !it->second.area) {
+        doc->Error(area, r.PathOf("area"), "no area place '" + *name + "' in the world");
+      } else {
+        entry->spawn_area = *name;
+        entry->spawn_polygon = it->second.area;
+      }
+    }
+  }
+}
+
+void ReadBodies(YamlDocument* doc, MapReader& top, const sim::WorldDescription& world,
+                Scenario* s) {
+  YAML::Node list = top.Child("bodies");
+  if (list.IsDefined() && !list.IsNull()) {
+    if (!list.IsSequence()) doc->Error(list, "bodies", "expected a list");
+    for (std::size_t i = 0; list.IsSequence() && i < list.size(); ++i) {
+      MapReader r(doc, list[i], Index("bodies", i));
+      if (!r.valid()) continue;
+      BodyEntry entry;
+      entry.spec.id = r.RequiredString("id").value_or("");
+      ReadBodyCommon(doc, r, world, &entry);
+      if (r.Has("pose") == r.Has("area")) {
+        doc->Error(list[i], Index("bodies", i), "give exactly one of pose or area");
+      } else if (r.Has("pose")) {
+        if (auto p = r.Numbers("pose", 3, true)) entry.spec.pose = {(*p)[0], (*p)[1], (*p)[2]};
+      }
+      r.Finish();
+      s->bodies.push_back(entry);
+    }
+  }
+  list = top.Child("groups");
+  if (list.IsDefined() && !list.IsNull()) {
+    if (!list.IsSequence()) doc->Error(list, "groups", "expected a list");
+    for (std::size_t i = 0; list.IsSequence() && i < list.size(); ++i) {
+      MapReader r(doc, list[i], Index("groups", i));
+      if (!r.valid()) continue;
+      BodyEntry entry;
+      const std::string prefix = r.RequiredString("id").value_or("group");
+      const std::int64_t count = r.Integer("count", 1, 0, kMaxGroupCount);
+      ReadBodyCommon(doc, r, world, &entry);
+      if (!r.Has("area"))
+        doc->Error(list[i], Index("groups", i) + ".area", "required key is missing");
+      r.Finish();
+      for (std::int64_t k = 0; k < count; ++k) {
+        char suffix[32];
+        std::snprintf(suffix, sizeof suffix, "_%03lld", static_cast<long long>(k));
+        BodyEntry body = entry;
+        body.spec.id = prefix + suffix;
+        s->bodies.push_back(body);
+      }
+    }
+  }
+  std::set<std::string> ids = {"floor"};
+  for (const auto& wall : world.walls) ids.insert(wall.id);
+  for (const auto& b : world.boxes) ids.insert(b.id);
+  for (const auto& c : world.cylinders) ids.insert(c.id);
+  for (const auto& m : world.meshes) ids.insert(m.id);
+  for (const auto& d : world.doors) ids.insert(d.id);
+  for (const auto& b : s->bodies) {
+    if (!ids.insert(b.spec.id).second) {
+      doc->Error(top.Child("bodies"), "bodies",
+                 "body id '" + b.spec.id + "' is used twice or by a world element");
+    }
+  }
+}
+
+void ReadEvents(YamlDocument* doc, MapReader& top, Scenario* s) {
+  YAML::Node list = top.Child("events");
+  if (!list.IsDefined() || list.IsNull()) return;
+  if (!list.IsSequence()) {
+    doc->Error(list, "events", "expected a list");
+    return;
+  }
+  std::set<std::string> bodies;
+  for (const auto& b : s->bodies) bodies.insert(b.spec.id);
+  std::set<std::string> doors;
+  for (const auto& d : s->world.doors) doors.insert(d.id);
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    MapReader r(doc, list[i], Index("events", i));
+    if (!r.valid()) continue;
+    ScriptedEvent e;
+    e.at_s = r.RequiredNumber("at_s", 0.0, kMaxDurationS).value_or(0.0);
+    const std::string type = r.Choice("type", {"push", "teleport", "door"}, "push", true);
+    const std::string target_key = type == "door" ? "door" : "body";
+    e.target = r.RequiredString(target_key).value_or("");
+    const auto& known = type == "door" ? doors : bodies;
+    if (!e.target.empty() && !known.contains(e.target)) {
+      doc->Error(r.Child(target_key), r.PathOf(target_key),
+                 "no " + target_key + " '" + e.target + "'");
+    }
+    if (type == "push") {
+      e.type = ScriptedEvent::Type::kPush;
+      if (auto v = r.Numbers("impulse", 2, true)) e.impulse_ns = {(*v)[0], (*v)[1]};
+    } else if (type == "teleport") {
+      e.type = ScriptedEvent::Type::kTeleport;
+      if (auto p = r.Numbers("pose", 3, true)) e.pose = {(*p)[0], (*p)[1], (*p)[2]};
+    } else {
+      e.type = ScriptedEvent::Type::kDoor;
+      e.open = r.Choice("state", {"open", "closed"}, "closed", true) == "open";
+    }
+    r.Finish();
+    s->events.push_back(e);
+  }
+  std::stable_sort(s->events.begin(), s->events.end(),
+                   [](const ScriptedEvent& a, const ScriptedEvent& b) { return a.at_s < b.at_s; });
+}
+
+}  // namespace
+
+Scenario LoadScenarioFile(const std::string& path, const ScenarioOverrides& overrides) {
+  YamlDocument doc(path);
+  doc.ThrowIfErrors();
+  for (const std::string& assignment : overrides.assignments) {
+    ApplyOverride(doc.mutable_root(), assignment, true);
+  }
+  Scenario s;
+  s.source_file = path;
+  MapReader top(&doc, doc.root(), "");
+  if (!top.valid()) doc.ThrowIfErrors();
+  if (auto kind = top.RequiredString("kind"); kind && *kind != "scenario") {
+    doc.Error(top.Child("kind"), "kind", "expected 'scenario', got '" + *kind + "'");
+  }
+  s.name = top.RequiredString("name").value_or("");
+  s.description = top.String("description", "");
+  s.seed = static_cast<std::uint64_t>(top.Integer("seed", 1, 0, INT64_MAX));
+  s.duration_s = top.RequiredNumber("duration_s", 1e-3, kMaxDurationS).value_or(1.0);
+  if (overrides.seed) s.seed = *overrides.seed;
+  if (overrides.duration_s) s.duration_s = *overrides.duration_s;
+
+  {
+    MapReader r(&doc, top.Has("physics") ? top.Child("physics") : YAML::Node(YAML::NodeType::Map),
+                "physics");
+    s.physics.physics_rate_hz = r.Number("rate_hz", s.physics.physics_rate_hz, 10.0, 10000.0);
+    s.physics.solver_iterations =
+        static_cast<int>(r.Integer("solver_iterations", s.physics.solver_iterations, 1, 100));
+    s.physics.gravity_mps2 = r.Number("gravity_mps2", s.physics.gravity_mps2, 0.0, 100.0);
+    r.Finish();
+  }
+  {
+    MapReader r(&doc, top.Has("outputs") ? top.Child("outputs") : YAML::Node(YAML::NodeType::Map),
+                "outputs");
+    auto& o = s.outputs;
+    o.trajectory_rate_hz = r.Number("trajectory_rate_hz", o.trajectory_rate_hz, 1e-3, 10000.0);
+    o.section_height_m = r.Number("section_height_m", o.section_height_m, 0.0, 100.0);
+    o.image_width_px = static_cast<int>(r.Integer("image_width_px", o.image_width_px, 100, 8000));
+    r.Finish();
+  }
+
+  // The world: loaded from its own file, its problems reported against it.
+  const std::string base = std::filesystem::path(path).parent_path().string();
+  if (auto world = top.RequiredString("world")) {
+    try {
+      s.world = LoadWorldFile(ResolveWorldPath(*world, base));
+    } catch (const InputError& e) {
+      auto all = doc.diagnostics();
+      all.insert(all.end(), e.diagnostics().begin(), e.diagnostics().end());
+      throw InputError(all);
+    }
+  }
+  // Scenario materials are added to the world's (bodies such as visitors).
+  if (YAML::Node mats = top.Child("materials"); mats.IsDefined()) {
+    std::map<std::string, sim::Material> extra;
+    ReadMaterialMap(&doc, mats, "materials", &extra);
+    for (const auto& [name, m] : extra) {
+      if (s.world.materials.contains(name)) {
+        doc.Error(mats, "materials." + name, "material already defined by the world");
+      }
+      s.world.materials[name] = m;
+    }
+  }
+  if (YAML::Node states = top.Child("door_states"); states.IsDefined()) {
+    MapReader r(&doc, states, "door_states");
+    for (auto& door : s.world.doors) {
+      if (r.Has(door.id)) door.open = r.Choice(door.id, {"open", "closed"}, "closed") == "open";
+    }
+    r.Finish();
+  }
+  ReadBodies(&doc, top, s.world, &s);
+  ReadEvents(&doc, top, &s);
+  top.Finish();
+  doc.ThrowIfErrors();
+  return s;
+}
+
+}  // namespace pavilion::scenarios

@@ -1,0 +1,343 @@
+#include "scenarios/scenario_runner.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <numbers>
+
+#include "core/random/random_stream.h"
+#include "scenarios/input_error.h"
+#include "scenarios/output_files.h"
+#include "scenarios/png.h"
+#include "scenarios/report.h"
+#include "scenarios/version.h"
+#include "sim/schedule.h"
+#include "sim/top_down_view.h"
+
+namespace pavilion::scenarios {
+namespace {
+
+using Json = nlohmann::ordered_json;
+using Clock = std::chrono::steady_clock;
+
+// Free space kept between a spawned body and anything else (m).
+constexpr double kSpawnClearanceM = 0.05;
+constexpr int kSpawnAttempts = 2000;
+// Heights at which spawn clearance is checked, besides the body's mid-height (m).
+constexpr double kSpawnCheckLowM = 0.05;
+// Stream ids that are not bodies.
+constexpr std::uint64_t kSpawnStream = 0x5350415749ULL;  // "SPAWN"
+// Wall seconds between progress line updates.
+constexpr double kProgressPeriodS = 0.25;
+
+double Seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
+
+std::string Fixed(double v, int decimals) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, v == 0.0 ? 0.0 : v);  // no "-0.000"
+  return buf;
+}
+
+double FootprintRadius(const sim::BodyShape& s) {
+  if (s.type == sim::BodyShapeType::kBox) return 0.5 * s.box_size_m.head<2>().norm();
+  return s.radius_m;
+}
+
+double PointSegmentDistance(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
+                            const Eigen::Vector2d& b) {
+  const Eigen::Vector2d ab = b - a;
+  const double t = std::clamp((p - a).dot(ab) / std::max(ab.squaredNorm(), 1e-18), 0.0, 1.0);
+  return (a + t * ab - p).norm();
+}
+
+bool Clear(const core::PlanarSection& section, const Eigen::Vector2d& p, double r) {
+  for (const auto& s : section.segments) {
+    if (PointSegmentDistance(p, s.a_m, s.b_m) < r) return false;
+  }
+  for (const auto& c : section.circles) {
+    if ((c.center_m - p).norm() < r + c.radius_m) return false;
+  }
+  return true;
+}
+
+// Draws a pose inside the body's spawn area that is clear of the world and of
+// the bodies placed before it.
+core::Pose2 DrawSpawnPose(const sim::World& world, const BodyEntry& entry,
+                          const std::string& scenario_file, core::RandomStream* stream) {
+  const core::Polygon2& area = *entry.spawn_polygon;
+  Eigen::Vector2d lo = area.front(), hi = area.front();
+  for (const auto& p : area) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  const double r = FootprintRadius(entry.spec.shape) + kSpawnClearanceM;
+  const double h = 2.0 * entry.spec.shape.HalfHeight();
+  const core::PlanarSection low = world.SectionAt(std::min(kSpawnCheckLowM, 0.5 * h));
+  const core::PlanarSection mid = world.SectionAt(0.5 * h);
+  std::vector<std::pair<Eigen::Vector2d, double>> others;
+  for (int b = 0; b < world.body_count(); ++b) {
+    others.emplace_back(world.body_state(b).pose.translation(),
+                        FootprintRadius(world.body_spec(b).shape));
+  }
+  for (int attempt = 0; attempt < kSpawnAttempts; ++attempt) {
+    const Eigen::Vector2d p(stream->Uniform(lo.x(), hi.x()), stream->Uniform(lo.y(), hi.y()));
+    const double yaw = stream->Uniform(-std::numbers::pi, std::numbers::pi);
+    if (!core::Contains(area, p) || !Clear(low, p, r) || !Clear(mid, p, r)) continue;
+    bool free = true;
+    for (const auto& [q, rq] : others) {
+      if ((q - p).norm() < r + rq) {
+        free = false;
+        break;
+      }
+    }
+    if (free) return {p.x(), p.y(), yaw};
+  }
+  throw InputError(Diagnostic{scenario_file, 0, "bodies",
+                              "cannot place body '" + entry.spec.id + "' in area '" +
+                                  entry.spawn_area + "' after " + std::to_string(kSpawnAttempts) +
+                                  " tries: the area is too small or too crowded"});
+}
+
+std::unique_ptr<sim::BodyMotion> MakeMotion(const BodyEntry& entry, std::uint64_t seed) {
+  switch (entry.motion.type) {
+    case MotionSpec::Type::kScripted:
+      return std::make_unique<sim::ScriptedMotion>(entry.motion.scripted);
+    case MotionSpec::Type::kRandomWalk: {
+      sim::RandomWalkOptions options = entry.motion.random_walk;
+      options.roam_area = entry.spawn_polygon;  // walkers stay where they were spawned
+      return std::make_unique<sim::RandomWalkMotion>(
+          options, core::RandomStream(seed, core::RandomStream::StreamId(entry.spec.id.c_str())));
+    }
+    case MotionSpec::Type::kNone:
+      break;
+  }
+  return nullptr;
+}
+
+// Shows "sim 12.3/60.0 s  RTF 41.2x  ETA 1.2 s" on one updating line.
+class ProgressLine {
+ public:
+  ProgressLine(bool enabled, double total_s) : enabled_(enabled), total_s_(total_s) {}
+  void Update(double sim_s, double wall_s) {
+    if (!enabled_ || wall_s - last_wall_s_ < kProgressPeriodS) return;
+    last_wall_s_ = wall_s;
+    const double rtf = wall_s > 0 ? sim_s / wall_s : 0.0;
+    const double eta = rtf > 0 ? (total_s_ - sim_s) / rtf : 0.0;
+    std::fprintf(stderr, "\r  sim %.1f/%.1f s  RTF %.1fx  ETA %.1f s   ", sim_s, total_s_, rtf,
+                 eta);
+    std::fflush(stderr);
+  }
+  void Done() {
+    if (enabled_ && last_wall_s_ > 0.0) std::fprintf(stderr, "\r%60s\r", "");
+  }
+
+ private:
+  bool enabled_;
+  double total_s_;
+  double last_wall_s_ = 0.0;
+};
+
+}  // namespace
+
+RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
+  namespace fs = std::filesystem;
+  const auto t_start = Clock::now();
+  const fs::path out(options.out_dir);
+  fs::create_directories(out);
+
+  sim::World world(scenario.world, scenario.physics);
+  core::RandomStream spawn_stream(scenario.seed, kSpawnStream);
+  std::vector<std::unique_ptr<sim::BodyMotion>> motions;
+  for (const BodyEntry& entry : scenario.bodies) {
+    sim::BodySpec spec = entry.spec;
+    if (entry.spawn_polygon)
+      spec.pose = DrawSpawnPose(world, entry, scenario.source_file, &spawn_stream);
+    world.AddBody(spec);
+    motions.push_back(MakeMotion(entry, scenario.seed));
+  }
+  std::map<std::string, int> body_index;
+  for (int b = 0; b < world.body_count(); ++b) body_index[world.body_spec(b).id] = b;
+
+  const double dt = world.step_s();
+  const auto total_ticks = static_cast<std::int64_t>(std::llround(scenario.duration_s / dt));
+  sim::PeriodicSchedule schedule(scenario.physics.physics_rate_hz);
+  const int trajectory_task =
+      schedule.Add("outputs.trajectory_rate_hz", scenario.outputs.trajectory_rate_hz);
+
+  LineWriter events(fs::path(out / "events.jsonl").string());
+  LineWriter trajectories(fs::path(out / "trajectories.csv").string());
+  trajectories.Append("time_s,id,true_x_m,true_y_m,true_theta_rad");
+  std::map<std::string, std::int64_t> event_counts;
+  auto emit = [&](Json e) {
+    ++event_counts[e["type"].get<std::string>()];
+    events.Append(e.dump());
+  };
+  const auto& elements = world.elements();
+
+  std::vector<double> distance_m(world.body_count(), 0.0);
+  std::vector<std::int64_t> collisions(world.body_count(), 0);
+  std::vector<std::vector<Eigen::Vector2d>> tracks(world.body_count());
+  std::vector<Eigen::Vector2d> last_xy(world.body_count());
+  auto record = [&](double t) {
+    for (int b = 0; b < world.body_count(); ++b) {
+      const core::Pose2 p = world.body_state(b).pose;
+      trajectories.Append(Fixed(t, 3) + "," + world.body_spec(b).id + "," + Fixed(p.x_m, 6) + "," +
+                          Fixed(p.y_m, 6) + "," + Fixed(p.theta_rad, 6));
+      tracks[b].push_back(p.translation());
+    }
+  };
+  for (int b = 0; b < world.body_count(); ++b) last_xy[b] = world.body_state(b).pose.translation();
+
+  emit(Json{{"time_s", 0.0},
+            {"type", "run_started"},
+            {"scenario", scenario.name},
+            {"seed", scenario.seed},
+            {"bodies", world.body_count()}});
+  record(0.0);
+
+  const auto t_loop = Clock::now();
+  const double startup_s = Seconds(t_loop - t_start);
+  double physics_s = 0.0;
+  ProgressLine progress(options.progress, scenario.duration_s);
+  std::size_t next_event = 0;
+  for (std::int64_t tick = 0; tick < total_ticks; ++tick) {
+    const double t = static_cast<double>(tick) * dt;
+    // Scripted events due by this tick happen before it is stepped.
+    while (next_event < scenario.events.size() && scenario.events[next_event].at_s <= t + 1e-9) {
+      const ScriptedEvent& e = scenario.events[next_event++];
+      Json j{{"time_s", std::stod(Fixed(t, 6))}};
+      switch (e.type) {
+        case ScriptedEvent::Type::kPush:
+          world.ApplyImpulse(body_index.at(e.target), e.impulse_ns);
+          j["type"] = "push";
+          j["body"] = e.target;
+          j["impulse_ns"] = {e.impulse_ns.x(), e.impulse_ns.y()};
+          break;
+        case ScriptedEvent::Type::kTeleport:
+          world.Teleport(body_index.at(e.target), e.pose);
+          last_xy[body_index.at(e.target)] = e.pose.translation();
+          j["type"] = "teleport";
+          j["body"] = e.target;
+          j["pose"] = {e.pose.x_m, e.pose.y_m, e.pose.theta_rad};
+          break;
+        case ScriptedEvent::Type::kDoor:
+          world.SetDoorOpen(e.target, e.open);
+          j["type"] = "door";
+          j["door"] = e.target;
+          j["state"] = e.open ? "open" : "closed";
+          break;
+      }
+      emit(j);
+    }
+    for (int b = 0; b < world.body_count(); ++b) {
+      if (!motions[b]) continue;
+      const sim::PlanarVelocity v = motions[b]->Update(t, world.body_state(b));
+      world.SetPlanarVelocity(b, v.linear_mps, v.yaw_rate_radps);
+    }
+    const auto t_physics = Clock::now();
+    world.Step();
+    physics_s += Seconds(Clock::now() - t_physics);
+    const double t_after = world.time_s();
+
+    for (const sim::ContactChange& c : world.TakeContactChanges()) {
+      if (!c.began) continue;
+      for (int element : {c.a, c.b}) {
+        if (elements[element].dynamic) {
+          for (int b = 0; b < world.body_count(); ++b) {
+            if (world.body_element(b) == element) ++collisions[b];
+          }
+        }
+      }
+      emit(Json{{"time_s", std::stod(Fixed(t_after, 6))},
+                {"type", "collision"},
+                {"a", elements[c.a].id},
+                {"b", elements[c.b].id},
+                {"impulse_ns", std::stod(Fixed(c.impulse_ns, 6))},
+                {"point_m",
+                 {std::stod(Fixed(c.point_m.x(), 4)), std::stod(Fixed(c.point_m.y(), 4)),
+                  std::stod(Fixed(c.point_m.z(), 4))}}});
+    }
+    for (int b = 0; b < world.body_count(); ++b) {
+      const Eigen::Vector2d xy = world.body_state(b).pose.translation();
+      distance_m[b] += (xy - last_xy[b]).norm();
+      last_xy[b] = xy;
+    }
+    if (schedule.IsDue(trajectory_task, tick + 1)) record(t_after);
+    if ((tick & 255) == 0) progress.Update(t_after, Seconds(Clock::now() - t_loop));
+  }
+  progress.Done();
+  const double loop_s = Seconds(Clock::now() - t_loop);
+  const double sim_s = static_cast<double>(total_ticks) * dt;
+  emit(Json{{"time_s", std::stod(Fixed(sim_s, 6))}, {"type", "run_finished"}});
+  events.Flush();
+  trajectories.Flush();
+
+  // metrics.json: a function of scenario and seed only (metrics.md, schema 1).
+  Json metrics;
+  metrics["schema_version"] = 1;
+  metrics["scenario"] = scenario.name;
+  metrics["seed"] = scenario.seed;
+  metrics["pavilion_version"] = kVersion;
+  metrics["world"] = scenario.world.name;
+  metrics["sim_duration_s"] = sim_s;
+  metrics["physics"] = {{"rate_hz", scenario.physics.physics_rate_hz}, {"ticks", total_ticks}};
+  if (world.body_count() > 0) {
+    Json bodies;
+    double total_distance = 0.0;
+    std::int64_t total_collisions = 0;
+    for (int b = 0; b < world.body_count(); ++b) {
+      bodies[world.body_spec(b).id] = {{"distance_m", std::stod(Fixed(distance_m[b], 6))},
+                                       {"collisions", collisions[b]}};
+      total_distance += distance_m[b];
+      total_collisions += collisions[b];
+    }
+    metrics["bodies_summary"] = {{"count", world.body_count()},
+                                 {"distance_m", std::stod(Fixed(total_distance, 6))},
+                                 {"collisions", total_collisions}};
+    metrics["bodies"] = bodies;
+  }
+  metrics["events"] = event_counts;
+  WriteFileAtomically((out / "metrics.json").string(), metrics.dump(2) + "\n");
+
+  // Snapshot and report.
+  std::vector<sim::TopDownTrack> top_tracks;
+  for (const auto& t : tracks) top_tracks.push_back({t, {200, 40, 40}, 0.4});
+  sim::TopDownOptions view;
+  view.width_px = scenario.outputs.image_width_px;
+  view.section_height_m = scenario.outputs.section_height_m;
+  const core::RgbImage image = sim::RenderTopDown(world, top_tracks, view);
+  const std::vector<std::uint8_t> png = EncodePng(image);
+  WriteFileAtomically((out / "snapshots" / "topdown_final.png").string(),
+                      std::string(png.begin(), png.end()));
+  WriteFileAtomically((out / "report.html").string(), RenderReportHtml(scenario, metrics, png));
+
+  RunSummary summary;
+  summary.sim_duration_s = sim_s;
+  summary.ticks = total_ticks;
+  summary.startup_s = startup_s;
+  summary.wall_time_s = Seconds(Clock::now() - t_start);
+  summary.real_time_factor = loop_s > 0 ? sim_s / loop_s : 0.0;
+  for (const auto& [type, n] : event_counts) summary.events += n;
+
+  // performance.json: the one output with wall-clock figures.
+  Json perf;
+  perf["schema_version"] = 1;
+  perf["wall_time_s"] = summary.wall_time_s;
+  perf["startup_s"] = startup_s;
+  perf["real_time_factor"] = summary.real_time_factor;
+  perf["peak_rss_mb"] = PeakRssMb();
+  perf["threads"] = options.threads;
+  perf["physics_steps_per_s"] = physics_s > 0 ? static_cast<double>(total_ticks) / physics_s : 0.0;
+  perf["stages_s"] = {{"startup", startup_s},
+                      {"physics", physics_s},
+                      {"loop_other", loop_s - physics_s},
+                      {"outputs", summary.wall_time_s - startup_s - loop_s}};
+  WriteFileAtomically((out / "performance.json").string(), perf.dump(2) + "\n");
+  return summary;
+}
+
+}  // namespace pavilion::scenarios

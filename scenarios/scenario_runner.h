@@ -1,0 +1,31 @@
+#pragma once
+
+#include <string>
+
+#include "scenarios/scenario.h"
+
+namespace pavilion::scenarios {
+
+struct RunOptions {
+  std::string out_dir;    // every output file goes here (created if missing)
+  bool progress = false;  // a live progress line on stderr (TTYs only)
+  int threads = 1;        // worker threads for per-robot work, >= 1
+};
+
+struct RunSummary {
+  double sim_duration_s = 0.0;
+  double wall_time_s = 0.0;
+  double startup_s = 0.0;
+  double real_time_factor = 0.0;
+  std::int64_t ticks = 0;
+  std::int64_t events = 0;
+};
+
+// Runs a scenario to its end and writes metrics.json, performance.json,
+// events.jsonl, trajectories.csv, snapshots/topdown_final.png and report.html
+// into the output folder. Everything but performance.json is a function of the
+// scenario and seed alone. Throws InputError for problems found while setting up
+// (e.g. a spawn area too crowded) and std::runtime_error for I/O failures.
+RunSummary RunScenario(const Scenario& scenario, const RunOptions& options);
+
+}  // namespace pavilion::scenarios

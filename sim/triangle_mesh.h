@@ -1,0 +1,23 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace pavilion::sim {
+
+// A triangle soup in the mesh file's own frame and units.
+struct TriangleMesh {
+  std::vector<Eigen::Vector3d> vertices;
+  std::vector<std::array<int, 3>> triangles;
+};
+
+// Loads an STL, OBJ or DAE file with assimp (triangulated, identical vertices
+// joined), caching by path so that each file is read once per process.
+// Throws std::runtime_error naming the file when it cannot be read or holds no
+// triangles.
+std::shared_ptr<const TriangleMesh> LoadTriangleMesh(const std::string& path);
+
+}  // namespace pavilion::sim

@@ -1,0 +1,120 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/geometry/planar_section.h"
+#include "core/types/pose2.h"
+#include "sim/world_description.h"
+
+namespace pavilion::sim {
+
+struct WorldOptions {
+  double physics_rate_hz = 200.0;  // fixed physics step rate, [10, 10000] Hz
+  int solver_iterations = 10;      // sequential-impulse iterations per step, [1, 100]
+  double gravity_mps2 = 9.81;      // magnitude, pointing down, [0, 100]
+
+  void Validate() const;  // throws std::invalid_argument naming the field
+};
+
+enum class BodyShapeType { kBox, kCylinder, kSphere };
+
+// A dynamic body's collision shape in its own frame (z up, origin at its centre).
+struct BodyShape {
+  BodyShapeType type = BodyShapeType::kCylinder;
+  Eigen::Vector3d box_size_m{0.5, 0.5, 0.5};  // full extents, for kBox
+  double radius_m = 0.25;                     // for kCylinder and kSphere
+  double height_m = 1.7;                      // for kCylinder
+
+  double HalfHeight() const;
+};
+
+// A dynamic body added to a world at start-up by a scenario.
+struct BodySpec {
+  std::string id;  // unique among world elements and bodies
+  BodyShape shape;
+  double mass_kg = 1.0;  // > 0
+  core::Pose2 pose;      // initial footprint pose, resting on the floor
+  std::string material;  // a material of the world
+  bool upright = true;   // rotates about z only (visitor-like), never tips over
+  bool driven = false;   // velocity is set every step (scripted motion)
+};
+
+struct BodyState {
+  core::Pose2 pose;       // planar pose of the body frame
+  double z_m = 0.0;       // height of the body centre
+  double tilt_rad = 0.0;  // angle between the body z axis and the world z axis
+  Eigen::Vector2d velocity_mps{0, 0};
+  double yaw_rate_radps = 0.0;
+};
+
+// A change of contact between two elements (static elements or bodies); the
+// floor is not reported. `a` < `b` are element indices of PlanarSection order.
+struct ContactChange {
+  bool began = true;
+  int a = -1;
+  int b = -1;
+  Eigen::Vector3d point_m{0, 0, 0};  // a contact point, for begins
+  double impulse_ns = 0.0;           // largest normal impulse of the step, for begins
+};
+
+// The Bullet world of a simulation: static geometry from a WorldDescription, the
+// floor, and dynamic bodies. Steps at a fixed rate and is deterministic: the
+// same calls in the same order give the same states bit for bit.
+//
+// Element indices: 0 is the floor, then walls, boxes, cylinders, meshes and doors
+// in description order, then bodies in the order they were added. Sections,
+// contacts and ground truth all use these indices.
+class World {
+ public:
+  // Builds the world; throws std::runtime_error (mesh files) or
+  // std::invalid_argument (options, unknown material).
+  World(WorldDescription description, const WorldOptions& options);
+  ~World();
+  World(const World&) = delete;
+  World& operator=(const World&) = delete;
+
+  // Adds a dynamic body; returns its body index (0, 1, ...).
+  int AddBody(const BodySpec& spec);
+  int body_count() const;
+  const BodySpec& body_spec(int body) const;
+  int body_element(int body) const;
+  BodyState body_state(int body) const;
+
+  // For driven bodies: the planar velocity (world frame) held during the next steps.
+  void SetPlanarVelocity(int body, const Eigen::Vector2d& velocity_mps, double yaw_rate_radps);
+  // Applies a horizontal impulse at the body's centre (a push).
+  void ApplyImpulse(int body, const Eigen::Vector2d& impulse_ns);
+  // Moves a body to a new pose at rest (a kidnap).
+  void Teleport(int body, const core::Pose2& pose);
+
+  // Swings a door of the description open or closed; throws std::out_of_range
+  // for an unknown door id.
+  void SetDoorOpen(const std::string& door_id, bool open);
+
+  // Advances one fixed physics step.
+  void Step();
+  std::int64_t tick() const;
+  double time_s() const;
+  double step_s() const;
+
+  // The world cut at height z: static elements and the bodies at their current
+  // poses. Element indices as above.
+  core::PlanarSection SectionAt(double height_m) const;
+  // Element ids and flags, indexed by element index.
+  const std::vector<core::SectionElement>& elements() const;
+
+  // Contact begins and ends since the last call, in a deterministic order.
+  std::vector<ContactChange> TakeContactChanges();
+
+  const WorldDescription& description() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace pavilion::sim
