@@ -178,6 +178,7 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   };
   const auto& elements = world.elements();
 
+  std::vector<sim::PlanarVelocity> commands(world.body_count());
   std::vector<double> distance_m(world.body_count(), 0.0);
   std::vector<std::int64_t> collisions(world.body_count(), 0);
   std::vector<std::vector<Eigen::Vector2d>> tracks(world.body_count());
@@ -233,10 +234,15 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
       }
       emit(j);
     }
+    // Per-body work reads the tick's snapshot and writes only its own slot;
+    // the results are applied in body order (parallel-ready, architecture.md).
+    const sim::TickSnapshot snapshot = world.Snapshot();
     for (int b = 0; b < world.body_count(); ++b) {
-      if (!motions[b]) continue;
-      const sim::PlanarVelocity v = motions[b]->Update(t, world.body_state(b));
-      world.SetPlanarVelocity(b, v.linear_mps, v.yaw_rate_radps);
+      if (motions[b]) commands[b] = motions[b]->Update(t, snapshot.bodies[b]);
+    }
+    for (int b = 0; b < world.body_count(); ++b) {
+      if (motions[b])
+        world.SetPlanarVelocity(b, commands[b].linear_mps, commands[b].yaw_rate_radps);
     }
     const auto t_physics = Clock::now();
     world.Step();
@@ -330,7 +336,7 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   perf["startup_s"] = startup_s;
   perf["real_time_factor"] = summary.real_time_factor;
   perf["peak_rss_mb"] = PeakRssMb();
-  perf["threads"] = options.threads;
+  perf["threads"] = 1;  // the worker pool comes with the speed issue
   perf["physics_steps_per_s"] = physics_s > 0 ? static_cast<double>(total_ticks) / physics_s : 0.0;
   perf["stages_s"] = {{"startup", startup_s},
                       {"physics", physics_s},

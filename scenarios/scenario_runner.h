@@ -9,7 +9,6 @@ namespace pavilion::scenarios {
 struct RunOptions {
   std::string out_dir;    // every output file goes here (created if missing)
   bool progress = false;  // a live progress line on stderr (TTYs only)
-  int threads = 1;        // worker threads for per-robot work, >= 1
 };
 
 struct RunSummary {

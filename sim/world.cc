@@ -520,6 +520,15 @@ void World::Step() {
   im.UpdateContacts(&im.pending_changes);
 }
 
+TickSnapshot World::Snapshot() const {
+  TickSnapshot snapshot;
+  snapshot.tick = impl_->tick;
+  snapshot.time_s = time_s();
+  snapshot.bodies.reserve(impl_->bodies.size());
+  for (int b = 0; b < body_count(); ++b) snapshot.bodies.push_back(body_state(b));
+  return snapshot;
+}
+
 std::int64_t World::tick() const { return impl_->tick; }
 double World::step_s() const { return 1.0 / impl_->options.physics_rate_hz; }
 double World::time_s() const { return static_cast<double>(impl_->tick) * step_s(); }

@@ -51,6 +51,15 @@ struct BodyState {
   double yaw_rate_radps = 0.0;
 };
 
+// An immutable view of the world after a step: what per-robot work of a tick
+// reads. Such work writes only its own outputs, which are then merged in body
+// order, so it can run in parallel without changing results.
+struct TickSnapshot {
+  std::int64_t tick = 0;
+  double time_s = 0.0;
+  std::vector<BodyState> bodies;  // indexed by body index
+};
+
 // A change of contact between two elements (static elements or bodies); the
 // floor is not reported. `a` < `b` are element indices of PlanarSection order.
 struct ContactChange {
@@ -94,6 +103,9 @@ class World {
   // Swings a door of the description open or closed; throws std::out_of_range
   // for an unknown door id.
   void SetDoorOpen(const std::string& door_id, bool open);
+
+  // The state of every body now.
+  TickSnapshot Snapshot() const;
 
   // Advances one fixed physics step.
   void Step();
