@@ -1,0 +1,350 @@
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "scenarios/input_error.h"
+#include "scenarios/scenario.h"
+#include "scenarios/validate.h"
+
+namespace pavilion::scenarios {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A fresh, empty folder for the running test.
+fs::path TestDir() {
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  const fs::path dir = fs::temp_directory_path() / (std::string("pavilion_test_") +
+                                                    info->test_suite_name() + "_" + info->name());
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+std::string WriteFile(const fs::path& dir, const std::string& name, const std::string& text) {
+  const fs::path path = dir / name;
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+  return path.string();
+}
+
+// The 1-based line of `text` holding the first occurrence of `marker`.
+int LineOf(const std::string& text, const std::string& marker) {
+  const std::size_t at = text.find(marker);
+  EXPECT_NE(at, std::string::npos) << "marker '" << marker << "' not in the text";
+  return 1 +
+         static_cast<int>(std::count(text.begin(), text.begin() + std::min(at, text.size()), '\n'));
+}
+
+::testing::AssertionResult Contains(const std::string& text, const std::string& part) {
+  if (text.find(part) != std::string::npos) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << "'" << text << "' does not contain '" << part << "'";
+}
+
+// A 16 m square hall with a door and a spawn area; no scenario materials.
+const std::string kWorld =
+    "kind: world\n"
+    "name: test_hall\n"
+    "materials:\n"
+    "  concrete:\n"
+    "    friction: 0.8\n"
+    "  wood:\n"
+    "    friction: 0.6\n"
+    "floor:\n"
+    "  min: [-10, -10]\n"
+    "  max: [10, 10]\n"
+    "  material: concrete\n"
+    "walls:\n"
+    "  - id: outline\n"
+    "    points: [[-8, -8], [8, -8], [8, 8], [-8, 8]]\n"
+    "    closed: true\n"
+    "    thickness: 0.2\n"
+    "    height: 2.5\n"
+    "    material: concrete\n"
+    "doors:\n"
+    "  - id: door_1\n"
+    "    hinge: [0, 5]\n"
+    "    closed_yaw: 0\n"
+    "    open_yaw: 1.5\n"
+    "    width: 0.9\n"
+    "    thickness: 0.04\n"
+    "    height: 2.0\n"
+    "    state: closed\n"
+    "    material: wood\n"
+    "places:\n"
+    "  lobby:\n"
+    "    area: [[-6, -6], [6, -6], [6, 6], [-6, 6]]\n"
+    "  start:\n"
+    "    pose: [0, 0, 0]\n";
+
+// A scenario using kWorld as world.yaml next to it; `groups_count` visitors.
+std::string ScenarioText(int groups_count = 3) {
+  return "kind: scenario\n"
+         "name: test_run\n"
+         "seed: 3\n"
+         "duration_s: 10\n"
+         "world: world.yaml\n"
+         "materials:\n"
+         "  skin:\n"
+         "    friction: 0.5\n"
+         "    color: [0.9, 0.7, 0.6]\n"
+         "physics:\n"
+         "  rate_hz: 200\n"
+         "bodies:\n"
+         "  - id: cart\n"
+         "    shape: {type: box, size: [0.6, 0.4, 0.5]}\n"
+         "    mass_kg: 20\n"
+         "    material: wood\n"
+         "    pose: [1, 2, 0.5]\n"
+         "    motion:\n"
+         "      type: scripted\n"
+         "      segments:\n"
+         "        - {duration_s: 4, velocity: [0.5, 0]}\n"
+         "groups:\n"
+         "  - id: visitor\n"
+         "    count: " +
+         std::to_string(groups_count) +
+         "\n"
+         "    shape: {type: cylinder, radius: 0.25, height: 1.7}\n"
+         "    mass_kg: 70\n"
+         "    material: skin\n"
+         "    area: lobby\n"
+         "    motion: {type: random_walk, speed_mps: 0.8}\n"
+         "events:\n"
+         "  - {at_s: 2, type: push, body: visitor_001, impulse: [10, 0]}\n"
+         "  - {at_s: 1, type: door, door: door_1, state: open}\n";
+}
+
+// Writes kWorld and `scenario` into the test folder; returns the scenario path.
+std::string WriteScenario(const std::string& scenario, const std::string& world = kWorld) {
+  const fs::path dir = TestDir();
+  WriteFile(dir, "world.yaml", world);
+  return WriteFile(dir, "scenario.yaml", scenario);
+}
+
+// Loads a scenario that must fail; returns its diagnostics after checking that
+// ValidateFile (without overrides) agrees when there are no overrides.
+std::vector<Diagnostic> LoadErrors(const std::string& path,
+                                   const ScenarioOverrides& overrides = {}) {
+  std::vector<Diagnostic> diagnostics;
+  try {
+    LoadScenarioFile(path, overrides);
+    ADD_FAILURE() << "LoadScenarioFile accepted " << path;
+  } catch (const InputError& e) {
+    diagnostics = e.diagnostics();
+  }
+  if (overrides.assignments.empty()) {
+    const std::vector<Diagnostic> validated = ValidateFile(path);
+    EXPECT_EQ(validated.size(), diagnostics.size());
+    for (std::size_t i = 0; i < std::min(validated.size(), diagnostics.size()); ++i) {
+      EXPECT_EQ(validated[i].ToString(), diagnostics[i].ToString());
+    }
+  }
+  return diagnostics;
+}
+
+// Confirms that a valid scenario loads with its bodies, world and time-sorted events.
+TEST(ScenarioLoaderTest, LoadsScenarioWithWorldBodiesAndEvents) {
+  const std::string path = WriteScenario(ScenarioText());
+  const Scenario s = LoadScenarioFile(path);
+  EXPECT_TRUE(ValidateFile(path).empty());
+  EXPECT_EQ(s.name, "test_run");
+  EXPECT_EQ(s.source_file, path);
+  EXPECT_EQ(s.seed, 3u);
+  EXPECT_DOUBLE_EQ(s.duration_s, 10.0);
+  EXPECT_EQ(s.world.name, "test_hall");
+  EXPECT_EQ(s.world.source_file, (fs::path(path).parent_path() / "world.yaml").string());
+
+  ASSERT_EQ(s.bodies.size(), 4u);
+  const BodyEntry& cart = s.bodies[0];
+  EXPECT_EQ(cart.spec.id, "cart");
+  EXPECT_EQ(cart.spec.shape.type, sim::BodyShapeType::kBox);
+  EXPECT_EQ(cart.spec.shape.box_size_m, Eigen::Vector3d(0.6, 0.4, 0.5));
+  EXPECT_EQ(cart.spec.pose, (core::Pose2{1, 2, 0.5}));
+  EXPECT_DOUBLE_EQ(cart.spec.mass_kg, 20.0);
+  EXPECT_TRUE(cart.spec.driven);
+  EXPECT_FALSE(cart.spawn_polygon.has_value());
+  ASSERT_EQ(cart.motion.type, MotionSpec::Type::kScripted);
+  ASSERT_EQ(cart.motion.scripted.segments.size(), 1u);
+  EXPECT_DOUBLE_EQ(cart.motion.scripted.segments[0].duration_s, 4.0);
+  EXPECT_EQ(cart.motion.scripted.segments[0].velocity_mps, Eigen::Vector2d(0.5, 0));
+  EXPECT_TRUE(cart.motion.scripted.body_frame);
+
+  ASSERT_EQ(s.events.size(), 2u);
+  EXPECT_EQ(s.events[0].type, ScriptedEvent::Type::kDoor);  // at 1 s, listed second
+  EXPECT_EQ(s.events[0].target, "door_1");
+  EXPECT_TRUE(s.events[0].open);
+  EXPECT_EQ(s.events[1].type, ScriptedEvent::Type::kPush);
+  EXPECT_EQ(s.events[1].target, "visitor_001");
+  EXPECT_EQ(s.events[1].impulse_ns, Eigen::Vector2d(10, 0));
+}
+
+// Confirms that a group expands into bodies <id>_000, <id>_001, ... sharing its fields.
+TEST(ScenarioLoaderTest, ExpandsGroupsIntoNumberedBodies) {
+  const Scenario s = LoadScenarioFile(WriteScenario(ScenarioText(12)));
+  ASSERT_EQ(s.bodies.size(), 13u);
+  for (int k = 0; k < 12; ++k) {
+    const BodyEntry& b = s.bodies[1 + k];
+    char expected[32];
+    std::snprintf(expected, sizeof expected, "visitor_%03d", k);
+    EXPECT_EQ(b.spec.id, expected);
+    EXPECT_EQ(b.spawn_area, "lobby");
+    ASSERT_TRUE(b.spawn_polygon.has_value());
+    EXPECT_EQ(b.spawn_polygon->size(), 4u);
+    EXPECT_EQ(b.motion.type, MotionSpec::Type::kRandomWalk);
+    EXPECT_DOUBLE_EQ(b.motion.random_walk.speed_mps, 0.8);
+    EXPECT_TRUE(b.spec.driven);
+    EXPECT_EQ(b.spec.material, "skin");
+    EXPECT_DOUBLE_EQ(b.spec.mass_kg, 70.0);
+    EXPECT_DOUBLE_EQ(b.spec.shape.radius_m, 0.25);
+  }
+  EXPECT_EQ(s.bodies[1].spec.id, "visitor_000");
+  EXPECT_EQ(s.bodies[12].spec.id, "visitor_011");
+}
+
+// Confirms that --seed, --duration and --set overrides take effect before validation.
+TEST(ScenarioLoaderTest, AppliesOverrides) {
+  const std::string path = WriteScenario(ScenarioText());
+  ScenarioOverrides overrides;
+  overrides.seed = 99;
+  overrides.duration_s = 2.5;
+  overrides.assignments = {"physics.rate_hz=100", "bodies.0.mass_kg=3",
+                           "outputs.trajectory_rate_hz=5", "groups.0.count=2"};
+  const Scenario s = LoadScenarioFile(path, overrides);
+  EXPECT_EQ(s.seed, 99u);
+  EXPECT_DOUBLE_EQ(s.duration_s, 2.5);
+  EXPECT_DOUBLE_EQ(s.physics.physics_rate_hz, 100.0);
+  EXPECT_DOUBLE_EQ(s.bodies[0].spec.mass_kg, 3.0);
+  EXPECT_DOUBLE_EQ(s.outputs.trajectory_rate_hz, 5.0);  // section created by the override
+  EXPECT_EQ(s.bodies.size(), 3u);
+
+  // Without overrides the file's values hold.
+  const Scenario plain = LoadScenarioFile(path);
+  EXPECT_EQ(plain.seed, 3u);
+  EXPECT_DOUBLE_EQ(plain.duration_s, 10.0);
+  EXPECT_DOUBLE_EQ(plain.physics.physics_rate_hz, 200.0);
+  EXPECT_DOUBLE_EQ(plain.outputs.trajectory_rate_hz, 10.0);
+}
+
+// Confirms that a misspelt key given with --set is reported as an unknown key.
+TEST(ScenarioLoaderTest, ReportsUnknownKeyFromAssignment) {
+  const std::string path = WriteScenario(ScenarioText());
+  ScenarioOverrides overrides;
+  overrides.assignments = {"physics.rat_hz=100"};
+  const std::vector<Diagnostic> all = LoadErrors(path, overrides);
+  ASSERT_EQ(all.size(), 1u);
+  EXPECT_EQ(all[0].file, path);
+  EXPECT_EQ(all[0].key_path, "physics.rat_hz");
+  EXPECT_EQ(all[0].message, "unknown key");
+  // An out-of-range value given with --set is checked like one in the file.
+  overrides.assignments = {"physics.rate_hz=5"};
+  const std::vector<Diagnostic> range = LoadErrors(path, overrides);
+  ASSERT_EQ(range.size(), 1u);
+  EXPECT_EQ(range[0].file, path);
+  EXPECT_EQ(range[0].key_path, "physics.rate_hz");
+  EXPECT_TRUE(Contains(range[0].message, "must be in"));
+  // The value came from the command line, not from a line of the file.
+  EXPECT_EQ(range[0].line, 0);
+  EXPECT_EQ(all[0].line, 0);
+}
+
+// Confirms that an event naming a body that does not exist is an error at events[0].body.
+TEST(ScenarioLoaderTest, ReportsEventWithUnknownBody) {
+  std::string text = ScenarioText();
+  text.replace(text.find("body: visitor_001"), 17, "body: ghost");
+  const std::string path = WriteScenario(text);
+  const std::vector<Diagnostic> all = LoadErrors(path);
+  ASSERT_EQ(all.size(), 1u);
+  EXPECT_EQ(all[0].file, path);
+  EXPECT_EQ(all[0].key_path, "events[0].body");
+  EXPECT_EQ(all[0].line, LineOf(text, "body: ghost"));
+  EXPECT_TRUE(Contains(all[0].message, "no body 'ghost'"));
+}
+
+// Confirms that a body material defined neither by the world nor the scenario is an error.
+TEST(ScenarioLoaderTest, ReportsUnknownBodyMaterial) {
+  std::string text = ScenarioText();
+  text.replace(text.find("material: wood"), 14, "material: marble");
+  const std::string path = WriteScenario(text);
+  const std::vector<Diagnostic> all = LoadErrors(path);
+  ASSERT_EQ(all.size(), 1u);
+  EXPECT_EQ(all[0].file, path);
+  EXPECT_EQ(all[0].key_path, "bodies[0].material");
+  EXPECT_EQ(all[0].line, LineOf(text, "material: marble"));
+  EXPECT_TRUE(Contains(all[0].message, "unknown material 'marble'"));
+}
+
+// Confirms that scenario-level materials add new materials bodies can use, but may
+// not redefine the world's.
+TEST(ScenarioLoaderTest, ScenarioMaterialsAreUsableByBodies) {
+  const Scenario s = LoadScenarioFile(WriteScenario(ScenarioText()));
+  ASSERT_TRUE(s.world.materials.contains("skin"));
+  EXPECT_DOUBLE_EQ(s.world.materials.at("skin").friction, 0.5);
+  EXPECT_DOUBLE_EQ(s.world.materials.at("skin").rgba[0], 0.9);
+  EXPECT_TRUE(s.world.materials.contains("concrete"));  // the world's stay
+  EXPECT_EQ(s.bodies.back().spec.material, "skin");
+
+  // Without the scenario's materials section, "skin" is unknown.
+  std::string text = ScenarioText();
+  const std::size_t from = text.find("materials:\n");
+  text.erase(from, text.find("physics:") - from);
+  const std::vector<Diagnostic> missing = LoadErrors(WriteScenario(text));
+  ASSERT_EQ(missing.size(), 1u);
+  EXPECT_EQ(missing[0].key_path, "groups[0].material");
+
+  // Redefining a world material is an error.
+  text = ScenarioText();
+  text.replace(text.find("  skin:\n"), 8, "  concrete:\n");
+  text.replace(text.find("material: skin"), 14, "material: concrete");
+  const std::vector<Diagnostic> twice = LoadErrors(WriteScenario(text));
+  ASSERT_EQ(twice.size(), 1u);
+  EXPECT_EQ(twice[0].key_path, "materials.concrete");
+  EXPECT_TRUE(Contains(twice[0].message, "already defined by the world"));
+}
+
+// Confirms that problems of the world file are reported against the world file.
+TEST(ScenarioLoaderTest, ReportsWorldErrorsAgainstWorldFile) {
+  std::string world = kWorld;
+  world.replace(world.find("thickness: 0.2"), 14, "thickness: -1");
+  const std::string path = WriteScenario(ScenarioText(), world);
+  const std::string world_path = (fs::path(path).parent_path() / "world.yaml").string();
+  const std::vector<Diagnostic> all = LoadErrors(path);
+  ASSERT_EQ(all.size(), 1u);
+  EXPECT_EQ(all[0].file, world_path);
+  EXPECT_EQ(all[0].key_path, "walls[0].thickness");
+  EXPECT_EQ(all[0].line, LineOf(world, "thickness: -1"));
+  EXPECT_EQ(all[0].ToString().rfind(world_path + ":", 0), 0u);
+
+  // A world that does not exist is named by its resolved path.
+  std::string text = ScenarioText();
+  text.replace(text.find("world: world.yaml"), 17, "world: missing/world.yaml");
+  const std::string path2 = WriteScenario(text);
+  const std::vector<Diagnostic> gone = LoadErrors(path2);
+  ASSERT_EQ(gone.size(), 1u);
+  EXPECT_EQ(gone[0].file, (fs::path(path2).parent_path() / "missing" / "world.yaml").string());
+}
+
+// Confirms that every shipped scenario file validates with no diagnostics.
+TEST(ScenarioLoaderTest, EveryShippedScenarioValidates) {
+  const fs::path dir = fs::path(PAVILION_SOURCE_DIR) / "scenarios";
+  std::vector<fs::path> files;
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    const std::string ext = entry.path().extension().string();
+    if (entry.is_regular_file() && (ext == ".yaml" || ext == ".yml")) files.push_back(entry.path());
+  }
+  if (files.empty()) GTEST_SKIP() << "no scenario files under " << dir << " yet";
+  std::sort(files.begin(), files.end());
+  for (const fs::path& file : files) {
+    SCOPED_TRACE(file.string());
+    for (const Diagnostic& d : ValidateFile(file.string())) ADD_FAILURE() << d.ToString();
+    EXPECT_NO_THROW(LoadScenarioFile(file.string()));
+  }
+}
+
+}  // namespace
+}  // namespace pavilion::scenarios
