@@ -59,7 +59,8 @@ std::string RenderReportHtml(const Scenario& scenario, const nlohmann::ordered_j
     const auto& b = metrics["bodies_summary"];
     Row(html, "bodies", b["count"].dump());
     Row(html, "distance travelled by all bodies (m)", b["distance_m"].dump());
-    Row(html, "collisions involving bodies", b["collisions"].dump());
+    Row(html, "collision begins per body, summed (a body-body contact counts for both)",
+        b["collisions"].dump());
   }
   html << "</table>\n<h2>Events</h2>\n<table>\n<tr><th>type</th><th>count</th></tr>\n";
   for (const auto& [type, n] : metrics["events"].items()) {

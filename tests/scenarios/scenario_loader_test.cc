@@ -10,41 +10,16 @@
 #include "scenarios/input_error.h"
 #include "scenarios/scenario.h"
 #include "scenarios/validate.h"
+#include "tests/support/test_files.h"
 
 namespace pavilion::scenarios {
 namespace {
 
 namespace fs = std::filesystem;
-
-// A fresh, empty folder for the running test.
-fs::path TestDir() {
-  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  const fs::path dir = fs::temp_directory_path() / (std::string("pavilion_test_") +
-                                                    info->test_suite_name() + "_" + info->name());
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
-std::string WriteFile(const fs::path& dir, const std::string& name, const std::string& text) {
-  const fs::path path = dir / name;
-  std::ofstream out(path, std::ios::binary);
-  out << text;
-  return path.string();
-}
-
-// The 1-based line of `text` holding the first occurrence of `marker`.
-int LineOf(const std::string& text, const std::string& marker) {
-  const std::size_t at = text.find(marker);
-  EXPECT_NE(at, std::string::npos) << "marker '" << marker << "' not in the text";
-  return 1 +
-         static_cast<int>(std::count(text.begin(), text.begin() + std::min(at, text.size()), '\n'));
-}
-
-::testing::AssertionResult Contains(const std::string& text, const std::string& part) {
-  if (text.find(part) != std::string::npos) return ::testing::AssertionSuccess();
-  return ::testing::AssertionFailure() << "'" << text << "' does not contain '" << part << "'";
-}
+using pavilion::testing::Contains;
+using pavilion::testing::LineOf;
+using pavilion::testing::TestDir;
+using pavilion::testing::WriteFile;
 
 // A 16 m square hall with a door and a spawn area; no scenario materials.
 const std::string kWorld =

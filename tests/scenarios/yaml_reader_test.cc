@@ -6,18 +6,16 @@
 #include <vector>
 
 #include "scenarios/input_error.h"
+#include "tests/support/test_files.h"
 
 namespace pavilion::scenarios {
 namespace {
 
+using pavilion::testing::Contains;
+
 constexpr char kFile[] = "test.yaml";
 
 // Success when `text` contains `part`.
-::testing::AssertionResult Contains(const std::string& text, const std::string& part) {
-  if (text.find(part) != std::string::npos) return ::testing::AssertionSuccess();
-  return ::testing::AssertionFailure() << "'" << text << "' does not contain '" << part << "'";
-}
-
 // The 1-based line of `text` holding the first occurrence of `marker`.
 int LineOf(const std::string& text, const std::string& marker) {
   const std::size_t at = text.find(marker);

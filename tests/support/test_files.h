@@ -1,0 +1,47 @@
+#pragma once
+
+// Helpers for tests that write input files: a fresh folder per test, file
+// writing, and locating lines in the text written.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace pavilion::testing {
+
+// A fresh, empty folder for the running test.
+inline std::filesystem::path TestDir() {
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() /
+      (std::string("pavilion_test_") + info->test_suite_name() + "_" + info->name());
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+// Writes `text` to dir/name and returns the path.
+inline std::string WriteFile(const std::filesystem::path& dir, const std::string& name,
+                             const std::string& text) {
+  const std::filesystem::path path = dir / name;
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+  return path.string();
+}
+
+// The 1-based line of `text` holding the first occurrence of `marker`.
+inline int LineOf(const std::string& text, const std::string& marker) {
+  const std::size_t at = text.find(marker);
+  EXPECT_NE(at, std::string::npos) << "marker '" << marker << "' not in the text";
+  return 1 +
+         static_cast<int>(std::count(text.begin(), text.begin() + std::min(at, text.size()), '\n'));
+}
+
+inline ::testing::AssertionResult Contains(const std::string& text, const std::string& part) {
+  if (text.find(part) != std::string::npos) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << "'" << text << "' does not contain '" << part << "'";
+}
+
+}  // namespace pavilion::testing
