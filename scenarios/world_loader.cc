@@ -4,7 +4,6 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
-#include <regex>
 #include <set>
 
 #include "sim/triangle_mesh.h"
@@ -28,6 +27,18 @@ core::LaserResponse ParseLaser(const std::string& s) {
   return core::LaserResponse::kNormal;
 }
 
+// True when `s` is non-empty and made of lower-case letters, digits and '_'
+// (and, when `id` is set, also upper-case letters and '-').
+bool IsName(const std::string& s, bool id) {
+  if (s.empty()) return false;
+  for (const char c : s) {
+    const bool ok = (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_' ||
+                    (id && ((c >= 'A' && c <= 'Z') || c == '-'));
+    if (!ok) return false;
+  }
+  return true;
+}
+
 std::string Index(const std::string& list, std::size_t i) {
   return list + "[" + std::to_string(i) + "]";
 }
@@ -49,8 +60,7 @@ class ElementContext {
   std::string Id(MapReader& r) {
     auto id = r.RequiredString("id");
     if (!id) return "";
-    static const std::regex kIdPattern("[A-Za-z0-9_\\-]+");
-    if (!std::regex_match(*id, kIdPattern)) {
+    if (!IsName(*id, true)) {
       doc_->Error(r.Child("id"), r.PathOf("id"), "must use letters, digits, '_' or '-'");
     } else if (!ids_.insert(*id).second) {
       doc_->Error(r.Child("id"), r.PathOf("id"),
@@ -343,8 +353,7 @@ sim::WorldDescription ReadWorld(YamlDocument* doc) {
     doc->Error(top.Child("kind"), "kind", "expected 'world', got '" + *kind + "'");
   }
   if (auto name = top.RequiredString("name")) {
-    static const std::regex kNamePattern("[a-z0-9_]+");
-    if (!std::regex_match(*name, kNamePattern)) {
+    if (!IsName(*name, false)) {
       doc->Error(top.Child("name"), "name", "must be lower-case letters, digits and '_'");
     }
     w.name = *name;
