@@ -129,6 +129,7 @@ int main(int argc, char** argv) {
 
   CLI::App app{"Pavilion: a physics-simulation testbed for fleets of mobile robots"};
   app.require_subcommand(1);
+  app.fallthrough();  // --log-level may follow the subcommand too
   app.footer(
       "Examples:\n  pavilion run scenarios/expo_visitors.yaml --out out/demo\n"
       "  pavilion validate worlds/*/world.yaml scenarios/*.yaml\n"
