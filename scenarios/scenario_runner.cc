@@ -182,16 +182,20 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   std::vector<double> distance_m(world.body_count(), 0.0);
   std::vector<std::int64_t> collisions(world.body_count(), 0);
   std::vector<std::vector<Eigen::Vector2d>> tracks(world.body_count());
-  std::vector<Eigen::Vector2d> last_xy(world.body_count());
+  // Body index of each element, -1 for static elements.
+  std::vector<int> body_of_element(elements.size(), -1);
+  for (int b = 0; b < world.body_count(); ++b) body_of_element[world.body_element(b)] = b;
+  // The state after the last step: read by this tick's per-body work, the
+  // distance sums and the trajectory rows (one snapshot per tick).
+  sim::TickSnapshot snapshot = world.Snapshot();
   auto record = [&](double t) {
     for (int b = 0; b < world.body_count(); ++b) {
-      const core::Pose2 p = world.body_state(b).pose;
+      const core::Pose2& p = snapshot.bodies[b].pose;
       trajectories.Append(Fixed(t, 3) + "," + world.body_spec(b).id + "," + Fixed(p.x_m, 6) + "," +
                           Fixed(p.y_m, 6) + "," + Fixed(p.theta_rad, 6));
       tracks[b].push_back(p.translation());
     }
   };
-  for (int b = 0; b < world.body_count(); ++b) last_xy[b] = world.body_state(b).pose.translation();
 
   emit(Json{{"time_s", 0.0},
             {"type", "run_started"},
@@ -220,7 +224,7 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
           break;
         case ScriptedEvent::Type::kTeleport:
           world.Teleport(body_index.at(e.target), e.pose);
-          last_xy[body_index.at(e.target)] = e.pose.translation();
+          snapshot.bodies[body_index.at(e.target)] = world.body_state(body_index.at(e.target));
           j["type"] = "teleport";
           j["body"] = e.target;
           j["pose"] = {e.pose.x_m, e.pose.y_m, e.pose.theta_rad};
@@ -236,7 +240,6 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
     }
     // Per-body work reads the tick's snapshot and writes only its own slot;
     // the results are applied in body order (parallel-ready, architecture.md).
-    const sim::TickSnapshot snapshot = world.Snapshot();
     for (int b = 0; b < world.body_count(); ++b) {
       if (motions[b]) commands[b] = motions[b]->Update(t, snapshot.bodies[b]);
     }
@@ -252,11 +255,7 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
     for (const sim::ContactChange& c : world.TakeContactChanges()) {
       if (!c.began) continue;
       for (int element : {c.a, c.b}) {
-        if (elements[element].dynamic) {
-          for (int b = 0; b < world.body_count(); ++b) {
-            if (world.body_element(b) == element) ++collisions[b];
-          }
-        }
+        if (body_of_element[element] >= 0) ++collisions[body_of_element[element]];
       }
       emit(Json{{"time_s", std::stod(Fixed(t_after, 6))},
                 {"type", "collision"},
@@ -267,11 +266,12 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
                  {std::stod(Fixed(c.point_m.x(), 4)), std::stod(Fixed(c.point_m.y(), 4)),
                   std::stod(Fixed(c.point_m.z(), 4))}}});
     }
+    sim::TickSnapshot next = world.Snapshot();
     for (int b = 0; b < world.body_count(); ++b) {
-      const Eigen::Vector2d xy = world.body_state(b).pose.translation();
-      distance_m[b] += (xy - last_xy[b]).norm();
-      last_xy[b] = xy;
+      distance_m[b] +=
+          (next.bodies[b].pose.translation() - snapshot.bodies[b].pose.translation()).norm();
     }
+    snapshot = std::move(next);
     if (schedule.IsDue(trajectory_task, tick + 1)) record(t_after);
     if ((tick & 255) == 0) progress.Update(t_after, Seconds(Clock::now() - t_loop));
   }
