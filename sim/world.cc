@@ -542,6 +542,57 @@ core::PlanarSection World::SectionAt(double height_m) const {
   return section;
 }
 
+namespace {
+
+// Closest hit that skips one element and, optionally, transparent elements.
+class FilteredClosestRay : public btCollisionWorld::ClosestRayResultCallback {
+ public:
+  FilteredClosestRay(const btVector3& from, const btVector3& to,
+                     const std::vector<core::SectionElement>& elements, int ignore,
+                     bool hit_transparent)
+      : ClosestRayResultCallback(from, to),
+        elements_(elements),
+        ignore_(ignore),
+        hit_transparent_(hit_transparent) {}
+
+  bool needsCollision(btBroadphaseProxy* proxy) const override {
+    const auto* object = static_cast<const btCollisionObject*>(proxy->m_clientObject);
+    const int element = object->getUserIndex();
+    if (element >= 0) {
+      const core::SectionElement& e = elements_[element];
+      if (ignore_ >= 0 && e.group == ignore_) return false;
+      if (!hit_transparent_ && e.laser == core::LaserResponse::kTransparent) return false;
+    }
+    return ClosestRayResultCallback::needsCollision(proxy);
+  }
+
+ private:
+  const std::vector<core::SectionElement>& elements_;
+  int ignore_;
+  bool hit_transparent_;
+};
+
+}  // namespace
+
+RayHit World::CastRay(const Eigen::Vector3d& from_m, const Eigen::Vector3d& to_m, int ignore_group,
+                      bool hit_transparent) const {
+  const btVector3 from = ToBt(from_m), to = ToBt(to_m);
+  FilteredClosestRay callback(from, to, impl_->elements, ignore_group, hit_transparent);
+  impl_->dynamics.rayTest(from, to, callback);
+  RayHit hit;
+  if (!callback.hasHit()) return hit;
+  hit.hit = true;
+  hit.point_m = {callback.m_hitPointWorld.x(), callback.m_hitPointWorld.y(),
+                 callback.m_hitPointWorld.z()};
+  hit.distance_m = (hit.point_m - from_m).norm();
+  Eigen::Vector3d n(callback.m_hitNormalWorld.x(), callback.m_hitNormalWorld.y(),
+                    callback.m_hitNormalWorld.z());
+  if (n.dot(to_m - from_m) > 0) n = -n;
+  hit.normal = n.normalized();
+  hit.element = callback.m_collisionObject->getUserIndex();
+  return hit;
+}
+
 const std::vector<core::SectionElement>& World::elements() const { return impl_->elements; }
 
 std::vector<ContactChange> World::TakeContactChanges() {

@@ -60,6 +60,15 @@ struct TickSnapshot {
   std::vector<BodyState> bodies;  // indexed by body index
 };
 
+// The first surface a ray meets.
+struct RayHit {
+  bool hit = false;
+  double distance_m = 0.0;  // from the ray's origin
+  Eigen::Vector3d point_m{0, 0, 0};
+  Eigen::Vector3d normal{0, 0, 0};  // unit surface normal, facing the ray
+  int element = -1;                 // element index hit
+};
+
 // A change of contact between two elements (static elements or bodies); the
 // floor is not reported. `a` < `b` are element indices of PlanarSection order.
 struct ContactChange {
@@ -116,6 +125,13 @@ class World {
   // The world cut at height z: static elements and the bodies at their current
   // poses. Element indices as above.
   core::PlanarSection SectionAt(double height_m) const;
+  // Casts a ray from `from_m` to `to_m` and returns the closest hit, ignoring
+  // the elements of `ignore_group` (the casting robot's parts) and, unless
+  // `hit_transparent`, elements whose material is laser-transparent. Not
+  // thread-safe: one Bullet world is never ray-cast from two threads.
+  RayHit CastRay(const Eigen::Vector3d& from_m, const Eigen::Vector3d& to_m, int ignore_group = -1,
+                 bool hit_transparent = false) const;
+
   // Element ids and flags, indexed by element index.
   const std::vector<core::SectionElement>& elements() const;
 
