@@ -22,6 +22,7 @@ struct SectionElement {
   std::string id;  // element or body id, unique in the world
   LaserResponse laser = LaserResponse::kNormal;
   bool dynamic = false;  // true for bodies that move (robots, visitors, props)
+  int group = -1;        // parts of one robot share a group (>= 0); -1 otherwise
 };
 
 // A line segment of a section, in the world frame.
