@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <set>
 #include <stdexcept>
 #include <utility>
@@ -22,6 +23,17 @@ constexpr double kFloorThicknessM = 1.0;
 // Collision margin for triangle meshes (m); small so that rays and contacts
 // meet the surface the description gives.
 constexpr double kMeshMarginM = 0.001;
+// Robots (chosen, not from the thesis): friction coefficient of the drive
+// wheels' tread (combined by product with the floor's), the casters' mass, and
+// the chassis' centre of mass as a fraction of its height above its base
+// (batteries and drives sit low).
+constexpr double kWheelTreadFriction = 1.0;
+constexpr double kCasterMassKg = 0.5;
+constexpr double kChassisComHeightFraction = 0.35;
+// Sign relating Bullet's hinge angle and motor velocity (B relative to A about
+// the axis in A) to "positive forward" wheel rotation; established by the
+// forward-drive test in tests/sim/robot_world_test.cc.
+constexpr double kHingeSign = -1.0;
 
 btVector3 ToBt(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 
@@ -60,6 +72,27 @@ void CutTriangle(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eig
     s.b_m = hits[0];
   }
   out->segments.push_back(s);
+}
+
+btTransform PlanarTransform(const core::Pose2& pose, double z) {
+  btTransform t;
+  t.setIdentity();
+  t.setOrigin(btVector3(pose.x_m, pose.y_m, z));
+  t.setRotation(btQuaternion(btVector3(0, 0, 1), pose.theta_rad));
+  return t;
+}
+
+double WrapAngle(double a) { return std::remainder(a, 2.0 * std::numbers::pi); }
+
+// True when the polygon is convex and counter-clockwise with non-zero area.
+bool IsConvexCcw(const std::vector<Eigen::Vector2d>& p) {
+  if (p.size() < 3) return false;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const Eigen::Vector2d a = p[(i + 1) % p.size()] - p[i];
+    const Eigen::Vector2d b = p[(i + 2) % p.size()] - p[(i + 1) % p.size()];
+    if (a.x() * b.y() - a.y() * b.x() <= 0.0) return false;
+  }
+  return true;
 }
 
 void AddPolygonSegments(const Quad& q, int element, core::PlanarSection* out) {
@@ -125,20 +158,119 @@ struct World::Impl {
   std::vector<std::unique_ptr<btMotionState>> motion_states;
   std::vector<std::unique_ptr<btRigidBody>> rigid_bodies;
 
+  struct RobotPart {
+    btRigidBody* rigid = nullptr;
+    btTransform base_from_part;  // where the part sits in the robot's base frame
+  };
+  struct Robot {
+    RobotSpec spec;
+    int group = -1;
+    int element = -1;              // chassis (and attachments' object)
+    std::vector<RobotPart> parts;  // chassis first, then left, right wheel, casters
+    btHingeConstraint* hinge[2] = {nullptr, nullptr};
+    double com_z_m = 0.0;  // chassis centre of mass above the base origin
+    double target_radps[2] = {0, 0};
+    double command_radps[2] = {0, 0};
+    double wheel_rad[2] = {0, 0};  // unwrapped, positive forward
+    double last_hinge_rad[2] = {0, 0};
+    btRigidBody* chassis() const { return parts[0].rigid; }
+    btRigidBody* wheel(int side) const { return parts[1 + side].rigid; }
+  };
+
+  // Robots' own parts never collide with each other.
+  struct SameRobotFilter : btOverlapFilterCallback {
+    const std::vector<core::SectionElement>* elements = nullptr;
+    bool needBroadphaseCollision(btBroadphaseProxy* p0, btBroadphaseProxy* p1) const override {
+      if ((p0->m_collisionFilterGroup & p1->m_collisionFilterMask) == 0 ||
+          (p1->m_collisionFilterGroup & p0->m_collisionFilterMask) == 0) {
+        return false;
+      }
+      const int a = static_cast<const btCollisionObject*>(p0->m_clientObject)->getUserIndex();
+      const int b = static_cast<const btCollisionObject*>(p1->m_clientObject)->getUserIndex();
+      if (a < 0 || b < 0) return true;
+      const int ga = (*elements)[a].group;
+      return ga < 0 || ga != (*elements)[b].group;
+    }
+  };
+
   std::vector<core::SectionElement> elements;
   std::vector<Body> bodies;
+  std::vector<Robot> robots;
+  std::vector<std::unique_ptr<btTypedConstraint>> constraints;
+  SameRobotFilter robot_filter;
   std::vector<btRigidBody*> doors;  // parallel to description.doors
   std::set<std::pair<int, int>> touching;
 
+  Impl() {
+    robot_filter.elements = &elements;
+    dynamics.getPairCache()->setOverlapFilterCallback(&robot_filter);
+  }
+
   ~Impl() {
+    for (auto& c : constraints) dynamics.removeConstraint(c.get());
     for (auto& rb : rigid_bodies) dynamics.removeRigidBody(rb.get());
   }
 
-  int AddElement(const std::string& id, const std::string& material, bool dynamic) {
+  int AddElement(const std::string& id, const std::string& material, bool dynamic, int group = -1) {
     const core::LaserResponse laser =
         material.empty() ? core::LaserResponse::kNormal : description.MaterialNamed(material).laser;
-    elements.push_back({id, laser, dynamic});
+    elements.push_back({id, laser, dynamic, group});
     return static_cast<int>(elements.size()) - 1;
+  }
+
+  bool IdTaken(const std::string& id) const {
+    return std::any_of(elements.begin(), elements.end(),
+                       [&](const core::SectionElement& e) { return e.id == id; });
+  }
+
+  // A dynamic rigid body owned by the world, never deactivated.
+  btRigidBody* AddDynamic(std::unique_ptr<btCollisionShape> shape, double mass_kg,
+                          const btTransform& transform, double friction, double restitution,
+                          int element) {
+    btVector3 inertia(0, 0, 0);
+    shape->calculateLocalInertia(mass_kg, inertia);
+    auto motion = std::make_unique<btDefaultMotionState>(transform);
+    btRigidBody::btRigidBodyConstructionInfo info(mass_kg, motion.get(), shape.get(), inertia);
+    info.m_friction = friction;
+    info.m_restitution = restitution;
+    auto rigid = std::make_unique<btRigidBody>(info);
+    rigid->setActivationState(DISABLE_DEACTIVATION);
+    rigid->setUserIndex(element);
+    dynamics.addRigidBody(rigid.get());
+    shapes.push_back(std::move(shape));
+    motion_states.push_back(std::move(motion));
+    rigid_bodies.push_back(std::move(rigid));
+    return rigid_bodies.back().get();
+  }
+
+  // Places every part of a robot at `pose`, at rest.
+  static void PlaceRobot(Robot* robot, const core::Pose2& pose) {
+    const btTransform world_from_base = PlanarTransform(pose, 0.0);
+    for (RobotPart& part : robot->parts) {
+      const btTransform t = world_from_base * part.base_from_part;
+      part.rigid->setWorldTransform(t);
+      part.rigid->setInterpolationWorldTransform(t);
+      part.rigid->getMotionState()->setWorldTransform(t);
+      part.rigid->setLinearVelocity(btVector3(0, 0, 0));
+      part.rigid->setAngularVelocity(btVector3(0, 0, 0));
+      part.rigid->clearForces();
+    }
+  }
+
+  btTransform WorldFromBase(const Robot& robot) const {
+    btTransform com_from_base;
+    com_from_base.setIdentity();
+    com_from_base.setOrigin(btVector3(0, 0, -robot.com_z_m));
+    return robot.chassis()->getWorldTransform() * com_from_base;
+  }
+
+  // Accumulates each wheel's rotation from its hinge angle (wrapped by Bullet).
+  void UpdateWheelAngles(Robot* robot) {
+    for (int side = 0; side < 2; ++side) {
+      const double h = robot->hinge[side]->getHingeAngle();
+      robot->wheel_rad[side] += kHingeSign * WrapAngle(h - robot->last_hinge_rad[side]);
+      robot->last_hinge_rad[side] = h;
+    }
   }
 
   btRigidBody* AddStatic(std::unique_ptr<btCollisionShape> shape, const btTransform& transform,
@@ -318,6 +450,39 @@ struct World::Impl {
     }
   }
 
+  void AppendRobotSection(double z, core::PlanarSection* out) const {
+    for (const Robot& robot : robots) {
+      const btTransform world_from_base = WorldFromBase(robot);
+      const core::Pose2 base{world_from_base.getOrigin().x(), world_from_base.getOrigin().y(),
+                             YawOf(world_from_base)};
+      const double dz = z - world_from_base.getOrigin().z();
+      const RobotDescription& m = robot.spec.model;
+      if (SpansHeight(m.chassis_base_z_m, m.chassis_height_m, dz)) {
+        const auto& fp = m.footprint_m;
+        for (std::size_t i = 0; i < fp.size(); ++i) {
+          out->segments.push_back({base * fp[i], base * fp[(i + 1) % fp.size()], robot.element});
+        }
+      }
+      for (std::size_t k = 0; k < robot.spec.attachments.size(); ++k) {
+        const RobotAttachment& a = robot.spec.attachments[k];
+        if (SpansHeight(a.base_z_m, a.height_m, dz)) {
+          out->circles.push_back({base * a.position_m, a.radius_m,
+                                  robot.chassis()->getUserIndex2() + static_cast<int>(k)});
+        }
+      }
+      for (std::size_t p = 1; p < robot.parts.size(); ++p) {
+        const btRigidBody* rb = robot.parts[p].rigid;
+        const auto* sphere = static_cast<const btSphereShape*>(rb->getCollisionShape());
+        const btVector3& c = rb->getWorldTransform().getOrigin();
+        const double r = sphere->getRadius();
+        const double h = z - c.z();
+        if (std::abs(h) < r) {
+          out->circles.push_back({{c.x(), c.y()}, std::sqrt(r * r - h * h), rb->getUserIndex()});
+        }
+      }
+    }
+  }
+
   void UpdateContacts(std::vector<ContactChange>* changes) {
     std::set<std::pair<int, int>> now;
     std::vector<ContactChange> begins;
@@ -434,6 +599,214 @@ int World::AddBody(const BodySpec& spec) {
   return static_cast<int>(im.bodies.size()) - 1;
 }
 
+int World::AddRobot(const RobotSpec& spec) {
+  Impl& im = *impl_;
+  const RobotDescription& m = spec.model;
+  const auto fail = [&](const std::string& what) {
+    throw std::invalid_argument("robot '" + spec.id + "': " + what);
+  };
+  if (spec.id.empty()) throw std::invalid_argument("robot id must not be empty");
+  if (im.IdTaken(spec.id)) fail("id is already used by a world element or body");
+  if (!IsConvexCcw(m.footprint_m)) fail("footprint must be a convex counter-clockwise polygon");
+  if (!(m.chassis_height_m > 0.0)) fail("chassis height must be > 0");
+  if (!(m.chassis_base_z_m >= 0.0)) fail("chassis base height must be >= 0");
+  if (!(m.chassis_mass_kg > 0.0)) fail("chassis mass must be > 0");
+  if (!(m.wheelbase_m() > 0.0)) fail("left wheel must be left of the right wheel");
+  for (const WheelSpec* w : {&m.left_wheel, &m.right_wheel}) {
+    if (!(w->radius_m > 0.0) || !(w->mass_kg > 0.0)) {
+      fail("wheel '" + w->joint + "' needs radius > 0 and mass > 0");
+    }
+  }
+  for (const CasterSpec& c : m.casters) {
+    if (!(c.radius_m > 0.0)) fail("caster '" + c.link + "' needs radius > 0");
+  }
+  if (!(m.max_wheel_torque_nm > 0.0 && m.max_wheel_speed_radps > 0.0 &&
+        m.max_wheel_accel_radps2 > 0.0)) {
+    fail("motor torque, speed and acceleration limits must be > 0");
+  }
+  for (const RobotAttachment& a : spec.attachments) {
+    if (!(a.radius_m > 0.0 && a.height_m > 0.0 && a.base_z_m >= 0.0)) {
+      fail("attachment '" + a.name + "' needs radius > 0, height > 0 and base >= 0");
+    }
+  }
+  try {
+    spec.systematic.Validate();
+  } catch (const std::invalid_argument& e) {
+    fail(std::string("systematic errors: ") + e.what());
+  }
+  const Material& material = im.description.MaterialNamed(m.material);
+
+  Impl::Robot robot;
+  robot.spec = spec;
+  robot.group = static_cast<int>(im.robots.size());
+  robot.com_z_m = m.chassis_base_z_m + kChassisComHeightFraction * m.chassis_height_m;
+
+  // Chassis: the footprint prism and the attachments in one compound whose
+  // origin is the centre of mass. Child 0 is the prism (the chassis element);
+  // child k >= 1 is attachment k - 1, its own element (see ElementOf).
+  auto compound = std::make_unique<btCompoundShape>();
+  {
+    auto hull = std::make_unique<btConvexHullShape>();
+    for (const Eigen::Vector2d& p : m.footprint_m) {
+      hull->addPoint(btVector3(p.x(), p.y(), m.chassis_base_z_m - robot.com_z_m), false);
+      hull->addPoint(
+          btVector3(p.x(), p.y(), m.chassis_base_z_m + m.chassis_height_m - robot.com_z_m), false);
+    }
+    hull->recalcLocalAabb();
+    hull->setMargin(kMeshMarginM);
+    btTransform identity;
+    identity.setIdentity();
+    compound->addChildShape(identity, hull.get());
+    im.shapes.push_back(std::move(hull));
+  }
+  for (const RobotAttachment& a : spec.attachments) {
+    auto cylinder =
+        std::make_unique<btCylinderShapeZ>(btVector3(a.radius_m, a.radius_m, 0.5 * a.height_m));
+    btTransform t;
+    t.setIdentity();
+    t.setOrigin(btVector3(a.position_m.x(), a.position_m.y(),
+                          a.base_z_m + 0.5 * a.height_m - robot.com_z_m));
+    compound->addChildShape(t, cylinder.get());
+    im.shapes.push_back(std::move(cylinder));
+  }
+  robot.element = im.AddElement(spec.id, m.material, true, robot.group);
+  const int first_attachment = static_cast<int>(im.elements.size());
+  for (const RobotAttachment& a : spec.attachments) {
+    im.AddElement(spec.id + "/" + a.name, a.material, true, robot.group);
+  }
+  btTransform base_from_chassis;
+  base_from_chassis.setIdentity();
+  base_from_chassis.setOrigin(btVector3(0, 0, robot.com_z_m));
+  btRigidBody* chassis = im.AddDynamic(std::move(compound), m.chassis_mass_kg, base_from_chassis,
+                                       material.friction, material.restitution, robot.element);
+  chassis->setUserIndex2(spec.attachments.empty() ? -1 : first_attachment);
+  robot.parts.push_back({chassis, base_from_chassis});
+
+  // Drive wheels: the physical robot's radii and wheelbase carry the
+  // systematic errors (mean radius and the wheel positions' midpoint kept).
+  const double ratio = spec.systematic.wheel_radius_ratio;
+  const double mean_radius = 0.5 * (m.left_wheel.radius_m + m.right_wheel.radius_m);
+  const double radius[2] = {2.0 * mean_radius / (1.0 + ratio),
+                            2.0 * mean_radius * ratio / (1.0 + ratio)};
+  const double mid_y = 0.5 * (m.left_wheel.position_m.y() + m.right_wheel.position_m.y());
+  const double half_base = 0.5 * m.wheelbase_m() * spec.systematic.wheelbase_factor;
+  const WheelSpec* wheel_specs[2] = {&m.left_wheel, &m.right_wheel};
+  for (int side = 0; side < 2; ++side) {
+    const WheelSpec& w = *wheel_specs[side];
+    const double y = mid_y + (side == 0 ? half_base : -half_base);
+    btTransform base_from_wheel;
+    base_from_wheel.setIdentity();
+    base_from_wheel.setOrigin(btVector3(w.position_m.x(), y, radius[side]));
+    const int element = im.AddElement(spec.id + (side == 0 ? "/left_wheel" : "/right_wheel"),
+                                      m.material, true, robot.group);
+    btRigidBody* wheel = im.AddDynamic(std::make_unique<btSphereShape>(radius[side]), w.mass_kg,
+                                       base_from_wheel, kWheelTreadFriction, 0.0, element);
+    robot.parts.push_back({wheel, base_from_wheel});
+    const btVector3 pivot_in_chassis = base_from_chassis.inverse() * base_from_wheel.getOrigin();
+    auto hinge =
+        std::make_unique<btHingeConstraint>(*chassis, *wheel, pivot_in_chassis, btVector3(0, 0, 0),
+                                            btVector3(0, 1, 0), btVector3(0, 1, 0));
+    robot.hinge[side] = hinge.get();
+    im.dynamics.addConstraint(hinge.get(), true);
+    im.constraints.push_back(std::move(hinge));
+  }
+  // Casters: nearly frictionless spheres on ball joints.
+  for (const CasterSpec& c : m.casters) {
+    btTransform base_from_caster;
+    base_from_caster.setIdentity();
+    base_from_caster.setOrigin(btVector3(c.position_m.x(), c.position_m.y(), c.radius_m));
+    const int element = im.AddElement(spec.id + "/" + c.link, m.material, true, robot.group);
+    btRigidBody* caster = im.AddDynamic(std::make_unique<btSphereShape>(c.radius_m), kCasterMassKg,
+                                        base_from_caster, 0.0, 0.0, element);
+    robot.parts.push_back({caster, base_from_caster});
+    auto joint = std::make_unique<btPoint2PointConstraint>(
+        *chassis, *caster, base_from_chassis.inverse() * base_from_caster.getOrigin(),
+        btVector3(0, 0, 0));
+    im.dynamics.addConstraint(joint.get(), true);
+    im.constraints.push_back(std::move(joint));
+  }
+  Impl::PlaceRobot(&robot, spec.pose);
+  for (int side = 0; side < 2; ++side)
+    robot.last_hinge_rad[side] = robot.hinge[side]->getHingeAngle();
+  im.robots.push_back(std::move(robot));
+  return static_cast<int>(im.robots.size()) - 1;
+}
+
+int World::robot_count() const { return static_cast<int>(impl_->robots.size()); }
+const RobotSpec& World::robot_spec(int robot) const { return impl_->robots.at(robot).spec; }
+int World::robot_group(int robot) const { return impl_->robots.at(robot).group; }
+int World::robot_element(int robot) const { return impl_->robots.at(robot).element; }
+
+RobotState World::robot_state(int robot) const {
+  const Impl::Robot& r = impl_->robots.at(robot);
+  const btRigidBody* chassis = r.chassis();
+  const btTransform world_from_base = impl_->WorldFromBase(r);
+  RobotState s;
+  s.pose = {world_from_base.getOrigin().x(), world_from_base.getOrigin().y(),
+            YawOf(world_from_base)};
+  const btVector3 up = world_from_base.getBasis().getColumn(2);
+  s.tilt_rad = std::acos(std::clamp(static_cast<double>(up.z()), -1.0, 1.0));
+  const btVector3 v = chassis->getVelocityInLocalPoint(world_from_base.getOrigin() -
+                                                       chassis->getCenterOfMassPosition());
+  s.velocity_mps = {v.x(), v.y()};
+  s.yaw_rate_radps = chassis->getAngularVelocity().z();
+  const btVector3 axis = chassis->getWorldTransform().getBasis().getColumn(1);
+  const double rates[2] = {
+      (r.wheel(0)->getAngularVelocity() - chassis->getAngularVelocity()).dot(axis),
+      (r.wheel(1)->getAngularVelocity() - chassis->getAngularVelocity()).dot(axis)};
+  s.left_wheel_rad = r.wheel_rad[0];
+  s.right_wheel_rad = r.wheel_rad[1];
+  s.left_wheel_radps = rates[0];
+  s.right_wheel_radps = rates[1];
+  return s;
+}
+
+void World::SetWheelSpeeds(int robot, double left_radps, double right_radps) {
+  Impl::Robot& r = impl_->robots.at(robot);
+  const double limit = r.spec.model.max_wheel_speed_radps;
+  r.target_radps[0] = std::clamp(left_radps, -limit, limit);
+  r.target_radps[1] = std::clamp(right_radps, -limit, limit);
+}
+
+std::vector<Eigen::Vector2d> World::RobotContactPoints(int robot) const {
+  const Impl& im = *impl_;
+  const Impl::Robot& r = im.robots.at(robot);
+  const btTransform base_from_world = im.WorldFromBase(r).inverse();
+  std::vector<Eigen::Vector2d> points;
+  const int manifolds = im.dispatcher.getNumManifolds();
+  for (int k = 0; k < manifolds; ++k) {
+    const btPersistentManifold* manifold =
+        const_cast<btCollisionDispatcher&>(im.dispatcher).getManifoldByIndexInternal(k);
+    const bool chassis_is_a = manifold->getBody0() == r.chassis();
+    if (!chassis_is_a && manifold->getBody1() != r.chassis()) continue;
+    const btCollisionObject* other = chassis_is_a ? manifold->getBody1() : manifold->getBody0();
+    if (other->getUserIndex() == 0) continue;  // the floor
+    for (int p = 0; p < manifold->getNumContacts(); ++p) {
+      const btManifoldPoint& cp = manifold->getContactPoint(p);
+      if (cp.getDistance() >= kContactDistanceM) continue;
+      const btVector3 q =
+          base_from_world * (chassis_is_a ? cp.getPositionWorldOnA() : cp.getPositionWorldOnB());
+      points.emplace_back(q.x(), q.y());
+    }
+  }
+  return points;
+}
+
+void World::ApplyRobotImpulse(int robot, const Eigen::Vector2d& impulse_ns) {
+  impl_->robots.at(robot).chassis()->applyCentralImpulse(
+      btVector3(impulse_ns.x(), impulse_ns.y(), 0.0));
+}
+
+void World::TeleportRobot(int robot, const core::Pose2& pose) {
+  Impl::Robot& r = impl_->robots.at(robot);
+  Impl::PlaceRobot(&r, pose);
+  for (int side = 0; side < 2; ++side) {
+    r.command_radps[side] = 0.0;
+    r.target_radps[side] = 0.0;
+    r.last_hinge_rad[side] = r.hinge[side]->getHingeAngle();
+  }
+}
+
 int World::body_count() const { return static_cast<int>(impl_->bodies.size()); }
 const BodySpec& World::body_spec(int body) const { return impl_->bodies.at(body).spec; }
 int World::body_element(int body) const { return impl_->bodies.at(body).element; }
@@ -515,7 +888,20 @@ void World::Step() {
     const btVector3 w = b.rigid->getAngularVelocity();
     b.rigid->setAngularVelocity(btVector3(w.x(), w.y(), b.yaw_rate_radps));
   }
+  for (Impl::Robot& r : im.robots) {
+    const RobotDescription& m = r.spec.model;
+    for (int side = 0; side < 2; ++side) {
+      // Acceleration ramp towards the commanded speed; the motor delivers at
+      // most the torque limit over the step.
+      const double step = m.max_wheel_accel_radps2 * dt;
+      r.command_radps[side] +=
+          std::clamp(r.target_radps[side] - r.command_radps[side], -step, step);
+      r.hinge[side]->enableAngularMotor(true, kHingeSign * r.command_radps[side],
+                                        m.max_wheel_torque_nm * dt);
+    }
+  }
   im.dynamics.stepSimulation(dt, 0, dt);
+  for (Impl::Robot& r : im.robots) im.UpdateWheelAngles(&r);
   ++im.tick;
   im.UpdateContacts(&im.pending_changes);
 }
@@ -526,6 +912,8 @@ TickSnapshot World::Snapshot() const {
   snapshot.time_s = time_s();
   snapshot.bodies.reserve(impl_->bodies.size());
   for (int b = 0; b < body_count(); ++b) snapshot.bodies.push_back(body_state(b));
+  snapshot.robots.reserve(impl_->robots.size());
+  for (int r = 0; r < robot_count(); ++r) snapshot.robots.push_back(robot_state(r));
   return snapshot;
 }
 
@@ -539,6 +927,7 @@ core::PlanarSection World::SectionAt(double height_m) const {
   section.elements = impl_->elements;
   impl_->AppendStaticSection(height_m, &section);
   impl_->AppendBodySection(height_m, &section);
+  impl_->AppendRobotSection(height_m, &section);
   return section;
 }
 
@@ -566,10 +955,26 @@ class FilteredClosestRay : public btCollisionWorld::ClosestRayResultCallback {
     return ClosestRayResultCallback::needsCollision(proxy);
   }
 
+  // Called for each hit closer than the closest so far; the last call wins.
+  btScalar addSingleResult(btCollisionWorld::LocalRayResult& result,
+                           bool normal_in_world_space) override {
+    element_ = result.m_collisionObject->getUserIndex();
+    // A robot chassis compound: child k >= 1 is an attachment with its own element.
+    const int first_attachment = result.m_collisionObject->getUserIndex2();
+    if (first_attachment >= 0 && result.m_localShapeInfo != nullptr &&
+        result.m_localShapeInfo->m_triangleIndex >= 1) {
+      element_ = first_attachment + result.m_localShapeInfo->m_triangleIndex - 1;
+    }
+    return ClosestRayResultCallback::addSingleResult(result, normal_in_world_space);
+  }
+
+  int element() const { return element_; }
+
  private:
   const std::vector<core::SectionElement>& elements_;
   int ignore_;
   bool hit_transparent_;
+  int element_ = -1;
 };
 
 }  // namespace
@@ -589,7 +994,7 @@ RayHit World::CastRay(const Eigen::Vector3d& from_m, const Eigen::Vector3d& to_m
                     callback.m_hitNormalWorld.z());
   if (n.dot(to_m - from_m) > 0) n = -n;
   hit.normal = n.normalized();
-  hit.element = callback.m_collisionObject->getUserIndex();
+  hit.element = callback.element();
   return hit;
 }
 

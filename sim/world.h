@@ -8,6 +8,8 @@
 
 #include "core/geometry/planar_section.h"
 #include "core/types/pose2.h"
+#include "sim/robot_description.h"
+#include "sim/robot_sensors.h"
 #include "sim/world_description.h"
 
 namespace pavilion::sim {
@@ -51,13 +53,50 @@ struct BodyState {
   double yaw_rate_radps = 0.0;
 };
 
+// A rigid part fixed on a robot's chassis, an upright cylinder in the base frame
+// (Robox's retro-reflective marker posts, §6.3.5.1).
+struct RobotAttachment {
+  std::string name;
+  Eigen::Vector2d position_m{0, 0};
+  double radius_m = 0.05;  // > 0
+  double base_z_m = 0.0;   // >= 0
+  double height_m = 0.1;   // > 0
+  std::string material;    // a material of the world
+};
+
+// A differential-drive robot added to a world: the nominal model, and how the
+// physical robot differs from it. The physical wheels are built with the
+// systematic errors applied (mean radius and nominal wheelbase scaled), so
+// odometry computed from the nominal model drifts as a real robot's does.
+struct RobotSpec {
+  std::string id;  // unique among world elements and bodies
+  RobotDescription model;
+  SystematicErrors systematic;
+  core::Pose2 pose;  // initial pose of the base frame
+  std::vector<RobotAttachment> attachments;
+};
+
+// The true state of a robot.
+struct RobotState {
+  core::Pose2 pose;                    // base frame: on the floor, midway between the wheels
+  double tilt_rad = 0.0;               // angle between the chassis z axis and the world z axis
+  Eigen::Vector2d velocity_mps{0, 0};  // of the base origin, world frame
+  double yaw_rate_radps = 0.0;
+  // Wheel rotation relative to the chassis, unwrapped, positive forward (rad).
+  double left_wheel_rad = 0.0;
+  double right_wheel_rad = 0.0;
+  double left_wheel_radps = 0.0;
+  double right_wheel_radps = 0.0;
+};
+
 // An immutable view of the world after a step: what per-robot work of a tick
 // reads. Such work writes only its own outputs, which are then merged in body
 // order, so it can run in parallel without changing results.
 struct TickSnapshot {
   std::int64_t tick = 0;
   double time_s = 0.0;
-  std::vector<BodyState> bodies;  // indexed by body index
+  std::vector<BodyState> bodies;   // indexed by body index
+  std::vector<RobotState> robots;  // indexed by robot index
 };
 
 // The first surface a ray meets.
@@ -101,6 +140,30 @@ class World {
   const BodySpec& body_spec(int body) const;
   int body_element(int body) const;
   BodyState body_state(int body) const;
+
+  // Adds a robot: chassis (a convex prism of the footprint, with its
+  // attachments), two sphere wheels on hinge motors and frictionless caster
+  // spheres. Its parts share one element group, which its own sensors ignore.
+  // Throws std::invalid_argument for an inconsistent model. Returns the robot index.
+  int AddRobot(const RobotSpec& spec);
+  int robot_count() const;
+  const RobotSpec& robot_spec(int robot) const;
+  RobotState robot_state(int robot) const;
+  // The element group of a robot's parts (pass to CastRay to skip them).
+  int robot_group(int robot) const;
+  // The chassis element (reported in contacts; the robot's own id).
+  int robot_element(int robot) const;
+  // Commands wheel speeds (rad/s, positive forward). The motors ramp towards
+  // them at the model's acceleration limit, clamp them to its speed limit and
+  // push with at most its torque limit.
+  void SetWheelSpeeds(int robot, double left_radps, double right_radps);
+  // Points (base frame, x and y) where the chassis touches anything but the
+  // floor and the robot's own parts now: what tactile bumpers feel.
+  std::vector<Eigen::Vector2d> RobotContactPoints(int robot) const;
+  // A horizontal impulse at the chassis' centre of mass (a push or a collision).
+  void ApplyRobotImpulse(int robot, const Eigen::Vector2d& impulse_ns);
+  // Moves a robot to a new pose at rest (a kidnap).
+  void TeleportRobot(int robot, const core::Pose2& pose);
 
   // For driven bodies: the planar velocity (world frame) held during the next steps.
   void SetPlanarVelocity(int body, const Eigen::Vector2d& velocity_mps, double yaw_rate_radps);
