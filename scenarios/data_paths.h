@@ -13,4 +13,8 @@ std::string DataRoot();
 // from `base_dir` when it is not empty. Does not check that the file exists.
 std::string ResolveWorldPath(const std::string& name_or_path, const std::string& base_dir = "");
 
+// A ROBOT argument: a name ("robox", looked up as robots/<name>/robot.yaml under
+// DataRoot()) or a path to a robot file or folder, as ResolveWorldPath.
+std::string ResolveRobotPath(const std::string& name_or_path, const std::string& base_dir = "");
+
 }  // namespace pavilion::scenarios

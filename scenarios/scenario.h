@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "sim/body_motion.h"
+#include "sim/robot_config.h"
 #include "sim/world.h"
 #include "sim/world_description.h"
 
@@ -27,11 +28,29 @@ struct BodyEntry {
   std::optional<core::Polygon2> spawn_polygon;
 };
 
+// One step of a robot's scripted drive: wheel speeds held from `at_s` until
+// the next step (rad/s, positive forward).
+struct DriveCommand {
+  double at_s = 0.0;
+  double left_radps = 0.0;
+  double right_radps = 0.0;
+};
+
+// A robot of the scenario: its model (robots/<name>/robot.yaml), start pose
+// and scripted wheel-speed profile.
+struct RobotEntry {
+  std::string id;
+  std::string model;  // as written in the scenario
+  sim::RobotConfig config;
+  core::Pose2 pose;
+  std::vector<DriveCommand> drive;  // sorted by time
+};
+
 // A scripted event of the timeline.
 struct ScriptedEvent {
   enum class Type { kPush, kTeleport, kDoor } type = Type::kPush;
   double at_s = 0.0;
-  std::string target;  // body id (push, teleport) or door id
+  std::string target;  // body or robot id (push, teleport) or door id
   Eigen::Vector2d impulse_ns{0, 0};
   core::Pose2 pose;
   bool open = false;
@@ -41,6 +60,7 @@ struct OutputOptions {
   double trajectory_rate_hz = 10.0;  // rows of trajectories.csv per body per s
   double section_height_m = 0.5;     // height of the top-down picture's cut
   int image_width_px = 900;          // top-down picture width
+  bool scan_log = true;              // write scans.bin (every robot's scans with ground truth)
 };
 
 // A fully loaded, validated scenario.
@@ -53,6 +73,7 @@ struct Scenario {
   sim::WorldOptions physics;
   sim::WorldDescription world;
   std::vector<BodyEntry> bodies;
+  std::vector<RobotEntry> robots;
   std::vector<ScriptedEvent> events;  // sorted by time, stable
   OutputOptions outputs;
 };

@@ -4,6 +4,7 @@
 #include <set>
 
 #include "scenarios/data_paths.h"
+#include "scenarios/robot_loader.h"
 #include "scenarios/scenario.h"
 #include "scenarios/world_loader.h"
 #include "scenarios/yaml_reader.h"
@@ -191,6 +192,92 @@ void ReadBodies(YamlDocument* doc, MapReader& top, const sim::WorldDescription& 
   }
 }
 
+// robots: [{id, model, pose: [x, y, theta], drive: [{at_s, left, right} |
+// {at_s, speed_mps, turn_radps}], systematic: {...}, encoder_noise: bool}]
+void ReadRobots(YamlDocument* doc, MapReader& top, const std::string& base, Scenario* s) {
+  YAML::Node list = top.Child("robots");
+  if (!list.IsDefined() || list.IsNull()) return;
+  if (!list.IsSequence()) {
+    doc->Error(list, "robots", "expected a list");
+    return;
+  }
+  std::set<std::string> ids = {"floor"};
+  for (const auto& wall : s->world.walls) ids.insert(wall.id);
+  for (const auto& b : s->world.boxes) ids.insert(b.id);
+  for (const auto& c : s->world.cylinders) ids.insert(c.id);
+  for (const auto& m : s->world.meshes) ids.insert(m.id);
+  for (const auto& d : s->world.doors) ids.insert(d.id);
+  for (const auto& b : s->bodies) ids.insert(b.spec.id);
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const std::string path = Index("robots", i);
+    MapReader r(doc, list[i], path);
+    if (!r.valid()) continue;
+    RobotEntry robot;
+    robot.id = r.RequiredString("id").value_or("");
+    if (!robot.id.empty() &&
+        (!ids.insert(robot.id).second || robot.id.find('/') != std::string::npos)) {
+      doc->Error(
+          r.Child("id"), r.PathOf("id"),
+          "robot id '" + robot.id + "' is used twice, by a world element or body, or has a '/'");
+    }
+    if (auto p = r.Numbers("pose", 3, true)) robot.pose = {(*p)[0], (*p)[1], (*p)[2]};
+    bool model_ok = false;
+    if (auto model = r.RequiredString("model")) {
+      robot.model = *model;
+      try {
+        robot.config = LoadRobotFile(ResolveRobotPath(*model, base));
+        model_ok = true;
+      } catch (const InputError& e) {
+        doc->Error(
+            r.Child("model"), r.PathOf("model"),
+            "robot model '" + *model + "' is invalid: " + e.diagnostics().front().ToString());
+      }
+    }
+    if (YAML::Node sys = r.Child("systematic"); sys.IsDefined()) {
+      MapReader m(doc, sys, r.PathOf("systematic"));
+      auto& e = robot.config.systematic;
+      e.wheel_radius_ratio = m.Number("wheel_radius_ratio", e.wheel_radius_ratio, 0.9, 1.1);
+      e.wheelbase_factor = m.Number("wheelbase_factor", e.wheelbase_factor, 0.9, 1.1);
+      m.Finish();
+    }
+    robot.config.encoders.noise = r.Bool("encoder_noise", robot.config.encoders.noise);
+    YAML::Node drive = r.Child("drive");
+    if (drive.IsDefined() && !drive.IsSequence()) {
+      doc->Error(drive, r.PathOf("drive"), "expected a list of {at_s, left, right} steps");
+    }
+    for (std::size_t k = 0; drive.IsSequence() && k < drive.size(); ++k) {
+      const std::string step_path = Index(r.PathOf("drive"), k);
+      MapReader d(doc, drive[k], step_path);
+      if (!d.valid()) continue;
+      DriveCommand c;
+      c.at_s = d.RequiredNumber("at_s", 0.0, kMaxDurationS).value_or(0.0);
+      const bool wheels = d.Has("left") || d.Has("right");
+      const bool body = d.Has("speed_mps") || d.Has("turn_radps");
+      if (wheels == body) {
+        doc->Error(drive[k], step_path,
+                   "give either left and right (rad/s) or speed_mps and turn_radps");
+      } else if (wheels) {
+        c.left_radps = d.RequiredNumber("left", -1000.0, 1000.0).value_or(0.0);
+        c.right_radps = d.RequiredNumber("right", -1000.0, 1000.0).value_or(0.0);
+      } else if (model_ok) {
+        // Inverse kinematics with the robot's calibrated odometry (eq. 2.7).
+        const double v = d.Number("speed_mps", 0.0, -10.0, 10.0);
+        const double w = d.Number("turn_radps", 0.0, -20.0, 20.0);
+        const auto& o = robot.config.odometry;
+        c.left_radps = (v - 0.5 * w * o.wheelbase_m) / o.left_wheel_radius_m;
+        c.right_radps = (v + 0.5 * w * o.wheelbase_m) / o.right_wheel_radius_m;
+      }
+      d.Finish();
+      if (!robot.drive.empty() && c.at_s < robot.drive.back().at_s) {
+        doc->Error(drive[k], step_path, "drive steps must be in time order");
+      }
+      robot.drive.push_back(c);
+    }
+    r.Finish();
+    s->robots.push_back(robot);
+  }
+}
+
 void ReadEvents(YamlDocument* doc, MapReader& top, Scenario* s) {
   YAML::Node list = top.Child("events");
   if (!list.IsDefined() || list.IsNull()) return;
@@ -200,6 +287,7 @@ void ReadEvents(YamlDocument* doc, MapReader& top, Scenario* s) {
   }
   std::set<std::string> bodies;
   for (const auto& b : s->bodies) bodies.insert(b.spec.id);
+  for (const auto& r : s->robots) bodies.insert(r.id);
   std::set<std::string> doors;
   for (const auto& d : s->world.doors) doors.insert(d.id);
   for (std::size_t i = 0; i < list.size(); ++i) {
@@ -270,6 +358,7 @@ Scenario LoadScenarioFile(const std::string& path, const ScenarioOverrides& over
     o.trajectory_rate_hz = r.Number("trajectory_rate_hz", o.trajectory_rate_hz, 1e-3, 10000.0);
     o.section_height_m = r.Number("section_height_m", o.section_height_m, 0.0, 100.0);
     o.image_width_px = static_cast<int>(r.Integer("image_width_px", o.image_width_px, 100, 8000));
+    o.scan_log = r.Bool("scan_log", o.scan_log);
     r.Finish();
   }
 
@@ -303,6 +392,7 @@ Scenario LoadScenarioFile(const std::string& path, const ScenarioOverrides& over
     r.Finish();
   }
   ReadBodies(&doc, top, s.world, &s);
+  ReadRobots(&doc, top, base, &s);
   ReadEvents(&doc, top, &s);
   top.Finish();
   doc.ThrowIfErrors();

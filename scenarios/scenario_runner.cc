@@ -9,13 +9,17 @@
 #include <nlohmann/json.hpp>
 #include <numbers>
 
+#include "core/odometry/diff_drive.h"
 #include "core/random/random_stream.h"
 #include "scenarios/input_error.h"
 #include "scenarios/output_files.h"
 #include "scenarios/png.h"
 #include "scenarios/report.h"
+#include "scenarios/robot_setup.h"
+#include "scenarios/scan_log.h"
 #include "scenarios/version.h"
 #include "sim/schedule.h"
+#include "sim/sim_robot.h"
 #include "sim/top_down_view.h"
 
 namespace pavilion::scenarios {
@@ -118,6 +122,52 @@ std::unique_ptr<sim::BodyMotion> MakeMotion(const BodyEntry& entry, std::uint64_
   return nullptr;
 }
 
+// Dead reckoning from encoder counts with the robot's calibrated odometry
+// (what the localization will integrate, eqs. 2.6–2.8).
+class EncoderOdometry {
+ public:
+  EncoderOdometry(const sim::OdometryCalibration& calibration, const core::Pose2& start)
+      : calibration_(calibration), pose_(start) {}
+  void Update(const core::EncoderReading& r) {
+    if (started_) {
+      const double per_tick = 2.0 * std::numbers::pi / r.ticks_per_revolution;
+      const core::WheelTravel travel{
+          static_cast<double>(r.left_ticks - left_) * per_tick * calibration_.left_wheel_radius_m,
+          static_cast<double>(r.right_ticks - right_) * per_tick *
+              calibration_.right_wheel_radius_m};
+      pose_ = core::DiffDriveStep(pose_, travel, calibration_.wheelbase_m);
+    }
+    started_ = true;
+    left_ = r.left_ticks;
+    right_ = r.right_ticks;
+  }
+  const core::Pose2& pose() const { return pose_; }
+  // A kidnapped robot's odometry carries on from where it believed it was.
+
+ private:
+  sim::OdometryCalibration calibration_;
+  core::Pose2 pose_;
+  bool started_ = false;
+  std::int64_t left_ = 0;
+  std::int64_t right_ = 0;
+};
+
+// Per-robot state of a run.
+struct RobotRun {
+  RobotRun(std::unique_ptr<sim::SimRobot> r, const RobotEntry* e)
+      : robot(std::move(r)), entry(e), odometry(e->config.odometry, e->pose) {}
+  std::unique_ptr<sim::SimRobot> robot;
+  const RobotEntry* entry = nullptr;
+  EncoderOdometry odometry;
+  std::size_t next_drive = 0;
+  double distance_m = 0.0;
+  std::int64_t collisions = 0;
+  std::int64_t scans = 0;
+  std::int64_t bumper_presses = 0;
+  std::vector<Eigen::Vector2d> track;
+  std::vector<Eigen::Vector2d> odometry_track;
+};
+
 // Shows "sim 12.3/60.0 s  RTF 41.2x  ETA 1.2 s" on one updating line.
 class ProgressLine {
  public:
@@ -149,7 +199,13 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   const fs::path out(options.out_dir);
   fs::create_directories(out);
 
-  sim::World world(scenario.world, scenario.physics);
+  // Robots bring their own materials into the world description.
+  sim::WorldDescription description = scenario.world;
+  std::vector<sim::SimRobotSetup> robot_setups;
+  for (const RobotEntry& r : scenario.robots) {
+    robot_setups.push_back(MakeSimRobotSetup(r.id, r.config, r.pose, &description));
+  }
+  sim::World world(std::move(description), scenario.physics);
   core::RandomStream spawn_stream(scenario.seed, kSpawnStream);
   std::vector<std::unique_ptr<sim::BodyMotion>> motions;
   for (const BodyEntry& entry : scenario.bodies) {
@@ -161,6 +217,19 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   }
   std::map<std::string, int> body_index;
   for (int b = 0; b < world.body_count(); ++b) body_index[world.body_spec(b).id] = b;
+  std::vector<RobotRun> robots;
+  std::map<std::string, int> robot_index;
+  for (std::size_t k = 0; k < scenario.robots.size(); ++k) {
+    const RobotEntry& entry = scenario.robots[k];
+    try {
+      auto robot = std::make_unique<sim::SimRobot>(&world, robot_setups[k], scenario.seed);
+      robots.emplace_back(std::move(robot), &entry);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(
+          Diagnostic{scenario.source_file, 0, "robots[" + std::to_string(k) + "]", e.what()});
+    }
+    robot_index[entry.id] = static_cast<int>(k);
+  }
 
   const double dt = world.step_s();
   const auto total_ticks = static_cast<std::int64_t>(std::llround(scenario.duration_s / dt));
@@ -170,7 +239,14 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
 
   LineWriter events(fs::path(out / "events.jsonl").string());
   LineWriter trajectories(fs::path(out / "trajectories.csv").string());
-  trajectories.Append("time_s,id,true_x_m,true_y_m,true_theta_rad");
+  trajectories.Append(
+      "time_s,id,true_x_m,true_y_m,true_theta_rad,odom_x_m,odom_y_m,odom_theta_rad");
+  std::unique_ptr<ScanLogWriter> scan_log;
+  if (scenario.outputs.scan_log && !robots.empty()) {
+    std::vector<std::string> ids;
+    for (const auto& e : world.elements()) ids.push_back(e.id);
+    scan_log = std::make_unique<ScanLogWriter>((out / "scans.bin").string(), ids);
+  }
   std::map<std::string, std::int64_t> event_counts;
   auto emit = [&](Json e) {
     ++event_counts[e["type"].get<std::string>()];
@@ -185,6 +261,11 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   // Body index of each element, -1 for static elements.
   std::vector<int> body_of_element(elements.size(), -1);
   for (int b = 0; b < world.body_count(); ++b) body_of_element[world.body_element(b)] = b;
+  // Robot index of each element, -1 for others (parts of a robot share its group).
+  std::vector<int> robot_of_element(elements.size(), -1);
+  for (std::size_t e = 0; e < elements.size(); ++e) {
+    if (elements[e].group >= 0) robot_of_element[e] = elements[e].group;
+  }
   // The state after the last step: read by this tick's per-body work, the
   // distance sums and the trajectory rows (one snapshot per tick).
   sim::TickSnapshot snapshot = world.Snapshot();
@@ -192,8 +273,17 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
     for (int b = 0; b < world.body_count(); ++b) {
       const core::Pose2& p = snapshot.bodies[b].pose;
       trajectories.Append(Fixed(t, 3) + "," + world.body_spec(b).id + "," + Fixed(p.x_m, 6) + "," +
-                          Fixed(p.y_m, 6) + "," + Fixed(p.theta_rad, 6));
+                          Fixed(p.y_m, 6) + "," + Fixed(p.theta_rad, 6) + ",,,");
       tracks[b].push_back(p.translation());
+    }
+    for (std::size_t k = 0; k < robots.size(); ++k) {
+      const core::Pose2& p = snapshot.robots[k].pose;
+      const core::Pose2& o = robots[k].odometry.pose();
+      trajectories.Append(Fixed(t, 3) + "," + robots[k].entry->id + "," + Fixed(p.x_m, 6) + "," +
+                          Fixed(p.y_m, 6) + "," + Fixed(p.theta_rad, 6) + "," + Fixed(o.x_m, 6) +
+                          "," + Fixed(o.y_m, 6) + "," + Fixed(o.theta_rad, 6));
+      robots[k].track.push_back(p.translation());
+      robots[k].odometry_track.push_back(o.translation());
     }
   };
 
@@ -201,7 +291,8 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
             {"type", "run_started"},
             {"scenario", scenario.name},
             {"seed", scenario.seed},
-            {"bodies", world.body_count()}});
+            {"bodies", world.body_count()},
+            {"robots", static_cast<int>(robots.size())}});
   record(0.0);
 
   const auto t_loop = Clock::now();
@@ -217,14 +308,24 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
       Json j{{"time_s", std::stod(Fixed(t, 6))}};
       switch (e.type) {
         case ScriptedEvent::Type::kPush:
-          world.ApplyImpulse(body_index.at(e.target), e.impulse_ns);
+          if (robot_index.contains(e.target)) {
+            world.ApplyRobotImpulse(robots[robot_index.at(e.target)].robot->index(), e.impulse_ns);
+          } else {
+            world.ApplyImpulse(body_index.at(e.target), e.impulse_ns);
+          }
           j["type"] = "push";
           j["body"] = e.target;
           j["impulse_ns"] = {e.impulse_ns.x(), e.impulse_ns.y()};
           break;
         case ScriptedEvent::Type::kTeleport:
-          world.Teleport(body_index.at(e.target), e.pose);
-          snapshot.bodies[body_index.at(e.target)] = world.body_state(body_index.at(e.target));
+          if (robot_index.contains(e.target)) {
+            const int index = robots[robot_index.at(e.target)].robot->index();
+            world.TeleportRobot(index, e.pose);
+            snapshot.robots[index] = world.robot_state(index);
+          } else {
+            world.Teleport(body_index.at(e.target), e.pose);
+            snapshot.bodies[body_index.at(e.target)] = world.body_state(body_index.at(e.target));
+          }
           j["type"] = "teleport";
           j["body"] = e.target;
           j["pose"] = {e.pose.x_m, e.pose.y_m, e.pose.theta_rad};
@@ -247,6 +348,13 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
       if (motions[b])
         world.SetPlanarVelocity(b, commands[b].linear_mps, commands[b].yaw_rate_radps);
     }
+    for (RobotRun& r : robots) {
+      const auto& drive = r.entry->drive;
+      while (r.next_drive < drive.size() && drive[r.next_drive].at_s <= t + 1e-9) {
+        r.robot->SetWheelSpeeds(drive[r.next_drive].left_radps, drive[r.next_drive].right_radps);
+        ++r.next_drive;
+      }
+    }
     const auto t_physics = Clock::now();
     world.Step();
     physics_s += Seconds(Clock::now() - t_physics);
@@ -256,6 +364,7 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
       if (!c.began) continue;
       for (int element : {c.a, c.b}) {
         if (body_of_element[element] >= 0) ++collisions[body_of_element[element]];
+        if (robot_of_element[element] >= 0) ++robots[robot_of_element[element]].collisions;
       }
       emit(Json{{"time_s", std::stod(Fixed(t_after, 6))},
                 {"type", "collision"},
@@ -271,6 +380,30 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
       distance_m[b] +=
           (next.bodies[b].pose.translation() - snapshot.bodies[b].pose.translation()).norm();
     }
+    // Robots' sensors sample the tick that just ended, in robot order.
+    for (std::size_t k = 0; k < robots.size(); ++k) {
+      RobotRun& r = robots[k];
+      r.distance_m +=
+          (next.robots[k].pose.translation() - snapshot.robots[k].pose.translation()).norm();
+      const sim::SensorOutputs outputs = r.robot->AfterStep(snapshot.robots[k], next.robots[k]);
+      for (const core::EncoderReading& reading : outputs.encoders) r.odometry.Update(reading);
+      for (const core::BumperReading& b : outputs.bumpers) {
+        Json zones = Json::array();
+        const auto& names = r.entry->config.bumpers;
+        for (std::size_t z = 0; z < names.size(); ++z) {
+          if (b.zones_in_contact & (1u << z)) zones.push_back(names[z].name);
+        }
+        if (!zones.empty()) ++r.bumper_presses;
+        emit(Json{{"time_s", std::stod(Fixed(b.stamp_s, 6))},
+                  {"type", "bumper"},
+                  {"robot", r.entry->id},
+                  {"zones", zones}});
+      }
+      for (const sim::ScanRecord& scan : outputs.scans) {
+        ++r.scans;
+        if (scan_log) scan_log->Append(r.entry->id, scan.scan, scan.truth);
+      }
+    }
     snapshot = std::move(next);
     if (schedule.IsDue(trajectory_task, tick + 1)) record(t_after);
     if ((tick & 255) == 0) progress.Update(t_after, Seconds(Clock::now() - t_loop));
@@ -281,6 +414,7 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   emit(Json{{"time_s", std::stod(Fixed(sim_s, 6))}, {"type", "run_finished"}});
   events.Flush();
   trajectories.Flush();
+  if (scan_log) scan_log->Close();
 
   // metrics.json: a function of scenario and seed only (metrics.md, schema 1).
   Json metrics;
@@ -306,12 +440,36 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
                                  {"collisions", total_collisions}};
     metrics["bodies"] = bodies;
   }
+  if (!robots.empty()) {
+    Json robot_metrics;
+    for (std::size_t k = 0; k < robots.size(); ++k) {
+      const RobotRun& r = robots[k];
+      const core::Pose2& truth = snapshot.robots[k].pose;
+      const core::Pose2& odo = r.odometry.pose();
+      robot_metrics[r.entry->id] = {
+          {"model", r.entry->config.description.model},
+          {"distance_m", std::stod(Fixed(r.distance_m, 6))},
+          {"collisions", r.collisions},
+          {"bumper_presses", r.bumper_presses},
+          {"scans", r.scans},
+          {"odometry_final_error",
+           {{"position_m", std::stod(Fixed((odo.translation() - truth.translation()).norm(), 6))},
+            {"heading_rad",
+             std::stod(
+                 Fixed(std::abs(core::NormalizeAngle(odo.theta_rad - truth.theta_rad)), 6))}}}};
+    }
+    metrics["robots"] = robot_metrics;
+  }
   metrics["events"] = event_counts;
   WriteFileAtomically((out / "metrics.json").string(), metrics.dump(2) + "\n");
 
   // Snapshot and report.
   std::vector<sim::TopDownTrack> top_tracks;
   for (const auto& t : tracks) top_tracks.push_back({t, {200, 40, 40}, 0.4});
+  for (const RobotRun& r : robots) {
+    top_tracks.push_back({r.odometry_track, {230, 150, 20}, 0.8});  // what the encoders believe
+    top_tracks.push_back({r.track, {20, 60, 220}, 0.9});            // the true path
+  }
   sim::TopDownOptions view;
   view.width_px = scenario.outputs.image_width_px;
   view.section_height_m = scenario.outputs.section_height_m;

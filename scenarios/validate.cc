@@ -1,5 +1,6 @@
 #include "scenarios/validate.h"
 
+#include "scenarios/robot_loader.h"
 #include "scenarios/scenario.h"
 #include "scenarios/world_loader.h"
 #include "scenarios/yaml_reader.h"
@@ -35,13 +36,17 @@ std::vector<Diagnostic> ValidateFile(const std::string& path) {
     }
     return {};
   }
+  if (kind == "robot") {
+    ReadRobot(&doc);  // also reads and checks the URDF it names
+    return doc.diagnostics();
+  }
   const int line = root.IsMap() ? root.Mark().line + 1 : 0;
   if (kind.empty()) {
-    return {Diagnostic{path, line, "kind", "missing top-level 'kind' (world or scenario)"}};
+    return {Diagnostic{path, line, "kind", "missing top-level 'kind' (world, scenario or robot)"}};
   }
-  return {
-      Diagnostic{path, line, "kind",
-                 "unknown kind '" + kind + "' (this version validates world and scenario files)"}};
+  return {Diagnostic{
+      path, line, "kind",
+      "unknown kind '" + kind + "' (this version validates world, scenario and robot files)"}};
 }
 
 }  // namespace pavilion::scenarios

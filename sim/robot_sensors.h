@@ -1,7 +1,12 @@
 #pragma once
 
+#include <Eigen/Core>
+#include <cstdint>
 #include <string>
 #include <vector>
+
+#include "core/random/random_stream.h"
+#include "core/types/sensor_data.h"
 
 namespace pavilion::sim {
 
@@ -34,5 +39,33 @@ struct BumperZone {
   double from_rad = 0.0;
   double to_rad = 0.0;
 };
+
+// Wheel encoders of one robot. Each reading adds the wheel-space noise of the
+// §2.3 model to the travel since the previous reading (variance k·|Δs|, eq.
+// 2.9, drawn from the encoders' own stream) and reports the cumulative counts
+// a quadrature counter would hold: floor(angle / 2π · ticks per revolution).
+class WheelEncoders {
+ public:
+  // `left_radius_m`/`right_radius_m` convert angles to travel for the noise model
+  // (nominal radii: the noise is specified per metre of wheel travel).
+  WheelEncoders(EncoderOptions options, double left_radius_m, double right_radius_m,
+                core::RandomStream stream);
+
+  const EncoderOptions& options() const { return options_; }
+  // Reads the encoders at `stamp_s` given the true wheel angles (rad, unwrapped).
+  core::EncoderReading Read(double stamp_s, double left_wheel_rad, double right_wheel_rad);
+
+ private:
+  EncoderOptions options_;
+  double radius_m_[2];
+  core::RandomStream stream_;
+  double last_true_rad_[2] = {0, 0};
+  double measured_rad_[2] = {0, 0};
+  bool started_ = false;
+};
+
+// The bumper zones pressed by contact points (base frame): bit i for zone i.
+std::uint32_t PressedBumperZones(const std::vector<BumperZone>& zones,
+                                 const std::vector<Eigen::Vector2d>& contact_points_m);
 
 }  // namespace pavilion::sim

@@ -24,12 +24,10 @@ constexpr double kFloorThicknessM = 1.0;
 // meet the surface the description gives.
 constexpr double kMeshMarginM = 0.001;
 // Robots (chosen, not from the thesis): friction coefficient of the drive
-// wheels' tread (combined by product with the floor's), the casters' mass, and
-// the chassis' centre of mass as a fraction of its height above its base
-// (batteries and drives sit low).
+// wheels' tread (combined by product with the floor's) and the casters' mass
+// (taken from the chassis' so that the robot weighs what its model says).
 constexpr double kWheelTreadFriction = 1.0;
 constexpr double kCasterMassKg = 0.5;
-constexpr double kChassisComHeightFraction = 0.35;
 // Sign relating Bullet's hinge angle and motor velocity (B relative to A about
 // the axis in A) to "positive forward" wheel rotation; established by the
 // forward-drive test in tests/sim/robot_world_test.cc.
@@ -339,7 +337,9 @@ struct World::Impl {
           hull->addPoint(btVector3(corner.x(), corner.y(), wall.base_z_m + wall.height_m), false);
         }
         hull->recalcLocalAabb();
-        hull->setMargin(kMeshMarginM);
+        // No margin: Bullet would inflate the hull by it, and rays would meet
+        // the wall a margin early (1 mm/cos(incidence) short ranges).
+        hull->setMargin(0.0);
         compound->addChildShape(identity, hull.get());
         shapes.push_back(std::move(hull));
       }
@@ -639,7 +639,10 @@ int World::AddRobot(const RobotSpec& spec) {
   Impl::Robot robot;
   robot.spec = spec;
   robot.group = static_cast<int>(im.robots.size());
-  robot.com_z_m = m.chassis_base_z_m + kChassisComHeightFraction * m.chassis_height_m;
+  // The chassis' centre of mass from the model, kept on the base's z axis (the
+  // drive is symmetric) and inside the chassis' height.
+  robot.com_z_m = std::clamp(m.chassis_com_m.z(), m.chassis_base_z_m,
+                             m.chassis_base_z_m + m.chassis_height_m);
 
   // Chassis: the footprint prism and the attachments in one compound whose
   // origin is the centre of mass. Child 0 is the prism (the chassis element);
@@ -677,7 +680,10 @@ int World::AddRobot(const RobotSpec& spec) {
   btTransform base_from_chassis;
   base_from_chassis.setIdentity();
   base_from_chassis.setOrigin(btVector3(0, 0, robot.com_z_m));
-  btRigidBody* chassis = im.AddDynamic(std::move(compound), m.chassis_mass_kg, base_from_chassis,
+  const double chassis_mass_kg =
+      std::max(0.5 * m.chassis_mass_kg,
+               m.chassis_mass_kg - kCasterMassKg * static_cast<double>(m.casters.size()));
+  btRigidBody* chassis = im.AddDynamic(std::move(compound), chassis_mass_kg, base_from_chassis,
                                        material.friction, material.restitution, robot.element);
   chassis->setUserIndex2(spec.attachments.empty() ? -1 : first_attachment);
   robot.parts.push_back({chassis, base_from_chassis});

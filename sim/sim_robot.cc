@@ -1,0 +1,80 @@
+#include "sim/sim_robot.h"
+
+#include <cmath>
+#include <set>
+#include <stdexcept>
+
+#include "sim/schedule.h"
+
+namespace pavilion::sim {
+namespace {
+
+core::RandomStream StreamFor(std::uint64_t seed, const std::string& robot,
+                             const std::string& sensor) {
+  return core::RandomStream(seed, core::RandomStream::StreamId((robot + "/" + sensor).c_str()));
+}
+
+}  // namespace
+
+SimRobot::SimRobot(World* world, SimRobotSetup setup, std::uint64_t seed)
+    : world_(world),
+      setup_(std::move(setup)),
+      encoders_(setup_.encoders, setup_.spec.model.left_wheel.radius_m,
+                setup_.spec.model.right_wheel.radius_m,
+                StreamFor(seed, setup_.spec.id, "encoders")) {
+  const double physics_hz = 1.0 / world->step_s();
+  const std::string& id = setup_.spec.id;
+  encoder_period_ticks_ = PeriodTicks(physics_hz, setup_.encoders.rate_hz, id + " encoders");
+  bumper_period_ticks_ = PeriodTicks(physics_hz, setup_.bumper_rate_hz, id + " bumpers");
+  std::set<std::string> ids;
+  for (const LaserMountSetup& mount : setup_.lasers) {
+    if (!ids.insert(mount.id).second) {
+      throw std::invalid_argument("robot '" + id + "': two lasers named '" + mount.id + "'");
+    }
+    lasers_.emplace_back(mount.id, mount.options, mount.robot_from_sensor, mount.mount_height_m,
+                         StreamFor(seed, id, "laser/" + mount.id));
+    next_sweep_s_.push_back(0.0);
+    sweeping_.push_back(false);
+  }
+  index_ = world->AddRobot(setup_.spec);
+}
+
+void SimRobot::SetWheelSpeeds(double left_radps, double right_radps) {
+  world_->SetWheelSpeeds(index_, left_radps, right_radps);
+}
+
+SensorOutputs SimRobot::AfterStep(const RobotState& before, const RobotState& after) {
+  const World& world = *world_;
+  SensorOutputs out;
+  const std::int64_t tick = world.tick();
+  const double t1 = world.time_s();
+  const double t0 = t1 - world.step_s();
+  if (tick % encoder_period_ticks_ == 0) {
+    out.encoders.push_back(encoders_.Read(t1, after.left_wheel_rad, after.right_wheel_rad));
+  }
+  if (!setup_.bumpers.empty() && tick % bumper_period_ticks_ == 0) {
+    const std::uint32_t pressed =
+        PressedBumperZones(setup_.bumpers, world.RobotContactPoints(index_));
+    if (pressed != pressed_) out.bumpers.push_back({t1, pressed});
+    pressed_ = pressed;
+  }
+  const int group = world.robot_group(index_);
+  for (std::size_t k = 0; k < lasers_.size(); ++k) {
+    LaserScanner& laser = lasers_[k];
+    // Sweeps start every 1/scan_rate from t = 0; one may start inside the tick.
+    if (!sweeping_[k] && next_sweep_s_[k] < t1) {
+      laser.BeginSweep(next_sweep_s_[k]);
+      sweeping_[k] = true;
+    }
+    if (!sweeping_[k]) continue;
+    laser.Cast(world, t0, before.pose, t1, after.pose, group);
+    if (laser.SweepComplete()) {
+      out.scans.push_back({laser.scan(), laser.truth()});
+      sweeping_[k] = false;
+      next_sweep_s_[k] += 1.0 / laser.options().scan_rate_hz;
+    }
+  }
+  return out;
+}
+
+}  // namespace pavilion::sim

@@ -1,0 +1,81 @@
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/types/sensor_data.h"
+#include "sim/laser_scanner.h"
+#include "sim/robot_sensors.h"
+#include "sim/world.h"
+
+namespace pavilion::sim {
+
+// A laser scanner's place on a robot.
+struct LaserMountSetup {
+  std::string id;  // unique on the robot, e.g. "front"
+  LaserScannerOptions options;
+  core::Pose2 robot_from_sensor;
+  double mount_height_m = 0.3;  // beam plane above the floor
+};
+
+// Everything needed to put one robot and its sensors into a world.
+struct SimRobotSetup {
+  RobotSpec spec;
+  EncoderOptions encoders;
+  std::vector<LaserMountSetup> lasers;
+  std::vector<BumperZone> bumpers;
+  double bumper_rate_hz = 50.0;  // bumper polling rate, a divisor of the physics rate
+};
+
+// A finished scan with its ground truth.
+struct ScanRecord {
+  core::LaserScan scan;
+  core::LaserScanTruth truth;
+};
+
+// What a robot's sensors produced during one tick, in the order they fired.
+struct SensorOutputs {
+  std::vector<core::EncoderReading> encoders;
+  std::vector<core::BumperReading> bumpers;  // only when the pressed set changed
+  std::vector<ScanRecord> scans;
+};
+
+// A simulated robot: its articulated body in the world, wheel encoders,
+// bumpers and laser scanners, all sampled in simulation time. Every random
+// draw comes from streams derived from (seed, robot id, sensor id).
+class SimRobot {
+ public:
+  // Adds the robot to `world`. Throws std::invalid_argument for inconsistent
+  // setups (sensor rates that do not divide the physics rate, duplicate ids).
+  SimRobot(World* world, SimRobotSetup setup, std::uint64_t seed);
+
+  const std::string& id() const { return setup_.spec.id; }
+  int index() const { return index_; }
+  const SimRobotSetup& setup() const { return setup_; }
+  const std::vector<LaserScanner>& lasers() const { return lasers_; }
+
+  // Wheel-speed command (rad/s, positive forward), held until changed.
+  void SetWheelSpeeds(double left_radps, double right_radps);
+
+  // Samples the sensors for the tick that just ended: `before` and `after` are
+  // the robot's true states at its start and end (times world.time_s() −
+  // step and world.time_s()). Laser readings due in the tick are cast from
+  // poses interpolated between the two.
+  SensorOutputs AfterStep(const RobotState& before, const RobotState& after);
+
+ private:
+  World* world_;
+  SimRobotSetup setup_;
+  int index_ = -1;
+  WheelEncoders encoders_;
+  std::vector<LaserScanner> lasers_;
+  std::vector<double> next_sweep_s_;  // start of each scanner's next sweep
+  std::vector<bool> sweeping_;
+  std::int64_t encoder_period_ticks_ = 1;
+  std::int64_t bumper_period_ticks_ = 1;
+  std::uint32_t pressed_ = 0;
+};
+
+}  // namespace pavilion::sim
