@@ -157,8 +157,7 @@ ScanLog ReadScanLog(const std::string& path) {
       }
     }
     if (c.pos() - start != bytes + sizeof(std::uint32_t)) {
-      throw std::runtime_error(path + ": malformed scan record at byte " +
-                               std::to_string(start));
+      throw std::runtime_error(path + ": malformed scan record at byte " + std::to_string(start));
     }
     log.records.push_back(std::move(rec));
   }

@@ -641,8 +641,8 @@ int World::AddRobot(const RobotSpec& spec) {
   robot.group = static_cast<int>(im.robots.size());
   // The chassis' centre of mass from the model, kept on the base's z axis (the
   // drive is symmetric) and inside the chassis' height.
-  robot.com_z_m = std::clamp(m.chassis_com_m.z(), m.chassis_base_z_m,
-                             m.chassis_base_z_m + m.chassis_height_m);
+  robot.com_z_m =
+      std::clamp(m.chassis_com_m.z(), m.chassis_base_z_m, m.chassis_base_z_m + m.chassis_height_m);
 
   // Chassis: the footprint prism and the attachments in one compound whose
   // origin is the centre of mass. Child 0 is the prism (the chassis element);
