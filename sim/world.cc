@@ -191,6 +191,17 @@ struct World::Impl {
     }
   };
 
+  // The ray world of laser-visible static geometry (WorldOptions::baked_static_rays):
+  // walls, boxes and meshes as one triangle BVH, cylinders and doors as primitives.
+  btDefaultCollisionConfiguration ray_config;
+  btCollisionDispatcher ray_dispatcher{&ray_config};
+  btDbvtBroadphase ray_broadphase;
+  btCollisionWorld ray_world{&ray_dispatcher, &ray_broadphase, &ray_config};
+  std::unique_ptr<btTriangleMesh> ray_mesh;
+  std::vector<int> ray_triangle_element;  // element of each baked triangle
+  std::vector<std::unique_ptr<btCollisionObject>> ray_objects;
+  std::vector<btCollisionObject*> ray_doors;  // parallel to description.doors; null if unseen
+
   std::vector<core::SectionElement> elements;
   std::vector<Body> bodies;
   std::vector<Robot> robots;
@@ -205,6 +216,7 @@ struct World::Impl {
   }
 
   ~Impl() {
+    for (auto& o : ray_objects) ray_world.removeCollisionObject(o.get());
     for (auto& c : constraints) dynamics.removeConstraint(c.get());
     for (auto& rb : rigid_bodies) dynamics.removeRigidBody(rb.get());
   }
@@ -367,6 +379,99 @@ struct World::Impl {
     }
     for (const Door& door : description.doors) doors.push_back(AddBox(door.AsBox()));
   }
+
+  bool LaserVisible(int element) const {
+    return elements[element].laser != core::LaserResponse::kTransparent;
+  }
+
+  void AddRayObject(std::unique_ptr<btCollisionShape> shape, const btTransform& t, int element) {
+    auto object = std::make_unique<btCollisionObject>();
+    object->setCollisionShape(shape.get());
+    object->setWorldTransform(t);
+    object->setUserIndex(element);
+    ray_world.addCollisionObject(object.get());
+    shapes.push_back(std::move(shape));
+    ray_objects.push_back(std::move(object));
+  }
+
+  // A vertical prism over a convex outline as triangles of the ray mesh.
+  void BakePrism(const Quad& q, double z0, double z1, int element) {
+    const auto v = [](const Eigen::Vector2d& p, double z) { return btVector3(p.x(), p.y(), z); };
+    for (int k = 0; k < 4; ++k) {
+      const Eigen::Vector2d& a = q[k];
+      const Eigen::Vector2d& b = q[(k + 1) % 4];
+      ray_mesh->addTriangle(v(a, z0), v(b, z0), v(b, z1));
+      ray_mesh->addTriangle(v(a, z0), v(b, z1), v(a, z1));
+      ray_triangle_element.insert(ray_triangle_element.end(), 2, element);
+    }
+    for (double z : {z0, z1}) {
+      ray_mesh->addTriangle(v(q[0], z), v(q[1], z), v(q[2], z));
+      ray_mesh->addTriangle(v(q[0], z), v(q[2], z), v(q[3], z));
+      ray_triangle_element.insert(ray_triangle_element.end(), 2, element);
+    }
+  }
+
+  // Builds the ray world from the static elements (after Build()).
+  void BuildRayWorld() {
+    ray_mesh = std::make_unique<btTriangleMesh>();
+    int element = 1;  // the floor (0) is never in a horizontal beam's way
+    for (const Wall& wall : description.walls) {
+      if (LaserVisible(element)) {
+        for (const Quad& q : WallFootprint(wall)) {
+          BakePrism(q, wall.base_z_m, wall.base_z_m + wall.height_m, element);
+        }
+      }
+      ++element;
+    }
+    for (const Box& box : description.boxes) {
+      if (LaserVisible(element)) {
+        BakePrism(BoxFootprint(box), box.base_z_m, box.base_z_m + box.size_m.z(), element);
+      }
+      ++element;
+    }
+    for (const Cylinder& c : description.cylinders) {
+      if (LaserVisible(element)) {
+        btTransform t;
+        t.setIdentity();
+        t.setOrigin(btVector3(c.position_m.x(), c.position_m.y(), c.base_z_m + 0.5 * c.height_m));
+        AddRayObject(
+            std::make_unique<btCylinderShapeZ>(btVector3(c.radius_m, c.radius_m, 0.5 * c.height_m)),
+            t, element);
+      }
+      ++element;
+    }
+    for (const Mesh& m : description.meshes) {
+      if (LaserVisible(element)) {
+        const auto source = LoadTriangleMesh(m.file);
+        const std::vector<Eigen::Vector3d> v = PlacedVertices(m);
+        for (const auto& tri : source->triangles) {
+          ray_mesh->addTriangle(ToBt(v[tri[0]]), ToBt(v[tri[1]]), ToBt(v[tri[2]]));
+          ray_triangle_element.push_back(element);
+        }
+      }
+      ++element;
+    }
+    for (const Door& door : description.doors) {
+      if (LaserVisible(element)) {
+        const Box box = door.AsBox();
+        AddRayObject(std::make_unique<btBoxShape>(ToBt(0.5 * box.size_m)), BoxTransform(box),
+                     element);
+        ray_doors.push_back(ray_objects.back().get());
+      } else {
+        ray_doors.push_back(nullptr);
+      }
+      ++element;
+    }
+    if (!ray_triangle_element.empty()) {
+      auto shape = std::make_unique<btBvhTriangleMeshShape>(ray_mesh.get(), true);
+      btTransform identity;
+      identity.setIdentity();
+      AddRayObject(std::move(shape), identity, kBakedMeshIndex);
+    }
+  }
+
+  // userIndex of the baked mesh's collision object: its triangles name elements.
+  static constexpr int kBakedMeshIndex = -2;
 
   // A mesh's vertices scaled, yawed and placed in the world frame.
   static std::vector<Eigen::Vector3d> PlacedVertices(const Mesh& m) {
@@ -534,6 +639,7 @@ World::World(WorldDescription description, const WorldOptions& options)
   impl_->dynamics.setGravity(btVector3(0, 0, -options.gravity_mps2));
   impl_->dynamics.getSolverInfo().m_numIterations = options.solver_iterations;
   impl_->Build();
+  if (options.baked_static_rays) impl_->BuildRayWorld();
 }
 
 World::~World() = default;
@@ -865,6 +971,10 @@ void World::SetDoorOpen(const std::string& door_id, bool open) {
     im.doors[i]->setWorldTransform(Impl::BoxTransform(door.AsBox()));
     // Static bodies are not re-inserted by Bullet: refresh the broadphase bounds.
     im.dynamics.updateSingleAabb(im.doors[i]);
+    if (i < im.ray_doors.size() && im.ray_doors[i] != nullptr) {
+      im.ray_doors[i]->setWorldTransform(Impl::BoxTransform(door.AsBox()));
+      im.ray_world.updateSingleAabb(im.ray_doors[i]);
+    }
     return;
   }
   throw std::out_of_range("no door '" + door_id + "'");
@@ -944,17 +1054,21 @@ class FilteredClosestRay : public btCollisionWorld::ClosestRayResultCallback {
  public:
   FilteredClosestRay(const btVector3& from, const btVector3& to,
                      const std::vector<core::SectionElement>& elements, int ignore,
-                     bool hit_transparent)
+                     bool hit_transparent, bool dynamic_only,
+                     const std::vector<int>* triangle_element = nullptr)
       : ClosestRayResultCallback(from, to),
         elements_(elements),
         ignore_(ignore),
-        hit_transparent_(hit_transparent) {}
+        hit_transparent_(hit_transparent),
+        dynamic_only_(dynamic_only),
+        triangle_element_(triangle_element) {}
 
   bool needsCollision(btBroadphaseProxy* proxy) const override {
     const auto* object = static_cast<const btCollisionObject*>(proxy->m_clientObject);
     const int element = object->getUserIndex();
     if (element >= 0) {
       const core::SectionElement& e = elements_[element];
+      if (dynamic_only_ && !e.dynamic) return false;
       if (ignore_ >= 0 && e.group == ignore_) return false;
       if (!hit_transparent_ && e.laser == core::LaserResponse::kTransparent) return false;
     }
@@ -965,6 +1079,9 @@ class FilteredClosestRay : public btCollisionWorld::ClosestRayResultCallback {
   btScalar addSingleResult(btCollisionWorld::LocalRayResult& result,
                            bool normal_in_world_space) override {
     element_ = result.m_collisionObject->getUserIndex();
+    if (triangle_element_ != nullptr && element_ < 0 && result.m_localShapeInfo != nullptr) {
+      element_ = (*triangle_element_)[result.m_localShapeInfo->m_triangleIndex];  // baked mesh
+    }
     // A robot chassis compound: child k >= 1 is an attachment with its own element.
     const int first_attachment = result.m_collisionObject->getUserIndex2();
     if (first_attachment >= 0 && result.m_localShapeInfo != nullptr &&
@@ -980,6 +1097,8 @@ class FilteredClosestRay : public btCollisionWorld::ClosestRayResultCallback {
   const std::vector<core::SectionElement>& elements_;
   int ignore_;
   bool hit_transparent_;
+  bool dynamic_only_;
+  const std::vector<int>* triangle_element_;
   int element_ = -1;
 };
 
@@ -987,20 +1106,34 @@ class FilteredClosestRay : public btCollisionWorld::ClosestRayResultCallback {
 
 RayHit World::CastRay(const Eigen::Vector3d& from_m, const Eigen::Vector3d& to_m, int ignore_group,
                       bool hit_transparent) const {
+  const Impl& im = *impl_;
   const btVector3 from = ToBt(from_m), to = ToBt(to_m);
-  FilteredClosestRay callback(from, to, impl_->elements, ignore_group, hit_transparent);
-  impl_->dynamics.rayTest(from, to, callback);
+  FilteredClosestRay all(from, to, im.elements, ignore_group, hit_transparent, false);
+  FilteredClosestRay static_hit(from, to, im.elements, -1, false, false, &im.ray_triangle_element);
+  FilteredClosestRay dynamic_hit(from, to, im.elements, ignore_group, false, true);
+  const FilteredClosestRay* closest = &all;
+  if (im.options.baked_static_rays && !hit_transparent) {
+    // Baked path: the static triangle tree first, then only dynamic bodies and
+    // only up to the static hit, which keeps their candidates few.
+    im.ray_world.rayTest(from, to, static_hit);
+    if (static_hit.hasHit()) dynamic_hit.m_rayToWorld = static_hit.m_hitPointWorld;
+    im.dynamics.rayTest(from, dynamic_hit.m_rayToWorld, dynamic_hit);
+    closest = dynamic_hit.hasHit() ? &dynamic_hit : &static_hit;
+  } else {
+    im.dynamics.rayTest(from, to, all);
+  }
   RayHit hit;
-  if (!callback.hasHit()) return hit;
+  if (!closest->hasHit()) return hit;
+  const FilteredClosestRay& result = *closest;
   hit.hit = true;
-  hit.point_m = {callback.m_hitPointWorld.x(), callback.m_hitPointWorld.y(),
-                 callback.m_hitPointWorld.z()};
+  hit.point_m = {result.m_hitPointWorld.x(), result.m_hitPointWorld.y(),
+                 result.m_hitPointWorld.z()};
   hit.distance_m = (hit.point_m - from_m).norm();
-  Eigen::Vector3d n(callback.m_hitNormalWorld.x(), callback.m_hitNormalWorld.y(),
-                    callback.m_hitNormalWorld.z());
+  Eigen::Vector3d n(result.m_hitNormalWorld.x(), result.m_hitNormalWorld.y(),
+                    result.m_hitNormalWorld.z());
   if (n.dot(to_m - from_m) > 0) n = -n;
   hit.normal = n.normalized();
-  hit.element = callback.element();
+  hit.element = result.element();
   return hit;
 }
 

@@ -18,6 +18,12 @@ struct WorldOptions {
   double physics_rate_hz = 200.0;  // fixed physics step rate, [10, 10000] Hz
   int solver_iterations = 10;      // sequential-impulse iterations per step, [1, 100]
   double gravity_mps2 = 9.81;      // magnitude, pointing down, [0, 100]
+  // Laser rays meet the static geometry (walls, boxes, meshes) baked into one
+  // bounding-volume tree of triangles in a separate ray world, and the dynamic
+  // bodies in the physics world only up to that hit: several times faster than
+  // ray-testing every primitive. false: every ray tests the physics world's
+  // primitives (the reference the benchmark compares against).
+  bool baked_static_rays = true;
 
   void Validate() const;  // throws std::invalid_argument naming the field
 };
