@@ -1,15 +1,18 @@
 #include "sim/world.h"
 
+#include <BulletCollision/NarrowPhaseCollision/btRaycastCallback.h>
 #include <btBulletDynamicsCommon.h>
 
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <numbers>
 #include <set>
 #include <stdexcept>
 #include <utility>
 
+#include "sim/ray_shapes.h"
 #include "sim/triangle_mesh.h"
 #include "sim/wall_geometry.h"
 
@@ -92,6 +95,14 @@ bool IsConvexCcw(const std::vector<Eigen::Vector2d>& p) {
   }
   return true;
 }
+
+// A vertical prism among the dynamic shapes (a robot's chassis hull) in its
+// shape's frame, for exact laser rays.
+struct RayPrism {
+  std::vector<Eigen::Vector2d> polygon;
+  double z0 = 0.0;
+  double z1 = 0.0;
+};
 
 void AddPolygonSegments(const Quad& q, int element, core::PlanarSection* out) {
   for (int k = 0; k < 4; ++k) out->segments.push_back({q[k], q[(k + 1) % 4], element});
@@ -191,16 +202,16 @@ struct World::Impl {
     }
   };
 
-  // The ray world of laser-visible static geometry (WorldOptions::baked_static_rays):
-  // walls, boxes and meshes as one triangle BVH, cylinders and doors as primitives.
-  btDefaultCollisionConfiguration ray_config;
-  btCollisionDispatcher ray_dispatcher{&ray_config};
-  btDbvtBroadphase ray_broadphase;
-  btCollisionWorld ray_world{&ray_dispatcher, &ray_broadphase, &ray_config};
+  // Laser-visible static geometry for the fast ray path (WorldOptions::baked_static_rays):
+  // walls, boxes and meshes as one triangle BVH, cylinders and doors as primitive
+  // objects (outside any Bullet world) met by exact intersections.
   std::unique_ptr<btTriangleMesh> ray_mesh;
+  std::unique_ptr<btBvhTriangleMeshShape> ray_mesh_shape;
   std::vector<int> ray_triangle_element;  // element of each baked triangle
   std::vector<std::unique_ptr<btCollisionObject>> ray_objects;
   std::vector<btCollisionObject*> ray_doors;  // parallel to description.doors; null if unseen
+
+  std::map<const btCollisionShape*, RayPrism> prisms;
 
   std::vector<core::SectionElement> elements;
   std::vector<Body> bodies;
@@ -216,7 +227,6 @@ struct World::Impl {
   }
 
   ~Impl() {
-    for (auto& o : ray_objects) ray_world.removeCollisionObject(o.get());
     for (auto& c : constraints) dynamics.removeConstraint(c.get());
     for (auto& rb : rigid_bodies) dynamics.removeRigidBody(rb.get());
   }
@@ -389,7 +399,6 @@ struct World::Impl {
     object->setCollisionShape(shape.get());
     object->setWorldTransform(t);
     object->setUserIndex(element);
-    ray_world.addCollisionObject(object.get());
     shapes.push_back(std::move(shape));
     ray_objects.push_back(std::move(object));
   }
@@ -463,15 +472,9 @@ struct World::Impl {
       ++element;
     }
     if (!ray_triangle_element.empty()) {
-      auto shape = std::make_unique<btBvhTriangleMeshShape>(ray_mesh.get(), true);
-      btTransform identity;
-      identity.setIdentity();
-      AddRayObject(std::move(shape), identity, kBakedMeshIndex);
+      ray_mesh_shape = std::make_unique<btBvhTriangleMeshShape>(ray_mesh.get(), true);
     }
   }
-
-  // userIndex of the baked mesh's collision object: its triangles name elements.
-  static constexpr int kBakedMeshIndex = -2;
 
   // A mesh's vertices scaled, yawed and placed in the world frame.
   static std::vector<Eigen::Vector3d> PlacedVertices(const Mesh& m) {
@@ -763,6 +766,8 @@ int World::AddRobot(const RobotSpec& spec) {
     }
     hull->recalcLocalAabb();
     hull->setMargin(kMeshMarginM);
+    im.prisms[hull.get()] = {m.footprint_m, m.chassis_base_z_m - robot.com_z_m,
+                             m.chassis_base_z_m + m.chassis_height_m - robot.com_z_m};
     btTransform identity;
     identity.setIdentity();
     compound->addChildShape(identity, hull.get());
@@ -973,7 +978,6 @@ void World::SetDoorOpen(const std::string& door_id, bool open) {
     im.dynamics.updateSingleAabb(im.doors[i]);
     if (i < im.ray_doors.size() && im.ray_doors[i] != nullptr) {
       im.ray_doors[i]->setWorldTransform(Impl::BoxTransform(door.AsBox()));
-      im.ray_world.updateSingleAabb(im.ray_doors[i]);
     }
     return;
   }
@@ -1054,21 +1058,17 @@ class FilteredClosestRay : public btCollisionWorld::ClosestRayResultCallback {
  public:
   FilteredClosestRay(const btVector3& from, const btVector3& to,
                      const std::vector<core::SectionElement>& elements, int ignore,
-                     bool hit_transparent, bool dynamic_only,
-                     const std::vector<int>* triangle_element = nullptr)
+                     bool hit_transparent)
       : ClosestRayResultCallback(from, to),
         elements_(elements),
         ignore_(ignore),
-        hit_transparent_(hit_transparent),
-        dynamic_only_(dynamic_only),
-        triangle_element_(triangle_element) {}
+        hit_transparent_(hit_transparent) {}
 
   bool needsCollision(btBroadphaseProxy* proxy) const override {
     const auto* object = static_cast<const btCollisionObject*>(proxy->m_clientObject);
     const int element = object->getUserIndex();
     if (element >= 0) {
       const core::SectionElement& e = elements_[element];
-      if (dynamic_only_ && !e.dynamic) return false;
       if (ignore_ >= 0 && e.group == ignore_) return false;
       if (!hit_transparent_ && e.laser == core::LaserResponse::kTransparent) return false;
     }
@@ -1079,9 +1079,6 @@ class FilteredClosestRay : public btCollisionWorld::ClosestRayResultCallback {
   btScalar addSingleResult(btCollisionWorld::LocalRayResult& result,
                            bool normal_in_world_space) override {
     element_ = result.m_collisionObject->getUserIndex();
-    if (triangle_element_ != nullptr && element_ < 0 && result.m_localShapeInfo != nullptr) {
-      element_ = (*triangle_element_)[result.m_localShapeInfo->m_triangleIndex];  // baked mesh
-    }
     // A robot chassis compound: child k >= 1 is an attachment with its own element.
     const int first_attachment = result.m_collisionObject->getUserIndex2();
     if (first_attachment >= 0 && result.m_localShapeInfo != nullptr &&
@@ -1097,8 +1094,150 @@ class FilteredClosestRay : public btCollisionWorld::ClosestRayResultCallback {
   const std::vector<core::SectionElement>& elements_;
   int ignore_;
   bool hit_transparent_;
-  bool dynamic_only_;
-  const std::vector<int>* triangle_element_;
+  int element_ = -1;
+};
+
+// The closest triangle of the baked static mesh.
+class MeshRay : public btTriangleRaycastCallback {
+ public:
+  MeshRay(const btVector3& from, const btVector3& to) : btTriangleRaycastCallback(from, to) {}
+  btScalar reportHit(const btVector3& normal, btScalar fraction, int /*part*/,
+                     int triangle) override {
+    if (fraction < m_hitFraction) {
+      normal_ = normal;
+      triangle_ = triangle;
+    }
+    return std::min(fraction, m_hitFraction);
+  }
+  bool hit() const { return triangle_ >= 0; }
+  int triangle() const { return triangle_; }
+  const btVector3& normal() const { return normal_; }
+
+ private:
+  btVector3 normal_{0, 0, 0};
+  int triangle_ = -1;
+};
+
+// The dynamic part of the laser's fast path: candidates from the physics
+// world's broadphase, exact analytic intersections with their shapes
+// (sim/ray_shapes.h), Bullet's generic ray test for any other shape.
+class DynamicRay : public btBroadphaseRayCallback {
+ public:
+  DynamicRay(const btVector3& from, const btVector3& to,
+             const std::vector<core::SectionElement>& elements,
+             const std::map<const btCollisionShape*, RayPrism>& prisms, int ignore)
+      : from_(from), to_(to), elements_(elements), prisms_(prisms), ignore_(ignore) {
+    // Broadphase ray data (as btCollisionWorld::rayTest sets it up).
+    btVector3 dir = to - from;
+    const btScalar length = dir.length();
+    if (length > 0) dir /= length;
+    for (int i = 0; i < 3; ++i) {
+      m_rayDirectionInverse[i] = dir[i] == 0.0 ? BT_LARGE_FLOAT : 1.0 / dir[i];
+      m_signs[i] = m_rayDirectionInverse[i] < 0.0;
+    }
+    m_lambda_max = length;
+  }
+
+  bool process(const btBroadphaseProxy* proxy) override {
+    const auto* object = static_cast<const btCollisionObject*>(proxy->m_clientObject);
+    const int element = object->getUserIndex();
+    if (element < 0) return true;
+    const core::SectionElement& e = elements_[element];
+    if (!e.dynamic || (ignore_ >= 0 && e.group == ignore_) ||
+        e.laser == core::LaserResponse::kTransparent) {
+      return true;
+    }
+    Test(object, object->getCollisionShape(), object->getWorldTransform(), element);
+    return true;
+  }
+
+  // Tests one object of the static primitives, whatever its flags.
+  void TestObject(const btCollisionObject* object) {
+    Test(object, object->getCollisionShape(), object->getWorldTransform(), object->getUserIndex());
+  }
+
+  bool hit() const { return element_ >= 0; }
+  double fraction() const { return fraction_; }
+  const btVector3& normal() const { return normal_; }
+  int element() const { return element_; }
+
+ private:
+  void Test(const btCollisionObject* object, const btCollisionShape* shape, const btTransform& t,
+            int element) {
+    if (shape->getShapeType() == COMPOUND_SHAPE_PROXYTYPE) {
+      const auto* compound = static_cast<const btCompoundShape*>(shape);
+      const int first_attachment = object->getUserIndex2();
+      for (int k = 0; k < compound->getNumChildShapes(); ++k) {
+        const int child_element =
+            first_attachment >= 0 && k >= 1 ? first_attachment + k - 1 : element;
+        Test(object, compound->getChildShape(k), t * compound->getChildTransform(k), child_element);
+      }
+      return;
+    }
+    // The ray in the shape's frame; t along from → to.
+    const btVector3 o = t.invXform(from_);
+    const btVector3 d = t.getBasis().transpose() * (to_ - from_);
+    const Eigen::Vector3d eo(o.x(), o.y(), o.z()), ed(d.x(), d.y(), d.z());
+    std::optional<RayShapeHit> h;
+    switch (shape->getShapeType()) {
+      case SPHERE_SHAPE_PROXYTYPE:
+        h = RaySphere(eo, ed, static_cast<const btSphereShape*>(shape)->getRadius(), fraction_);
+        break;
+      case BOX_SHAPE_PROXYTYPE: {
+        const btVector3 half = static_cast<const btBoxShape*>(shape)->getHalfExtentsWithMargin();
+        h = RayBox(eo, ed, {half.x(), half.y(), half.z()}, fraction_);
+        break;
+      }
+      case CYLINDER_SHAPE_PROXYTYPE: {
+        const auto* cylinder = static_cast<const btCylinderShape*>(shape);
+        if (cylinder->getUpAxis() == 2) {
+          const btVector3 half = cylinder->getHalfExtentsWithMargin();
+          h = RayCylinderZ(eo, ed, half.x(), half.z(), fraction_);
+        } else {
+          Generic(object, shape, t, element);
+          return;
+        }
+        break;
+      }
+      default:
+        if (auto it = prisms_.find(shape); it != prisms_.end()) {
+          h = RayPrismZ(eo, ed, it->second.polygon, it->second.z0, it->second.z1, fraction_);
+        } else {
+          Generic(object, shape, t, element);
+          return;
+        }
+    }
+    if (h && h->t < fraction_) {
+      fraction_ = h->t;
+      normal_ = t.getBasis() * btVector3(h->normal.x(), h->normal.y(), h->normal.z());
+      element_ = element;
+    }
+  }
+
+  void Generic(const btCollisionObject* object, const btCollisionShape* shape, const btTransform& t,
+               int element) {
+    btTransform from, to;
+    from.setIdentity();
+    from.setOrigin(from_);
+    to.setIdentity();
+    to.setOrigin(to_);
+    btCollisionWorld::ClosestRayResultCallback result(from_, to_);
+    result.m_closestHitFraction = fraction_;
+    btCollisionWorld::rayTestSingle(from, to, const_cast<btCollisionObject*>(object), shape, t,
+                                    result);
+    if (result.hasHit() && result.m_closestHitFraction < fraction_) {
+      fraction_ = result.m_closestHitFraction;
+      normal_ = result.m_hitNormalWorld;
+      element_ = element;
+    }
+  }
+
+  btVector3 from_, to_;
+  const std::vector<core::SectionElement>& elements_;
+  const std::map<const btCollisionShape*, RayPrism>& prisms_;
+  int ignore_;
+  double fraction_ = 1.0;
+  btVector3 normal_{0, 0, 0};
   int element_ = -1;
 };
 
@@ -1108,23 +1247,45 @@ RayHit World::CastRay(const Eigen::Vector3d& from_m, const Eigen::Vector3d& to_m
                       bool hit_transparent) const {
   const Impl& im = *impl_;
   const btVector3 from = ToBt(from_m), to = ToBt(to_m);
-  FilteredClosestRay all(from, to, im.elements, ignore_group, hit_transparent, false);
-  FilteredClosestRay static_hit(from, to, im.elements, -1, false, false, &im.ray_triangle_element);
-  FilteredClosestRay dynamic_hit(from, to, im.elements, ignore_group, false, true);
-  const FilteredClosestRay* closest = &all;
+  const auto make_hit = [&](const btVector3& p, const btVector3& normal, int element) {
+    RayHit hit;
+    hit.hit = true;
+    hit.point_m = {p.x(), p.y(), p.z()};
+    hit.distance_m = (hit.point_m - from_m).norm();
+    Eigen::Vector3d n(normal.x(), normal.y(), normal.z());
+    if (n.dot(to_m - from_m) > 0) n = -n;
+    hit.normal = n.normalized();
+    hit.element = element;
+    return hit;
+  };
   if (im.options.baked_static_rays && !hit_transparent) {
-    // Baked path: the static triangle tree first, then only dynamic bodies and
-    // only up to the static hit, which keeps their candidates few.
-    im.ray_world.rayTest(from, to, static_hit);
-    if (static_hit.hasHit()) dynamic_hit.m_rayToWorld = static_hit.m_hitPointWorld;
-    im.dynamics.rayTest(from, dynamic_hit.m_rayToWorld, dynamic_hit);
-    closest = dynamic_hit.hasHit() ? &dynamic_hit : &static_hit;
-  } else {
-    im.dynamics.rayTest(from, to, all);
+    // Fast path: the static triangle tree, the few static primitives, then the
+    // dynamic bodies — each only up to the closest hit so far, and with exact
+    // shape intersections.
+    MeshRay mesh(from, to);
+    if (im.ray_mesh_shape) im.ray_mesh_shape->performRaycast(&mesh, from, to);
+    const btVector3 mesh_end = mesh.hit() ? from.lerp(to, mesh.m_hitFraction) : to;
+    DynamicRay statics(from, mesh_end, im.elements, im.prisms, -1);
+    for (const auto& object : im.ray_objects) statics.TestObject(object.get());
+    const btVector3 end = statics.hit() ? from.lerp(mesh_end, statics.fraction()) : mesh_end;
+    DynamicRay dynamic(from, end, im.elements, im.prisms, ignore_group);
+    if (end != from) {
+      const_cast<btDbvtBroadphase&>(im.broadphase).rayTest(from, end, dynamic);
+    }
+    if (dynamic.hit()) {
+      return make_hit(from.lerp(end, dynamic.fraction()), dynamic.normal(), dynamic.element());
+    }
+    if (statics.hit()) return make_hit(end, statics.normal(), statics.element());
+    if (mesh.hit()) {
+      return make_hit(mesh_end, mesh.normal(), im.ray_triangle_element[mesh.triangle()]);
+    }
+    return RayHit{};
   }
+  FilteredClosestRay all(from, to, im.elements, ignore_group, hit_transparent);
+  im.dynamics.rayTest(from, to, all);
   RayHit hit;
-  if (!closest->hasHit()) return hit;
-  const FilteredClosestRay& result = *closest;
+  if (!all.hasHit()) return hit;
+  const FilteredClosestRay& result = all;
   hit.hit = true;
   hit.point_m = {result.m_hitPointWorld.x(), result.m_hitPointWorld.y(),
                  result.m_hitPointWorld.z()};

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "scenarios/cli/calibrate_command.h"
 #include "scenarios/data_paths.h"
 #include "scenarios/input_error.h"
 #include "scenarios/png.h"
@@ -178,6 +179,11 @@ int main(int argc, char** argv) {
   info->add_option("--z", world_args.z_m, "Height of the section (m)")->capture_default_str();
   info->footer("Example:\n  pavilion world info office_floor --z 0.3");
 
+  // --- calibrate: odometry calibration (scenarios/cli/calibrate_command.cc) ---
+  cli::CalibrateArgs calibrate_args;
+  auto* calibrate = cli::AddCalibrateCommand(&app, &calibrate_args);
+  // --- end calibrate ---
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -199,6 +205,7 @@ int main(int argc, char** argv) {
     }
     if (*render) return WorldRender(world_args);
     if (*info) return WorldInfo(world_args);
+    if (*calibrate) return cli::RunCalibrateCommand(calibrate_args);  // calibrate
   } catch (const scenarios::InputError& e) {
     for (std::size_t i = 1; i < e.diagnostics().size(); ++i) {
       spdlog::debug("also: {}", e.diagnostics()[i].ToString());
