@@ -116,6 +116,10 @@ constexpr double kTimeoutFactor = 3.0;
 constexpr double kTimeoutMarginS = 10.0;
 // Free floor around the farthest point a run can reach (m).
 constexpr double kFloorMarginM = 3.0;
+// Iterated UMBmark stops when a pass changes a and γ by less than this (rad),
+// or after this many passes.
+constexpr double kUmbmarkToleranceRad = 1e-7;
+constexpr int kMaxUmbmarkIterations = 50;
 // Stream of the per-run encoder seeds.
 constexpr char kRunSeedStream[] = "odometry_calibration/runs";
 
@@ -477,13 +481,33 @@ UmbmarkResult EstimateUmbmark(const std::vector<Eigen::Vector3d>& ccw_errors,
   const double leg_m = scale * side_m;                                  // true leg length
   u.corner_overturn_rad = (x_ccw + x_cw - y_ccw + y_cw) / (8 * leg_m);  // (C2)
   u.leg_curvature_rad = (x_ccw - x_cw - y_ccw - y_cw) / (8 * leg_m);    // (C3)
-  u.turn_factor = (kQuarterTurnRad + u.corner_overturn_rad) / kQuarterTurnRad;
-  const double wheelbase_c = wheelbase_m * scale / u.turn_factor;
-  const double h = u.leg_curvature_rad * wheelbase_c / (2 * leg_m);
-  u.radius_ratio_factor = (1 + h) / (1 - h);  // (C4): (R + b/2)/(R − b/2)
   u.e_max_syst_m = std::max(u.cg_ccw_m.norm(), u.cg_cw_m.norm());
+  SetUmbmarkFactors(side_m, scale, wheelbase_m, &u);
   return u;
 }
+
+void SetUmbmarkFactors(double side_m, double scale, double wheelbase_m, UmbmarkResult* u) {
+  const double leg_m = scale * side_m;
+  u->turn_factor = (kQuarterTurnRad + u->corner_overturn_rad) / kQuarterTurnRad;
+  const double wheelbase_c = wheelbase_m * scale / u->turn_factor;
+  const double h = u->leg_curvature_rad * wheelbase_c / (2 * leg_m);
+  u->radius_ratio_factor = (1 + h) / (1 - h);  // (C4): (R + b/2)/(R − b/2)
+}
+
+namespace {
+
+// The calibrated radii and wheelbase for UMBmark's factors and the straight-run scale (C4).
+sim::OdometryCalibration CorrectedModel(const sim::OdometryCalibration& nominal,
+                                        const UmbmarkResult& u, double scale) {
+  const double q = u.radius_ratio_factor;
+  sim::OdometryCalibration m = nominal;
+  m.left_wheel_radius_m *= 2 * scale / (1 + q);
+  m.right_wheel_radius_m *= 2 * scale * q / (1 + q);
+  m.wheelbase_m *= scale / u.turn_factor;
+  return m;
+}
+
+}  // namespace
 
 OdometryCalibrationReport EstimateCalibration(const sim::RobotConfig& config,
                                               const OdometryCalibrationOptions& options,
@@ -526,14 +550,37 @@ OdometryCalibrationReport EstimateCalibration(const sim::RobotConfig& config,
   if (!(odometric_sum > 0.0)) throw std::invalid_argument("the calibration needs straight runs");
   report.straight_scale = arc_sum / odometric_sum;
   const double scale = report.straight_scale;
-  report.umbmark = EstimateUmbmark(ErrorsOf(runs, nominal_errors, CalibrationRunKind::kSquareCcw),
-                                   ErrorsOf(runs, nominal_errors, CalibrationRunKind::kSquareCw),
-                                   side_m, scale, report.nominal.wheelbase_m);
-  const double q = report.umbmark.radius_ratio_factor;
-  report.calibrated = report.nominal;
-  report.calibrated.left_wheel_radius_m *= 2 * scale / (1 + q);  // (C4)
-  report.calibrated.right_wheel_radius_m *= 2 * scale * q / (1 + q);
-  report.calibrated.wheelbase_m *= scale / report.umbmark.turn_factor;
+  const auto square_errors = [&](const sim::OdometryCalibration& model, CalibrationRunKind kind) {
+    std::vector<Eigen::Vector3d> errors;
+    for (const RecordedRun& r : runs) {
+      if (r.run.kind == kind)
+        errors.push_back(EndPoseError(r, IntegrateRecordedRun(r, model, {}).pose));
+    }
+    return errors;
+  };
+  report.umbmark_one_step =
+      EstimateUmbmark(ErrorsOf(runs, nominal_errors, CalibrationRunKind::kSquareCcw),
+                      ErrorsOf(runs, nominal_errors, CalibrationRunKind::kSquareCw), side_m, scale,
+                      report.nominal.wheelbase_m);
+  // Iterated UMBmark (C6): apply (C2), (C3) to the residual centres of gravity
+  // of the squares re-integrated with the current model, until they vanish.
+  report.umbmark = report.umbmark_one_step;
+  for (int i = 0; i < kMaxUmbmarkIterations; ++i) {
+    const sim::OdometryCalibration model = CorrectedModel(report.nominal, report.umbmark, scale);
+    const UmbmarkResult residual =
+        EstimateUmbmark(square_errors(model, CalibrationRunKind::kSquareCcw),
+                        square_errors(model, CalibrationRunKind::kSquareCw), side_m, scale,
+                        report.nominal.wheelbase_m);
+    report.umbmark.corner_overturn_rad += residual.corner_overturn_rad;
+    report.umbmark.leg_curvature_rad += residual.leg_curvature_rad;
+    SetUmbmarkFactors(side_m, scale, report.nominal.wheelbase_m, &report.umbmark);
+    report.umbmark_iterations = i + 1;
+    if (std::max(std::abs(residual.corner_overturn_rad), std::abs(residual.leg_curvature_rad)) <
+        kUmbmarkToleranceRad) {
+      break;
+    }
+  }
+  report.calibrated = CorrectedModel(report.nominal, report.umbmark, scale);
 
   // (C5): k̂ from the residuals of every run under the calibrated model.
   double sum_m2 = 0.0;
@@ -625,6 +672,12 @@ std::string CalibrationJson(const OdometryCalibrationReport& r) {
            {"umbmark",
             {{"cg_ccw_m", {u.cg_ccw_m.x(), u.cg_ccw_m.y()}},
              {"cg_cw_m", {u.cg_cw_m.x(), u.cg_cw_m.y()}},
+             {"one_step",
+              {{"corner_overturn_rad", r.umbmark_one_step.corner_overturn_rad},
+               {"leg_curvature_rad", r.umbmark_one_step.leg_curvature_rad},
+               {"radius_ratio_factor", r.umbmark_one_step.radius_ratio_factor},
+               {"turn_factor", r.umbmark_one_step.turn_factor}}},
+             {"iterations", r.umbmark_iterations},
              {"corner_overturn_rad", u.corner_overturn_rad},
              {"leg_curvature_rad", u.leg_curvature_rad},
              {"radius_ratio_factor", u.radius_ratio_factor},
@@ -670,17 +723,24 @@ std::string CalibrationTable(const OdometryCalibrationReport& r) {
     s << buf;
   }
   const UmbmarkResult& u = r.umbmark;
+  const UmbmarkResult& o = r.umbmark_one_step;
   std::snprintf(buf, sizeof buf,
-                "UMBmark: cg_ccw (%.1f, %.1f) mm, cg_cw (%.1f, %.1f) mm; corner over-turn %.3f "
-                "mrad, leg curvature %.3f mrad\n",
+                "UMBmark: cg_ccw (%.1f, %.1f) mm, cg_cw (%.1f, %.1f) mm; E_max,syst %.1f mm -> "
+                "%.1f mm calibrated\n",
                 u.cg_ccw_m.x() * 1e3, u.cg_ccw_m.y() * 1e3, u.cg_cw_m.x() * 1e3,
-                u.cg_cw_m.y() * 1e3, u.corner_overturn_rad * 1e3, u.leg_curvature_rad * 1e3);
+                u.cg_cw_m.y() * 1e3, u.e_max_syst_m * 1e3, r.e_max_syst_after_m * 1e3);
   s << buf;
   std::snprintf(buf, sizeof buf,
-                "         E_d %.5f, turn factor %.5f, straight scale %.5f; E_max,syst %.1f mm -> "
-                "%.1f mm\n",
-                u.radius_ratio_factor, u.turn_factor, r.straight_scale, u.e_max_syst_m * 1e3,
-                r.e_max_syst_after_m * 1e3);
+                "  one step: corner over-turn %.3f mrad, leg curvature %.3f mrad, E_d %.5f, turn "
+                "factor %.5f\n",
+                o.corner_overturn_rad * 1e3, o.leg_curvature_rad * 1e3, o.radius_ratio_factor,
+                o.turn_factor);
+  s << buf;
+  std::snprintf(buf, sizeof buf,
+                "  iterated (%d): corner over-turn %.3f mrad, leg curvature %.3f mrad, E_d %.5f, "
+                "turn factor %.5f; straight scale %.5f\n",
+                r.umbmark_iterations, u.corner_overturn_rad * 1e3, u.leg_curvature_rad * 1e3,
+                u.radius_ratio_factor, u.turn_factor, r.straight_scale);
   s << buf;
   std::snprintf(buf, sizeof buf,
                 "estimated: r_L %.6f m, r_R %.6f m (ratio %.5f, truth %.5f), b %.5f m "

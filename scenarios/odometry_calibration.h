@@ -109,16 +109,20 @@ struct UmbmarkResult {
   double leg_curvature_rad = 0.0;    // γ: true heading change along each leg (left positive)
   // Correction factors of the calibrated model relative to the nominal one:
   double radius_ratio_factor = 1.0;  // E_d: (r_R/r_L)_calibrated / (r_R/r_L)_nominal
-  double turn_factor = 1.0;          // true / odometric in-place turn angle
+  double turn_factor = 1.0;          // ρ: true / odometric in-place turn angle
   double e_max_syst_m = 0.0;         // UMBmark's measure: max(|cg_cw|, |cg_ccw|)
 };
 
-// Estimates UMBmark's quantities from end-pose errors of squares of side
-// `side_m` with 90° corners. `scale` is the straight-run scale (true / odometric
-// distance) and `wheelbase_m` the (calibrated) wheelbase, used for E_d.
+// UMBmark's one-step estimate from end-pose errors of squares of side `side_m`
+// with 90° corners. `scale` is the straight-run scale (true / odometric
+// distance), `wheelbase_m` the nominal wheelbase.
 UmbmarkResult EstimateUmbmark(const std::vector<Eigen::Vector3d>& ccw_errors,
                               const std::vector<Eigen::Vector3d>& cw_errors, double side_m,
                               double scale, double wheelbase_m);
+
+// The correction factors (E_d, ρ) for a corner over-turn `a` and a leg
+// curvature `γ` (formulas C2–C4 of odometry_calibration.cc).
+void SetUmbmarkFactors(double side_m, double scale, double wheelbase_m, UmbmarkResult* result);
 
 // One run of the report.
 struct CalibrationRunReport {
@@ -141,11 +145,13 @@ struct OdometryCalibrationReport {
   double encoder_k_right_m = 0.0;
   sim::OdometryCalibration nominal;     // URDF values (k as configured in robot.yaml)
   sim::OdometryCalibration calibrated;  // the result
-  UmbmarkResult umbmark;                // from the nominal-model errors
-  double straight_scale = 1.0;          // true / odometric distance of the straight runs
-  double e_max_syst_after_m = 0.0;      // UMBmark's measure with the calibrated model
-  double k_m = 0.0;                     // k̂ (= k_L = k_R)
-  int k_dof = 0;                        // 3 × runs used
+  UmbmarkResult umbmark_one_step;       // Borenstein & Feng's single correction
+  UmbmarkResult umbmark;                // iterated on the re-integrated runs (final)
+  int umbmark_iterations = 0;
+  double straight_scale = 1.0;      // true / odometric distance of the straight runs
+  double e_max_syst_after_m = 0.0;  // UMBmark's measure with the calibrated model
+  double k_m = 0.0;                 // k̂ (= k_L = k_R)
+  int k_dof = 0;                    // 3 × runs used
   std::vector<CalibrationRunReport> runs;
   double simulated_s = 0.0;
 };

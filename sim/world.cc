@@ -85,6 +85,16 @@ btTransform PlanarTransform(const core::Pose2& pose, double z) {
 
 double WrapAngle(double a) { return std::remainder(a, 2.0 * std::numbers::pi); }
 
+// A box whose collision margin fits inside it: Bullet keeps the margin inside
+// a box's extents, and a margin larger than the thinnest half extent (a 4 cm
+// door under the default 4 cm) distorts the shape by centimetres.
+std::unique_ptr<btBoxShape> MakeBox(const Eigen::Vector3d& half_m) {
+  auto box = std::make_unique<btBoxShape>(ToBt(half_m));
+  const double margin = std::min(box->getMargin(), 0.25 * half_m.minCoeff());
+  box->setMargin(margin);  // keeps the outer extents at half_m
+  return box;
+}
+
 // True when the polygon is convex and counter-clockwise with non-zero area.
 bool IsConvexCcw(const std::vector<Eigen::Vector2d>& p) {
   if (p.size() < 3) return false;
@@ -208,6 +218,9 @@ struct World::Impl {
   std::unique_ptr<btTriangleMesh> ray_mesh;
   std::unique_ptr<btBvhTriangleMeshShape> ray_mesh_shape;
   std::vector<int> ray_triangle_element;  // element of each baked triangle
+  // 1 for faces of closed prisms (outward normals: a ray from inside meets
+  // only back faces and passes, as for convex shapes); 0 for mesh triangles.
+  std::vector<char> ray_triangle_closed;
   std::vector<std::unique_ptr<btCollisionObject>> ray_objects;
   std::vector<btCollisionObject*> ray_doors;  // parallel to description.doors; null if unseen
 
@@ -328,7 +341,7 @@ struct World::Impl {
 
   btRigidBody* AddBox(const Box& box) {
     const int element = AddElement(box.id, box.material, false);
-    auto shape = std::make_unique<btBoxShape>(ToBt(0.5 * box.size_m));
+    auto shape = MakeBox(0.5 * box.size_m);
     return AddStatic(std::move(shape), BoxTransform(box), box.material, element);
   }
 
@@ -413,11 +426,14 @@ struct World::Impl {
       ray_mesh->addTriangle(v(a, z0), v(b, z1), v(a, z1));
       ray_triangle_element.insert(ray_triangle_element.end(), 2, element);
     }
-    for (double z : {z0, z1}) {
-      ray_mesh->addTriangle(v(q[0], z), v(q[1], z), v(q[2], z));
-      ray_mesh->addTriangle(v(q[0], z), v(q[2], z), v(q[3], z));
-      ray_triangle_element.insert(ray_triangle_element.end(), 2, element);
-    }
+    // Caps wound so that every face's normal points out of the solid (the
+    // outline is counter-clockwise seen from above).
+    ray_mesh->addTriangle(v(q[0], z1), v(q[1], z1), v(q[2], z1));
+    ray_mesh->addTriangle(v(q[0], z1), v(q[2], z1), v(q[3], z1));
+    ray_mesh->addTriangle(v(q[0], z0), v(q[2], z0), v(q[1], z0));
+    ray_mesh->addTriangle(v(q[0], z0), v(q[3], z0), v(q[2], z0));
+    ray_triangle_element.insert(ray_triangle_element.end(), 4, element);
+    ray_triangle_closed.resize(ray_triangle_element.size(), 1);
   }
 
   // Builds the ray world from the static elements (after Build()).
@@ -456,6 +472,7 @@ struct World::Impl {
         for (const auto& tri : source->triangles) {
           ray_mesh->addTriangle(ToBt(v[tri[0]]), ToBt(v[tri[1]]), ToBt(v[tri[2]]));
           ray_triangle_element.push_back(element);
+          ray_triangle_closed.push_back(0);
         }
       }
       ++element;
@@ -463,8 +480,7 @@ struct World::Impl {
     for (const Door& door : description.doors) {
       if (LaserVisible(element)) {
         const Box box = door.AsBox();
-        AddRayObject(std::make_unique<btBoxShape>(ToBt(0.5 * box.size_m)), BoxTransform(box),
-                     element);
+        AddRayObject(MakeBox(0.5 * box.size_m), BoxTransform(box), element);
         ray_doors.push_back(ray_objects.back().get());
       } else {
         ray_doors.push_back(nullptr);
@@ -655,7 +671,7 @@ int World::AddBody(const BodySpec& spec) {
   std::unique_ptr<btCollisionShape> shape;
   switch (spec.shape.type) {
     case BodyShapeType::kBox:
-      shape = std::make_unique<btBoxShape>(ToBt(0.5 * spec.shape.box_size_m));
+      shape = MakeBox(0.5 * spec.shape.box_size_m);
       break;
     case BodyShapeType::kCylinder:
       shape = std::make_unique<btCylinderShapeZ>(
@@ -765,7 +781,7 @@ int World::AddRobot(const RobotSpec& spec) {
           btVector3(p.x(), p.y(), m.chassis_base_z_m + m.chassis_height_m - robot.com_z_m), false);
     }
     hull->recalcLocalAabb();
-    hull->setMargin(kMeshMarginM);
+    hull->setMargin(0.0);  // the true outline, as walls (rays and contacts agree)
     im.prisms[hull.get()] = {m.footprint_m, m.chassis_base_z_m - robot.com_z_m,
                              m.chassis_base_z_m + m.chassis_height_m - robot.com_z_m};
     btTransform identity;
@@ -1100,9 +1116,12 @@ class FilteredClosestRay : public btCollisionWorld::ClosestRayResultCallback {
 // The closest triangle of the baked static mesh.
 class MeshRay : public btTriangleRaycastCallback {
  public:
-  MeshRay(const btVector3& from, const btVector3& to) : btTriangleRaycastCallback(from, to) {}
+  MeshRay(const btVector3& from, const btVector3& to, const std::vector<char>& closed)
+      : btTriangleRaycastCallback(from, to, kF_KeepUnflippedNormal), closed_(closed) {}
   btScalar reportHit(const btVector3& normal, btScalar fraction, int /*part*/,
                      int triangle) override {
+    const bool back_face = normal.dot(m_to - m_from) > 0;
+    if (back_face && closed_[triangle]) return m_hitFraction;  // leaving a solid
     if (fraction < m_hitFraction) {
       normal_ = normal;
       triangle_ = triangle;
@@ -1114,6 +1133,7 @@ class MeshRay : public btTriangleRaycastCallback {
   const btVector3& normal() const { return normal_; }
 
  private:
+  const std::vector<char>& closed_;
   btVector3 normal_{0, 0, 0};
   int triangle_ = -1;
 };
@@ -1262,7 +1282,7 @@ RayHit World::CastRay(const Eigen::Vector3d& from_m, const Eigen::Vector3d& to_m
     // Fast path: the static triangle tree, the few static primitives, then the
     // dynamic bodies — each only up to the closest hit so far, and with exact
     // shape intersections.
-    MeshRay mesh(from, to);
+    MeshRay mesh(from, to, im.ray_triangle_closed);
     if (im.ray_mesh_shape) im.ray_mesh_shape->performRaycast(&mesh, from, to);
     const btVector3 mesh_end = mesh.hit() ? from.lerp(to, mesh.m_hitFraction) : to;
     DynamicRay statics(from, mesh_end, im.elements, im.prisms, -1);

@@ -3,9 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <memory>
 #include <numbers>
 
 #include "core/odometry/diff_drive.h"
+#include "core/random/random_stream.h"
 #include "sim/world.h"
 
 namespace pavilion::sim {
@@ -289,6 +291,76 @@ TEST(RobotWorld, InconsistentModelsAreRejectedNamingTheRobot) {
   }
   world.AddRobot(Spec("twice", {0, 0, 0}));
   EXPECT_THROW(world.AddRobot(Spec("twice", {3, 0, 0})), std::invalid_argument);
+}
+
+// The laser's fast path (baked static mesh, exact shapes) against Bullet's
+// rayTest on the physics world's primitives, on random horizontal rays among
+// walls, boxes, a cylinder, a door, bodies of every shape and two robots.
+TEST(RobotWorld, FastRaysAgreeWithBulletsPrimitiveRayTest) {
+  WorldDescription d = Hall(true);
+  d.boxes.push_back({"box", {2, 2, 0.4}, {1.0, 0.6, 1.2}, 0.0, "plastic"});
+  d.cylinders.push_back({"column", {-2, 3}, 0.4, 2.0, 0.0, "plastic"});
+  Door door;
+  door.id = "door";
+  door.hinge_m = {-3, -2};
+  door.width_m = 0.9;
+  door.material = "plastic";
+  d.doors.push_back(door);
+  const auto build = [&](bool baked) {
+    WorldOptions options;
+    options.baked_static_rays = baked;
+    auto world = std::make_unique<World>(d, options);
+    BodySpec visitor;
+    visitor.id = "visitor";
+    visitor.shape.radius_m = 0.25;
+    visitor.pose = {1, -2, 0};
+    visitor.material = "plastic";
+    world->AddBody(visitor);
+    BodySpec crate = visitor;
+    crate.id = "crate";
+    crate.shape.type = BodyShapeType::kBox;
+    crate.shape.box_size_m = {0.6, 0.4, 0.8};
+    crate.pose = {-1, 1, 0.5};
+    world->AddBody(crate);
+    BodySpec ball = visitor;
+    ball.id = "ball";
+    ball.shape.type = BodyShapeType::kSphere;
+    ball.shape.radius_m = 0.5;
+    ball.pose = {3, -1, 0};
+    world->AddBody(ball);
+    RobotSpec r = Spec("robot", {0, 0, 0.4});
+    r.attachments.push_back({"marker", {0.0, 0.25}, 0.03, 0.2, 0.5, "retro"});
+    world->AddRobot(r);
+    world->AddRobot(Spec("other", {-2, -1, 2.0}));
+    for (int i = 0; i < 40; ++i) world->Step();
+    return world;
+  };
+  const auto fast = build(true);
+  const auto reference = build(false);
+  core::RandomStream rng(11, 12);
+  int hits = 0, mismatched = 0;
+  const int rays = 5000;
+  for (int i = 0; i < rays; ++i) {
+    const double z = rng.Uniform(0.05, 1.5);
+    const Eigen::Vector3d from(rng.Uniform(-4, 4.8), rng.Uniform(-3, 3), z);
+    const double a = rng.Uniform(-kPi, kPi);
+    const Eigen::Vector3d to = from + 8.0 * Eigen::Vector3d(std::cos(a), std::sin(a), 0.0);
+    const int ignore = i % 2 == 0 ? fast->robot_group(0) : -1;
+    const RayHit f = fast->CastRay(from, to, ignore);
+    const RayHit r = reference->CastRay(from, to, ignore);
+    if (f.hit != r.hit || (f.hit && std::abs(f.distance_m - r.distance_m) > 1e-3)) {
+      // Bullet's convex cast on thin boxes (the 4 cm door) can report hits a few
+      // centimetres beyond their ends; the exact path does not.
+      ++mismatched;
+      continue;
+    }
+    if (!f.hit) continue;
+    ++hits;
+    EXPECT_EQ(f.element, r.element) << "ray " << i;
+    EXPECT_NEAR(f.normal.dot(r.normal), 1.0, 1e-3) << "ray " << i;
+  }
+  EXPECT_GT(hits, rays / 3);
+  EXPECT_LE(mismatched, rays / 200);  // ≥ 99.5 % agree within 1 mm
 }
 
 TEST(RobotWorld, SameCommandsGiveBitIdenticalStates) {
