@@ -211,6 +211,8 @@ void OdometryCalibrationOptions::Validate() const {
   in(square_side_m, 0.5, 20.0, "square_side_m");
   in(spin_angle_rad, 1e-3, 20.0, "spin_angle_rad");
   in(floor_friction, 0.05, 2.0, "floor_friction");
+  if (arc_radii_m.empty()) throw std::invalid_argument("calibration option arc_radii_m is empty");
+  for (double r : arc_radii_m) in(r, 0.1, 20.0, "arc_radii_m[]");
   if (speeds_mps.empty()) throw std::invalid_argument("calibration option speeds_mps is empty");
   for (double v : speeds_mps) in(v, 1e-3, 10.0, "speeds_mps[]");
   if (straight_lengths_m.empty()) {
@@ -229,6 +231,8 @@ const char* RunKindName(CalibrationRunKind kind) {
       return "straight";
     case CalibrationRunKind::kSpin:
       return "spin";
+    case CalibrationRunKind::kArc:
+      return "arc";
     case CalibrationRunKind::kPath:
       break;
   }
@@ -276,6 +280,16 @@ std::vector<DriveRun> StandardCalibrationRuns(const OdometryCalibrationOptions& 
     run.speed_mps = speed(i);
     run.segments.push_back({DriveSegment::Type::kTurn, 0.0,
                             options.spin_angle_rad * (i % 2 == 0 ? 1 : -1), run.speed_mps});
+    runs.push_back(run);
+  }
+  for (int i = 0; i < options.runs; ++i) {
+    DriveRun run;
+    run.kind = CalibrationRunKind::kArc;
+    run.name = name("arc", i);
+    run.speed_mps = speed(i);
+    const double radius = options.arc_radii_m[i % options.arc_radii_m.size()];
+    run.segments.push_back(
+        {DriveSegment::Type::kArc, kPi * radius, kPi * (i % 2 == 0 ? 1 : -1), run.speed_mps});
     runs.push_back(run);
   }
   return runs;
@@ -657,6 +671,7 @@ std::string CalibrationJson(const OdometryCalibrationReport& r) {
            {"speeds_mps", r.options.speeds_mps},
            {"straight_lengths_m", r.options.straight_lengths_m},
            {"spin_angle_rad", r.options.spin_angle_rad},
+           {"arc_radii_m", r.options.arc_radii_m},
            {"floor_friction", r.options.floor_friction},
            {"seed", r.options.seed}}},
          {"simulated_robot",

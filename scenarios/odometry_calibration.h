@@ -30,6 +30,9 @@ struct OdometryCalibrationOptions {
   // Lengths of the straight runs (m), cycled; even runs drive forward, odd ones backward.
   std::vector<double> straight_lengths_m = {2.0, 5.0, 3.0, 6.0, 4.0};
   double spin_angle_rad = 6.283185307179586;  // in-place spins, alternating direction, (0, 20]
+  // Half circles of these radii (m), cycled, alternating left and right: the
+  // motion that shows the physics' lateral slip. Each > 0.
+  std::vector<double> arc_radii_m = {1.0, 2.0};
   double floor_friction = 0.7;  // Coulomb coefficient of the bare floor (expo_hall's), [0.05, 2]
   std::uint64_t seed = 1;       // encoder-noise streams of the runs
 
@@ -46,7 +49,7 @@ struct DriveSegment {
   double speed_mps = 0.3;   // cruise speed of the base; for kTurn of the wheel rims; > 0
 };
 
-enum class CalibrationRunKind { kSquareCcw, kSquareCw, kStraight, kSpin, kPath };
+enum class CalibrationRunKind { kSquareCcw, kSquareCw, kStraight, kSpin, kArc, kPath };
 
 // A named run: segments driven one after the other, stopping after each.
 struct DriveRun {
@@ -74,7 +77,7 @@ struct RecordedRun {
 };
 
 // The standard runs for `options.runs` = N: N counter-clockwise and N clockwise
-// UMBmark squares, N straight runs and N in-place spins.
+// UMBmark squares, N straight runs, N in-place spins and N half circles.
 std::vector<DriveRun> StandardCalibrationRuns(const OdometryCalibrationOptions& options);
 
 // Drives one run in a fresh bare-floor world: the robot of `config` (its
@@ -160,8 +163,8 @@ struct OdometryCalibrationReport {
 OdometryCalibrationReport CalibrateOdometry(const sim::RobotConfig& config,
                                             const OdometryCalibrationOptions& options);
 
-// Estimates the calibration from recorded runs (the squares, straights and
-// spins among them; every run enters k̂).
+// Estimates the calibration from recorded runs: the squares give E_d and the
+// wheelbase, the straight runs the scale, and every run enters k̂.
 OdometryCalibrationReport EstimateCalibration(const sim::RobotConfig& config,
                                               const OdometryCalibrationOptions& options,
                                               const std::vector<RecordedRun>& runs);

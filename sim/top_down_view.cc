@@ -172,7 +172,7 @@ core::RgbImage RenderTopDown(const World& world, const std::vector<TopDownTrack>
 
   for (const auto& track : tracks) {
     for (std::size_t i = 1; i < track.points_m.size(); ++i) {
-      canvas.Line(track.points_m[i - 1], track.points_m[i], track.rgb, 1.0, track.alpha);
+      canvas.Line(track.points_m[i - 1], track.points_m[i], track.rgb, track.width_px, track.alpha);
     }
   }
   for (int b = 0; b < world.body_count(); ++b) {
@@ -192,6 +192,21 @@ core::RgbImage RenderTopDown(const World& world, const std::vector<TopDownTrack>
                                                             : spec.shape.radius_m;
     const Eigen::Vector2d heading(std::cos(state.pose.theta_rad), std::sin(state.pose.theta_rad));
     canvas.Line(state.pose.translation(), state.pose.translation() + r * heading, {0, 0, 0}, 1.0);
+  }
+  for (int r = 0; r < world.robot_count(); ++r) {
+    const RobotSpec& spec = world.robot_spec(r);
+    const RobotState state = world.robot_state(r);
+    std::vector<Eigen::Vector2d> outline;
+    for (const Eigen::Vector2d& p : spec.model.footprint_m) outline.push_back(state.pose * p);
+    canvas.FillPolygon(outline, colour(spec.model.material));
+    for (const RobotAttachment& a : spec.attachments) {
+      canvas.FillCircle(state.pose * a.position_m, a.radius_m, colour(a.material));
+    }
+    double reach = 0.0;
+    for (const Eigen::Vector2d& p : spec.model.footprint_m) reach = std::max(reach, p.x());
+    const Eigen::Vector2d heading(std::cos(state.pose.theta_rad), std::sin(state.pose.theta_rad));
+    canvas.Line(state.pose.translation(), state.pose.translation() + reach * heading, {0, 0, 0},
+                1.5);
   }
   for (const auto& [name, place] : d.places) {
     if (!options.draw_places || !place.pose) continue;

@@ -20,12 +20,13 @@ struct TopDownOptions {
 struct TopDownTrack {
   std::vector<Eigen::Vector2d> points_m;
   std::array<std::uint8_t, 3> rgb{200, 40, 40};
-  double alpha = 1.0;  // opacity in [0, 1]
+  double alpha = 1.0;     // opacity in [0, 1]
+  double width_px = 1.0;  // line width
 };
 
 // Renders the world seen from above: floor, element footprints in their material
 // colours, the section at the beam height outlined (laser-transparent parts in
-// light blue), places, bodies at their current poses, and tracks.
+// light blue), places, bodies and robots at their current poses, and tracks.
 core::RgbImage RenderTopDown(const World& world, const std::vector<TopDownTrack>& tracks,
                              const TopDownOptions& options);
 

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "scenarios/cli/calibrate_command.h"
+#include "scenarios/cli/scan_command.h"
 #include "scenarios/data_paths.h"
 #include "scenarios/input_error.h"
 #include "scenarios/png.h"
@@ -134,7 +135,8 @@ int main(int argc, char** argv) {
   app.footer(
       "Examples:\n  pavilion run scenarios/expo_visitors.yaml --out out/demo\n"
       "  pavilion validate worlds/*/world.yaml scenarios/*.yaml\n"
-      "  pavilion world render expo_hall --png hall.png");
+      "  pavilion world render expo_hall --png hall.png\n"
+      "  pavilion scan expo_hall robox --pose 15,3,1.57 --out scan.csv --png scan.png");
   std::string log_level = "info";
   app.add_option("--log-level", log_level, "trace, debug, info, warn, error or off")
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}))
@@ -155,9 +157,10 @@ int main(int argc, char** argv) {
 
   std::vector<std::string> validate_files;
   auto* validate =
-      app.add_subcommand("validate", "Check world and scenario files, print every error");
+      app.add_subcommand("validate", "Check world, robot and scenario files, print every error");
   validate->add_option("files", validate_files, "Files to check")->required();
-  validate->footer("Example:\n  pavilion validate worlds/*/world.yaml scenarios/*.yaml");
+  validate->footer(
+      "Example:\n  pavilion validate worlds/*/world.yaml robots/*/robot.yaml scenarios/*.yaml");
 
   auto* version = app.add_subcommand("version", "Print the version");
   version->footer("Example:\n  pavilion version");
@@ -178,6 +181,9 @@ int main(int argc, char** argv) {
   info->add_option("world", world_args.world, "World name (under worlds/) or path")->required();
   info->add_option("--z", world_args.z_m, "Height of the section (m)")->capture_default_str();
   info->footer("Example:\n  pavilion world info office_floor --z 0.3");
+
+  cli::ScanArgs scan_args;
+  auto* scan = cli::AddScanCommand(&app, &scan_args);
 
   // --- calibrate: odometry calibration (scenarios/cli/calibrate_command.cc) ---
   cli::CalibrateArgs calibrate_args;
@@ -205,6 +211,7 @@ int main(int argc, char** argv) {
     }
     if (*render) return WorldRender(world_args);
     if (*info) return WorldInfo(world_args);
+    if (*scan) return cli::RunScanCommand(scan_args);
     if (*calibrate) return cli::RunCalibrateCommand(calibrate_args);  // calibrate
   } catch (const scenarios::InputError& e) {
     for (std::size_t i = 1; i < e.diagnostics().size(); ++i) {
