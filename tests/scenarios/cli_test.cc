@@ -118,9 +118,16 @@ const std::string kBusyScenario =
     "    material: skin\n"
     "    area: pen\n"
     "    motion: {type: random_walk, speed_mps: 1.0, mean_leg_s: 1.0}\n"
+    "robots:\n"
+    "  - id: robox\n"
+    "    model: robox\n"
+    "    pose: [-4.5, 4.5, 0]\n"
+    "    encoder_noise: true\n"
+    "    drive: [{at_s: 0, speed_mps: 0.5, turn_radps: 0.3}, {at_s: 3, left: 0, right: 0}]\n"
     "events:\n"
     "  - {at_s: 0.5, type: push, body: barrel, impulse: [50, 0]}\n"
-    "  - {at_s: 2.0, type: push, body: walker_003, impulse: [50, 20]}\n";
+    "  - {at_s: 2.0, type: push, body: walker_003, impulse: [50, 20]}\n"
+    "  - {at_s: 3.5, type: push, body: robox, impulse: [0, 60]}\n";
 
 // Confirms that `version` exits 0 and names the program.
 TEST(CliTest, VersionPrintsVersion) {
@@ -137,6 +144,8 @@ TEST(CliTest, HelpOfEverySubcommandHasExample) {
       {{"validate", "--help"}, "pavilion validate "},
       {{"world", "render", "--help"}, "pavilion world render "},
       {{"world", "info", "--help"}, "pavilion world info "},
+      {{"scan", "--help"}, "pavilion scan "},
+      {{"calibrate", "--help"}, "pavilion calibrate "},
       {{"--help"}, "pavilion run "},
   };
   for (const auto& [args, example] : cases) {
@@ -146,6 +155,41 @@ TEST(CliTest, HelpOfEverySubcommandHasExample) {
     EXPECT_TRUE(Contains(r.out, "Example"));
     EXPECT_TRUE(Contains(r.out, example));
   }
+}
+
+// Confirms that `scan` writes one CSV row per reading of each laser (and the
+// picture), with ground truth, and that a malformed pose is a one-line error.
+TEST(CliTest, ScanWritesEveryReadingWithGroundTruth) {
+  const fs::path dir = TestDir();
+  WriteFile(dir, "world.yaml", kWorld);
+  const Result r =
+      RunPavilion({"scan", (dir / "world.yaml").string(), "robox", "--pose", "0,0,0.5", "--out",
+                   (dir / "scan.csv").string(), "--png", (dir / "scan.png").string(), "--no-noise"},
+                  dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::vector<std::string> lines = Lines(ReadFile(dir / "scan.csv"));
+  ASSERT_EQ(lines.size(), 1u + 2 * 361);  // header, two LMS 200
+  EXPECT_EQ(lines[0].rfind("sensor,index,bearing_rad,", 0), 0u);
+  int walls = 0;
+  for (std::size_t i = 1; i < lines.size(); ++i) {
+    std::vector<std::string> cells;
+    std::stringstream in(lines[i]);
+    for (std::string cell; std::getline(in, cell, ',');) cells.push_back(cell);
+    ASSERT_GE(cells.size(), 9u) << lines[i];
+    if (cells[5] == "1") {  // valid: without noise the range is the true range (1 mm steps)
+      EXPECT_NEAR(std::stod(cells[4]), std::stod(cells[7]), 0.0006) << lines[i];
+    }
+    walls += cells[8].rfind("wall_", 0) == 0;
+  }
+  EXPECT_GT(walls, 300);
+  EXPECT_TRUE(fs::exists(dir / "scan.png"));
+
+  const Result bad = RunPavilion({"scan", (dir / "world.yaml").string(), "robox", "--pose", "0,0",
+                                  "--out", (dir / "bad.csv").string()},
+                                 dir);
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_EQ(Lines(bad.err).size(), 1u) << bad.err;
+  EXPECT_TRUE(Contains(bad.err, "--pose"));
 }
 
 // Confirms that `validate` lists every problem as `file:line: key.path: message` and exits 1.
@@ -227,8 +271,8 @@ TEST(CliTest, RunIsDeterministicForASeed) {
   WriteFile(dir, "scenario.yaml", kBusyScenario);
   const fs::path a = RunBusy(dir, "a", 7);
   const fs::path b = RunBusy(dir, "b", 7);
-  for (const char* file : {"metrics.json", "events.jsonl", "trajectories.csv", "report.html",
-                           "snapshots/topdown_final.png"}) {
+  for (const char* file : {"metrics.json", "events.jsonl", "trajectories.csv", "scans.bin",
+                           "report.html", "snapshots/topdown_final.png"}) {
     SCOPED_TRACE(file);
     const std::string in_a = ReadFile(a / file);
     EXPECT_FALSE(in_a.empty());
@@ -245,6 +289,7 @@ TEST(CliTest, RunIsDeterministicForASeed) {
 
   const fs::path c = RunBusy(dir, "c", 8);
   EXPECT_FALSE(ReadFile(a / "trajectories.csv") == ReadFile(c / "trajectories.csv"));
+  EXPECT_FALSE(ReadFile(a / "scans.bin") == ReadFile(c / "scans.bin"));  // the noise draws
 }
 
 // Confirms the contents of metrics.json and events.jsonl.
@@ -277,7 +322,15 @@ TEST(CliTest, RunWritesWellFormedMetricsAndEvents) {
     last_time = e.at("time_s").get<double>();
     if (e.at("type") == "push") ++pushes;
   }
-  EXPECT_EQ(pushes, 2);
+  EXPECT_EQ(pushes, 3);
+
+  // The robot: two LMS 200 at 10 Hz for 5 s, and the sideways push at 3.5 s
+  // moved it where its encoders did not follow.
+  const nlohmann::json& robot = metrics.at("robots").at("robox");
+  EXPECT_EQ(robot.at("model"), "robox");
+  EXPECT_EQ(robot.at("scans"), 100);
+  EXPECT_GT(robot.at("distance_m").get<double>(), 1.0);
+  EXPECT_GT(robot.at("odometry_final_error").at("position_m").get<double>(), 0.01);
 }
 
 // Confirms that a frictionless body driven at 0.5 m/s (body frame) for 4 s travels 2 m along its
