@@ -241,6 +241,72 @@ TEST(ScenarioLoaderTest, ReportsEventWithUnknownBody) {
   EXPECT_TRUE(Contains(all[0].message, "no body 'ghost'"));
 }
 
+// A robot entry appended to the scenario text.
+std::string WithRobot(const std::string& text, const std::string& robot) {
+  return text + "robots:\n" + robot;
+}
+
+// Confirms that robots load their model, pose and drive profile, with body-frame
+// commands turned into wheel speeds by the calibrated odometry (eq. 2.7).
+TEST(ScenarioLoaderTest, LoadsRobotsWithTheirDriveProfile) {
+  const std::string text = WithRobot(ScenarioText(),
+                                     "  - id: r1\n"
+                                     "    model: pygmalion\n"
+                                     "    pose: [1, 2, 0.5]\n"
+                                     "    systematic: {wheelbase_factor: 1.02}\n"
+                                     "    drive:\n"
+                                     "      - {at_s: 0, speed_mps: 0.3, turn_radps: 0.5}\n"
+                                     "      - {at_s: 4, left: 1.5, right: -1.5}\n");
+  const Scenario s = LoadScenarioFile(WriteScenario(text));
+  ASSERT_EQ(s.robots.size(), 1u);
+  const RobotEntry& r = s.robots[0];
+  EXPECT_EQ(r.id, "r1");
+  EXPECT_EQ(r.config.description.model, "pygmalion");
+  EXPECT_EQ(r.pose, (core::Pose2{1, 2, 0.5}));
+  EXPECT_EQ(r.config.systematic.wheelbase_factor, 1.02);
+  ASSERT_EQ(r.drive.size(), 2u);
+  const auto& o = r.config.odometry;
+  EXPECT_NEAR(r.drive[0].left_radps * o.left_wheel_radius_m, 0.3 - 0.25 * o.wheelbase_m, 1e-12);
+  EXPECT_NEAR(r.drive[0].right_radps * o.right_wheel_radius_m, 0.3 + 0.25 * o.wheelbase_m, 1e-12);
+  EXPECT_EQ(r.drive[1].left_radps, 1.5);
+  EXPECT_EQ(r.drive[1].right_radps, -1.5);
+}
+
+// Confirms the robot entry's errors: unknown model, a drive step mixing both
+// forms, steps out of order, an id used twice.
+TEST(ScenarioLoaderTest, ReportsBadRobotEntries) {
+  const std::string text = WithRobot(ScenarioText(),
+                                     "  - id: r1\n"
+                                     "    model: no_such_robot\n"
+                                     "    pose: [1, 2, 0]\n"
+                                     "  - id: r2\n"
+                                     "    model: robox\n"
+                                     "    pose: [3, 2, 0]\n"
+                                     "    drive:\n"
+                                     "      - {at_s: 2, left: 1, speed_mps: 0.3}\n"
+                                     "      - {at_s: 1, left: 1, right: 1}\n"
+                                     "  - id: visitor_001\n"
+                                     "    model: robox\n"
+                                     "    pose: [-3, 2, 0]\n");
+  const std::string path = WriteScenario(text);
+  const std::vector<Diagnostic> all = LoadErrors(path);
+  std::vector<std::string> keys;
+  for (const Diagnostic& d : all) {
+    EXPECT_EQ(d.file, path);
+    EXPECT_GT(d.line, 0) << d.ToString();
+    keys.push_back(d.key_path);
+  }
+  EXPECT_NE(std::find(keys.begin(), keys.end(), "robots[0].model"), keys.end());
+  EXPECT_NE(std::find(keys.begin(), keys.end(), "robots[1].drive[0]"), keys.end());
+  EXPECT_NE(std::find(keys.begin(), keys.end(), "robots[1].drive[1]"), keys.end());
+  EXPECT_NE(std::find(keys.begin(), keys.end(), "robots[2].id"), keys.end());
+  for (const Diagnostic& d : all) {
+    if (d.key_path == "robots[0].model") {
+      EXPECT_EQ(d.line, LineOf(text, "model: no_such_robot"));
+    }
+  }
+}
+
 // Confirms that a body material defined neither by the world nor the scenario is an error.
 TEST(ScenarioLoaderTest, ReportsUnknownBodyMaterial) {
   std::string text = ScenarioText();
