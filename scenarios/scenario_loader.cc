@@ -259,13 +259,15 @@ void ReadRobots(YamlDocument* doc, MapReader& top, const std::string& base, Scen
       } else if (wheels) {
         c.left_radps = d.RequiredNumber("left", -1000.0, 1000.0).value_or(0.0);
         c.right_radps = d.RequiredNumber("right", -1000.0, 1000.0).value_or(0.0);
-      } else if (model_ok) {
-        // Inverse kinematics with the robot's calibrated odometry (eq. 2.7).
+      } else {
         const double v = d.Number("speed_mps", 0.0, -10.0, 10.0);
         const double w = d.Number("turn_radps", 0.0, -20.0, 20.0);
-        const auto& o = robot.config.odometry;
-        c.left_radps = (v - 0.5 * w * o.wheelbase_m) / o.left_wheel_radius_m;
-        c.right_radps = (v + 0.5 * w * o.wheelbase_m) / o.right_wheel_radius_m;
+        if (model_ok) {
+          // Inverse kinematics with the robot's calibrated odometry (eq. 2.7).
+          const auto& o = robot.config.odometry;
+          c.left_radps = (v - 0.5 * w * o.wheelbase_m) / o.left_wheel_radius_m;
+          c.right_radps = (v + 0.5 * w * o.wheelbase_m) / o.right_wheel_radius_m;
+        }
       }
       d.Finish();
       if (!robot.drive.empty() && c.at_s < robot.drive.back().at_s) {
