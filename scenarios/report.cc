@@ -62,7 +62,24 @@ std::string RenderReportHtml(const Scenario& scenario, const nlohmann::ordered_j
     Row(html, "collision begins per body, summed (a body-body contact counts for both)",
         b["collisions"].dump());
   }
-  html << "</table>\n<h2>Events</h2>\n<table>\n<tr><th>type</th><th>count</th></tr>\n";
+  html << "</table>\n";
+  if (metrics.contains("robots")) {
+    html << "<h2>Robots</h2>\n<table>\n<tr><th>robot</th><th>model</th><th>distance (m)</th>"
+            "<th>collisions</th><th>bumper presses</th><th>scans</th>"
+            "<th>odometry error at the end: position (m)</th><th>heading (rad)</th></tr>\n";
+    for (const auto& [id, r] : metrics["robots"].items()) {
+      const auto& e = r["odometry_final_error"];
+      html << "<tr><td>" << Escape(id) << "</td><td>" << Escape(r["model"].get<std::string>())
+           << "</td><td>" << r["distance_m"].dump() << "</td><td>" << r["collisions"].dump()
+           << "</td><td>" << r["bumper_presses"].dump() << "</td><td>" << r["scans"].dump()
+           << "</td><td>" << e["position_m"].dump() << "</td><td>" << e["heading_rad"].dump()
+           << "</td></tr>\n";
+    }
+    html << "</table>\n<p class=\"note\">Odometry: the encoder counts integrated with the "
+            "robot's calibrated model from its start pose; it misses the slip of collisions "
+            "and pushes.</p>\n";
+  }
+  html << "<h2>Events</h2>\n<table>\n<tr><th>type</th><th>count</th></tr>\n";
   for (const auto& [type, n] : metrics["events"].items()) {
     html << "<tr><td>" << Escape(type) << "</td><td>" << n.dump() << "</td></tr>\n";
   }
@@ -70,11 +87,13 @@ std::string RenderReportHtml(const Scenario& scenario, const nlohmann::ordered_j
        << "<p class=\"note\">Footprints in material colours; black outline: the world cut at "
        << scenario.outputs.section_height_m
        << " m, what a laser at that height can meet (light blue: glass, which it cannot); "
-          "red: body trajectories; green: named places.</p>\n"
+          "red: body trajectories; blue: robots' true paths, orange: their encoder odometry; "
+          "green: named places.</p>\n"
        << "<img alt=\"top-down view\" src=\"data:image/png;base64," << Base64(topdown_png)
        << "\">\n";
   html << "<p class=\"note\">Files: metrics.json, performance.json (wall-clock figures), "
-          "events.jsonl, trajectories.csv, snapshots/.</p>\n</body></html>\n";
+          "events.jsonl, trajectories.csv, scans.bin (robots' laser scans with ground truth), "
+          "snapshots/.</p>\n</body></html>\n";
   return html.str();
 }
 
