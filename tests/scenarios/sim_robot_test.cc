@@ -8,6 +8,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "core/odometry/diff_drive.h"
 #include "scenarios/robot_loader.h"
 #include "scenarios/robot_setup.h"
 
@@ -32,6 +33,28 @@ sim::WorldDescription Floor(bool wall) {
   }
   return w;
 }
+
+// Dead reckoning from encoder readings with the robot file's calibrated odometry.
+struct EncoderOdometer {
+  sim::OdometryCalibration calibration;
+  core::Pose2 pose;
+  bool started = false;
+  std::int64_t left = 0, right = 0;
+  void Update(const core::EncoderReading& r) {
+    if (started) {
+      const double per_tick = 2 * kPi / r.ticks_per_revolution;
+      pose = core::DiffDriveStep(
+          pose,
+          {static_cast<double>(r.left_ticks - left) * per_tick * calibration.left_wheel_radius_m,
+           static_cast<double>(r.right_ticks - right) * per_tick *
+               calibration.right_wheel_radius_m},
+          calibration.wheelbase_m);
+    }
+    started = true;
+    left = r.left_ticks;
+    right = r.right_ticks;
+  }
+};
 
 const sim::RobotConfig& Robox() {
   static const sim::RobotConfig config =
@@ -74,6 +97,34 @@ struct Scene {
     return scans;
   }
 };
+
+// Acceptance: a 10 m straight drive of the shipped Pygmalion on the flat floor,
+// its encoders (50,000 ticks per turn) integrated with its robot file's
+// calibrated odometry, ends within 0.5 % of the distance from the truth.
+TEST(SimRobot, PygmalionTenMetreStraightDriveOdometryWithinHalfAPercent) {
+  const sim::RobotConfig pygmalion =
+      scenarios::LoadRobotFile(PAVILION_SOURCE_DIR "/robots/pygmalion/robot.yaml");
+  sim::WorldDescription d = Floor(false);
+  const core::Pose2 start{-5, 0, 0};
+  const sim::SimRobotSetup setup = scenarios::MakeSimRobotSetup("p", pygmalion, start, &d);
+  sim::World world(d, sim::WorldOptions{});
+  sim::SimRobot robot(&world, setup, 1);
+  EncoderOdometer odo{pygmalion.odometry, start};
+  const double speed = 0.5;  // m/s
+  robot.SetWheelSpeeds(speed / pygmalion.odometry.left_wheel_radius_m,
+                       speed / pygmalion.odometry.right_wheel_radius_m);
+  for (int i = 0; i < 6000 && world.robot_state(robot.index()).pose.x_m < 5.0; ++i) {
+    const sim::RobotState before = world.robot_state(robot.index());
+    world.Step();
+    for (const auto& e : robot.AfterStep(before, world.robot_state(robot.index())).encoders) {
+      odo.Update(e);
+    }
+  }
+  const core::Pose2 truth = world.robot_state(robot.index()).pose;
+  const double travelled = (truth.translation() - start.translation()).norm();
+  ASSERT_GT(travelled, 9.99);
+  EXPECT_LT((odo.pose.translation() - truth.translation()).norm(), 0.005 * travelled);
+}
 
 TEST(SimRobot, ScansAtTheScanRateAndEncodersAtTheirs) {
   Scene scene(false, {{0, 0, 0}});
