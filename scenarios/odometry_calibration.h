@@ -2,6 +2,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -20,8 +21,8 @@ namespace pavilion::scenarios {
 
 // How the calibration drives.
 struct OdometryCalibrationOptions {
-  double physics_rate_hz =
-      200.0;                   // physics step rate, [10, 10000] Hz; a multiple of the encoder rate
+  // Physics step rate, [10, 10000] Hz; a multiple of the robot's encoder rate.
+  double physics_rate_hz = 200.0;
   int runs = 5;                // runs of each kind (UMBmark: 5 per direction), [1, 100]
   double square_side_m = 4.0;  // UMBmark square side (Borenstein & Feng: 4 m), [0.5, 20]
   // Cruise speeds (m/s, wheel-rim speed for spins), cycled over the runs of each
@@ -29,7 +30,7 @@ struct OdometryCalibrationOptions {
   std::vector<double> speeds_mps = {0.2, 0.4, 0.6};
   // Lengths of the straight runs (m), cycled; even runs drive forward, odd ones backward.
   std::vector<double> straight_lengths_m = {2.0, 5.0, 3.0, 6.0, 4.0};
-  double spin_angle_rad = 6.283185307179586;  // in-place spins, alternating direction, (0, 20]
+  double spin_angle_rad = 2 * std::numbers::pi;  // in-place spins, alternating direction, (0, 20]
   // Half circles of these radii (m), cycled, alternating left and right: the
   // motion that shows the physics' lateral slip. Each > 0.
   std::vector<double> arc_radii_m = {1.0, 2.0};
@@ -123,8 +124,8 @@ UmbmarkResult EstimateUmbmark(const std::vector<Eigen::Vector3d>& ccw_errors,
                               const std::vector<Eigen::Vector3d>& cw_errors, double side_m,
                               double scale, double wheelbase_m);
 
-// The correction factors (E_d, ρ) for a corner over-turn `a` and a leg
-// curvature `γ` (formulas C2–C4 of odometry_calibration.cc).
+// Sets result's correction factors (E_d, ρ) from its corner over-turn a and
+// leg curvature γ (formulas C2–C4 of odometry_calibration.cc).
 void SetUmbmarkFactors(double side_m, double scale, double wheelbase_m, UmbmarkResult* result);
 
 // One run of the report.

@@ -391,4 +391,26 @@ TEST(CliTest, ScriptedBodyDrivesStraight) {
   EXPECT_NEAR(end.theta, 0.3, 1e-3);
 }
 
+// `calibrate` drives the calibration runs, prints the `odometry:` block for
+// robot.yaml and writes calibration.json; an unknown robot is one error line.
+TEST(CliTest, CalibrateWritesTheOdometryBlockAndJson) {
+  const fs::path dir = TestDir();
+  const fs::path out = dir / "calib";
+  const Result r =
+      RunPavilion({"calibrate", "pygmalion", "--runs", "1", "--out", out.string()}, dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(Contains(r.out, "odometry:\n")) << r.out;
+  EXPECT_TRUE(Contains(r.out, "  wheelbase_m: 0.3")) << r.out;
+  EXPECT_TRUE(Contains(r.out, "pavilion calibrate pygmalion --runs 1 --seed 1")) << r.out;
+  const auto json = nlohmann::json::parse(ReadFile(out / "calibration.json"));
+  EXPECT_EQ(json["robot"], "pygmalion");
+  EXPECT_EQ(json["runs"].size(), 5u);  // one run of each kind
+  EXPECT_NEAR(json["calibrated"]["wheelbase_m"].get<double>(), 0.38, 0.004);
+
+  const Result bad = RunPavilion({"calibrate", "no_such_robot"}, dir);
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_EQ(Lines(bad.err).size(), 1u) << bad.err;
+  EXPECT_TRUE(Contains(bad.err, "no_such_robot")) << bad.err;
+}
+
 }  // namespace

@@ -155,17 +155,21 @@ TEST(RobotLoaderTest, PygmalionMatchesTheThesis) {
   EXPECT_TRUE(d.markers.empty());
 }
 
-// Confirms the shipped odometry is the nominal model (URDF wheels, thesis k = 5e-6 m)
-// until the calibration scenario replaces it, and the encoders run at 200 Hz (§4.4.3).
-TEST(RobotLoaderTest, ShippedOdometryIsNominal) {
+// Confirms the shipped odometry holds calibrated values (docs/calibration.md):
+// close to the URDF's wheels (the simulated robots are built without systematic
+// errors, so only the physics' slip moves them), a positive k, and the encoders
+// at 200 Hz (§4.4.3). odometry_calibration_test checks them against a fresh
+// calibration.
+TEST(RobotLoaderTest, ShippedOdometryIsCalibratedNearTheNominalModel) {
   for (const std::string name : {"robox", "pygmalion"}) {
     const sim::RobotConfig c = LoadShipped(name);
     const sim::RobotDescription& d = c.description;
-    EXPECT_DOUBLE_EQ(c.odometry.left_wheel_radius_m, d.left_wheel.radius_m) << name;
-    EXPECT_DOUBLE_EQ(c.odometry.right_wheel_radius_m, d.right_wheel.radius_m) << name;
-    EXPECT_NEAR(c.odometry.wheelbase_m, d.wheelbase_m(), 1e-12) << name;
-    EXPECT_DOUBLE_EQ(c.odometry.k_left_m, 5e-6) << name;
-    EXPECT_DOUBLE_EQ(c.odometry.k_right_m, 5e-6) << name;
+    EXPECT_NEAR(c.odometry.left_wheel_radius_m / d.left_wheel.radius_m, 1.0, 0.005) << name;
+    EXPECT_NEAR(c.odometry.right_wheel_radius_m / d.right_wheel.radius_m, 1.0, 0.005) << name;
+    EXPECT_NEAR(c.odometry.wheelbase_m / d.wheelbase_m(), 1.0, 0.005) << name;
+    EXPECT_GT(c.odometry.k_left_m, 0.0) << name;
+    EXPECT_LT(c.odometry.k_left_m, 1e-4) << name;
+    EXPECT_DOUBLE_EQ(c.odometry.k_left_m, c.odometry.k_right_m) << name;
     EXPECT_DOUBLE_EQ(c.encoders.rate_hz, 200.0) << name;
     EXPECT_DOUBLE_EQ(c.systematic.wheel_radius_ratio, 1.0) << name;
     EXPECT_DOUBLE_EQ(c.systematic.wheelbase_factor, 1.0) << name;
