@@ -298,6 +298,7 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   const auto t_loop = Clock::now();
   const double startup_s = Seconds(t_loop - t_start);
   double physics_s = 0.0;
+  double sensors_s = 0.0;  // robots' sensors, laser rays included
   ProgressLine progress(options.progress, scenario.duration_s);
   std::size_t next_event = 0;
   for (std::int64_t tick = 0; tick < total_ticks; ++tick) {
@@ -381,6 +382,7 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
           (next.bodies[b].pose.translation() - snapshot.bodies[b].pose.translation()).norm();
     }
     // Robots' sensors sample the tick that just ended, in robot order.
+    const auto t_sensors = Clock::now();
     for (std::size_t k = 0; k < robots.size(); ++k) {
       RobotRun& r = robots[k];
       r.distance_m +=
@@ -404,6 +406,7 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
         if (scan_log) scan_log->Append(r.entry->id, scan.scan, scan.truth);
       }
     }
+    sensors_s += Seconds(Clock::now() - t_sensors);
     snapshot = std::move(next);
     if (schedule.IsDue(trajectory_task, tick + 1)) record(t_after);
     if ((tick & 255) == 0) progress.Update(t_after, Seconds(Clock::now() - t_loop));
@@ -496,9 +499,13 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   perf["peak_rss_mb"] = PeakRssMb();
   perf["threads"] = 1;  // the worker pool comes with the speed issue
   perf["physics_steps_per_s"] = physics_s > 0 ? static_cast<double>(total_ticks) / physics_s : 0.0;
+  perf["laser_rays"] = world.rays_cast();
+  perf["laser_rays_per_s"] =
+      sensors_s > 0 ? static_cast<double>(world.rays_cast()) / sensors_s : 0.0;
   perf["stages_s"] = {{"startup", startup_s},
                       {"physics", physics_s},
-                      {"loop_other", loop_s - physics_s},
+                      {"sensors", sensors_s},
+                      {"loop_other", loop_s - physics_s - sensors_s},
                       {"outputs", summary.wall_time_s - startup_s - loop_s}};
   WriteFileAtomically((out / "performance.json").string(), perf.dump(2) + "\n");
   return summary;

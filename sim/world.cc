@@ -234,6 +234,7 @@ struct World::Impl {
   std::vector<btCollisionObject*> ray_doors;  // parallel to description.doors; null if unseen
 
   std::map<const btCollisionShape*, RayPrism> prisms;
+  mutable std::int64_t rays_cast = 0;  // CastRay is single-threaded per world (see world.h)
 
   std::vector<core::SectionElement> elements;
   std::vector<Body> bodies;
@@ -1283,6 +1284,7 @@ class DynamicRay : public btBroadphaseRayCallback {
 RayHit World::CastRay(const Eigen::Vector3d& from_m, const Eigen::Vector3d& to_m, int ignore_group,
                       bool hit_transparent) const {
   const Impl& im = *impl_;
+  ++im.rays_cast;
   const btVector3 from = ToBt(from_m), to = ToBt(to_m);
   const auto make_hit = [&](const btVector3& p, const btVector3& normal, int element) {
     RayHit hit;
@@ -1336,6 +1338,8 @@ RayHit World::CastRay(const Eigen::Vector3d& from_m, const Eigen::Vector3d& to_m
 }
 
 const std::vector<core::SectionElement>& World::elements() const { return impl_->elements; }
+
+std::int64_t World::rays_cast() const { return impl_->rays_cast; }
 
 std::vector<ContactChange> World::TakeContactChanges() {
   std::vector<ContactChange> out;

@@ -201,6 +201,9 @@ class World {
   RayHit CastRay(const Eigen::Vector3d& from_m, const Eigen::Vector3d& to_m, int ignore_group = -1,
                  bool hit_transparent = false) const;
 
+  // Rays cast since the world was built (a performance figure).
+  std::int64_t rays_cast() const;
+
   // Element ids and flags, indexed by element index.
   const std::vector<core::SectionElement>& elements() const;
 
