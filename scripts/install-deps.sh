@@ -10,7 +10,7 @@ PACKAGES=(
   libosmesa6-dev libompl-dev
   libboost-serialization-dev libboost-filesystem-dev libboost-system-dev
   liburdfdom-dev libassimp-dev
-  libyaml-cpp-dev nlohmann-json3-dev libcli11-dev libspdlog-dev libfmt-dev libpng-dev
+  libyaml-cpp-dev nlohmann-json3-dev libcli11-dev libspdlog-dev libfmt-dev libpng-dev zlib1g-dev
   libgtest-dev libgmock-dev libbenchmark-dev
 )
 
