@@ -1,0 +1,393 @@
+#include "core/features/line_extraction.h"
+
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+#include <iterator>
+#include <limits>
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+#include "core/features/line_fit.h"
+
+namespace pavilion::core {
+namespace {
+
+// A segment candidate or cluster: indices into the valid readings (sorted) and
+// the line re-fitted to them.
+struct Cluster {
+  std::vector<int> points;
+  Line line;
+};
+
+void Require(bool ok, const char* field, const std::string& expected) {
+  if (!ok) {
+    throw std::invalid_argument(std::string("LineExtractionOptions.") + field + ": expected " +
+                                expected);
+  }
+}
+
+// (alpha, r) of `line` with alpha taken relative to `reference_alpha_rad`, so
+// that differences of parameter vectors never wrap.
+Eigen::Vector2d ParamsNear(const Line& line, double reference_alpha_rad) {
+  return {reference_alpha_rad + NormalizeAngle(line.alpha_rad - reference_alpha_rad), line.r_m};
+}
+
+// Model fidelity distance of eq. 3.12 for the model points `lines` (the window
+// fits at i - 1, i, i + 1), with their information-filter mean (eqs. 3.13-3.14).
+std::optional<double> FidelityDistance(const Line* lines, int count) {
+  const double ref = lines[count / 2].alpha_rad;
+  Eigen::Matrix2d info = Eigen::Matrix2d::Zero();
+  Eigen::Vector2d info_x = Eigen::Vector2d::Zero();
+  for (int j = 0; j < count; ++j) {
+    if (!(lines[j].covariance.determinant() > 0.0)) return std::nullopt;
+    const Eigen::Matrix2d inv = lines[j].covariance.inverse();
+    info += inv;
+    info_x += inv * ParamsNear(lines[j], ref);
+  }
+  const Eigen::Matrix2d cw = info.inverse();  // eq. 3.14
+  const Eigen::Vector2d xw = cw * info_x;     // eq. 3.13
+  double d = 0.0;
+  for (int j = 0; j < count; ++j) {
+    const Eigen::Vector2d e = ParamsNear(lines[j], ref) - xw;
+    d += e.dot((lines[j].covariance + cw).inverse() * e);  // eq. 3.12
+  }
+  return d;
+}
+
+// Squared Mahalanobis distance of two lines, eq. 3.16.
+double CollinearityDistance(const Line& a, const Line& b) {
+  const Eigen::Vector2d e = ParamsNear(a, a.alpha_rad) - ParamsNear(b, a.alpha_rad);
+  const Eigen::Matrix2d s = a.covariance + b.covariance;
+  if (!(s.determinant() > 0.0)) return std::numeric_limits<double>::infinity();
+  return e.dot(s.inverse() * e);
+}
+
+class Extractor {
+ public:
+  Extractor(const LaserScan& scan, const LineExtractionOptions& options)
+      : scan_(scan), options_(options) {
+    floor_ << options.alpha_sigma_floor_rad * options.alpha_sigma_floor_rad, 0.0, 0.0,
+        options.r_sigma_floor_m * options.r_sigma_floor_m;
+    for (int i = 0; i < static_cast<int>(scan.readings.size()); ++i) {
+      const LaserReading& reading = scan.readings[i];
+      if (!reading.valid || !std::isfinite(reading.range_m) || !(reading.range_m > 0.0) ||
+          !std::isfinite(reading.bearing_rad)) {
+        continue;
+      }
+      points_.push_back({reading.range_m, reading.bearing_rad, options.range_sigma_m});
+      reading_index_.push_back(i);
+    }
+  }
+
+  std::vector<Segment> Run() {
+    std::vector<Cluster> clusters = Segmentation();
+    Agglomerate(clusters);
+    ResolveSharedPoints(clusters);
+    return ToSegments(clusters);
+  }
+
+ private:
+  std::optional<Line> Fit(const std::vector<int>& indices) const {
+    std::vector<PolarPoint> subset;
+    subset.reserve(indices.size());
+    for (int k : indices) subset.push_back(points_[k]);
+    std::optional<Line> line = FitLine(subset);
+    if (line) line->covariance += floor_;
+    return line;
+  }
+
+  // §3.2.2: windows of n_f points, model fidelity (3.12) and threshold (3.15);
+  // each maximal run of windows with d_i <= d_m gives the union of their points.
+  std::vector<Cluster> Segmentation() const {
+    const int n = static_cast<int>(points_.size());
+    const int nf = options_.window_size;
+    const int h = nf / 2;
+    std::vector<Cluster> candidates;
+    if (n < nf + 2) return candidates;
+    std::vector<std::optional<Line>> windows(n);
+    for (int c = h; c + h < n; ++c) {
+      windows[c] = FitLine(std::span<const PolarPoint>(points_.data() + (c - h), nf));
+      if (windows[c]) windows[c]->covariance += floor_;
+    }
+    std::vector<char> inlier(n, 0);
+    for (int c = h + 1; c + h + 1 < n; ++c) {
+      if (!windows[c - 1] || !windows[c] || !windows[c + 1]) continue;
+      const Line three[3] = {*windows[c - 1], *windows[c], *windows[c + 1]};
+      const std::optional<double> d = FidelityDistance(three, 3);
+      inlier[c] = d && *d <= options_.fidelity_threshold;
+    }
+    for (int c = 0; c < n;) {
+      if (!inlier[c]) {
+        ++c;
+        continue;
+      }
+      int last = c;
+      while (last + 1 < n && inlier[last + 1]) ++last;
+      Cluster cluster;
+      for (int k = c - h; k <= last + h; ++k) cluster.points.push_back(k);
+      if (std::optional<Line> line = Fit(cluster.points)) {
+        cluster.line = *line;
+        candidates.push_back(std::move(cluster));
+      }
+      c = last + 1;
+    }
+    return candidates;
+  }
+
+  static bool SharePoints(const Cluster& a, const Cluster& b) {
+    auto ia = a.points.begin();
+    auto ib = b.points.begin();
+    while (ia != a.points.end() && ib != b.points.end()) {
+      if (*ia == *ib) return true;
+      if (*ia < *ib) {
+        ++ia;
+      } else {
+        ++ib;
+      }
+    }
+    return false;
+  }
+
+  // §3.2.3: agglomerative clustering with the chi^2 test on eq. 3.16. Among the
+  // pairs passing the test, overlapping neighbours are fused first, then
+  // neighbours, then any collinear pair; within a level the nearest pair goes
+  // first. Fusion re-fits the joined points. Clusters stay sorted by first point,
+  // so "neighbours" are consecutive clusters in scan order.
+  void Agglomerate(std::vector<Cluster>& clusters) const {
+    const double gate = ChiSquare2Quantile(options_.significance);
+    enum Level { kOverlap, kAdjacency, kCollinearity };
+    while (clusters.size() > 1) {
+      int best_i = -1;
+      int best_j = -1;
+      for (Level level : {kOverlap, kAdjacency, kCollinearity}) {
+        double best_d = gate;
+        const int m = static_cast<int>(clusters.size());
+        for (int i = 0; i < m; ++i) {
+          for (int j = i + 1; j < m; ++j) {
+            if (level != kCollinearity && j != i + 1) break;
+            if (level == kOverlap && !SharePoints(clusters[i], clusters[j])) continue;
+            const double d = CollinearityDistance(clusters[i].line, clusters[j].line);
+            if (d <= best_d) {
+              best_d = d;
+              best_i = i;
+              best_j = j;
+            }
+          }
+        }
+        if (best_i >= 0) break;
+      }
+      if (best_i < 0) return;
+      Cluster fused;
+      std::set_union(clusters[best_i].points.begin(), clusters[best_i].points.end(),
+                     clusters[best_j].points.begin(), clusters[best_j].points.end(),
+                     std::back_inserter(fused.points));
+      const std::optional<Line> line = Fit(fused.points);
+      if (!line) return;  // cannot happen for two non-degenerate sets; stop merging
+      fused.line = *line;
+      clusters.erase(clusters.begin() + best_j);
+      clusters[best_i] = std::move(fused);
+      std::sort(clusters.begin(), clusters.end(), [](const Cluster& a, const Cluster& b) {
+        return a.points.front() < b.points.front();
+      });
+    }
+  }
+
+  // Non-collinear clusters may still share the readings of their window unions
+  // (the fused clusters were not collinear at level alpha). A cluster lying
+  // within the span of the other (a fragment between two noise-induced breaks of
+  // the fidelity run) gives up its shared readings; clusters overlapping at
+  // their ends (a corner) split the shared readings at the single cut that
+  // minimizes the squared perpendicular residuals to the two lines. Clusters
+  // left with fewer than n_f readings, the minimal segment size (§3.2.2), are
+  // dropped.
+  void ResolveSharedPoints(std::vector<Cluster>& clusters) const {
+    for (std::size_t i = 0; i < clusters.size(); ++i) {
+      for (std::size_t j = 0; j < clusters.size(); ++j) {
+        if (i == j || clusters[i].points.empty() || clusters[j].points.empty()) continue;
+        Cluster& a = clusters[i];
+        Cluster& b = clusters[j];
+        if (a.points.front() > b.points.front() || !SharePoints(a, b)) continue;
+        std::vector<int> shared;
+        std::set_intersection(a.points.begin(), a.points.end(), b.points.begin(), b.points.end(),
+                              std::back_inserter(shared));
+        if (b.points.back() <= a.points.back()) {
+          RemovePoints(b, shared);  // b nested in a's span
+          continue;
+        }
+        if (a.points.front() == b.points.front()) {
+          RemovePoints(a, shared);  // a nested in b's span
+          continue;
+        }
+        // a ends where b begins: shared[0, cut) stay with a, the rest go to b.
+        const int m = static_cast<int>(shared.size());
+        std::vector<double> to_a(m);
+        std::vector<double> to_b(m);
+        for (int k = 0; k < m; ++k) {
+          const Eigen::Vector2d p = Cartesian(shared[k]);
+          to_a[k] = std::pow(a.line.SignedDistance(p), 2);
+          to_b[k] = std::pow(b.line.SignedDistance(p), 2);
+        }
+        double cost = 0.0;
+        for (double v : to_b) cost += v;
+        double best_cost = cost;
+        int best_cut = 0;
+        for (int cut = 1; cut <= m; ++cut) {
+          cost += to_a[cut - 1] - to_b[cut - 1];
+          if (cost < best_cost) {
+            best_cost = cost;
+            best_cut = cut;
+          }
+        }
+        RemovePoints(a, std::vector<int>(shared.begin() + best_cut, shared.end()));
+        RemovePoints(b, std::vector<int>(shared.begin(), shared.begin() + best_cut));
+      }
+    }
+    const std::size_t min_points = static_cast<std::size_t>(options_.window_size);
+    std::erase_if(clusters, [&](const Cluster& c) { return c.points.size() < min_points; });
+  }
+
+  // Length along the line of the longest run of consecutive valid readings in
+  // the cluster (a run is what one fidelity segment or overlapping ones cover;
+  // runs are separated by occluders). Collinear leg-sized clusters fused across
+  // a gap, such as the two legs of a person, have only short runs (§6.5).
+  double LongestPieceLength(const Cluster& c) const {
+    const Eigen::Vector2d along(std::sin(c.line.alpha_rad), -std::cos(c.line.alpha_rad));
+    double longest = 0.0;
+    std::size_t begin = 0;
+    for (std::size_t k = 1; k <= c.points.size(); ++k) {
+      if (k < c.points.size() && c.points[k] == c.points[k - 1] + 1) continue;
+      const double length =
+          std::abs(along.dot(Cartesian(c.points[k - 1]) - Cartesian(c.points[begin])));
+      longest = std::max(longest, length);
+      begin = k;
+    }
+    return longest;
+  }
+
+  Eigen::Vector2d Cartesian(int k) const {
+    return points_[k].range_m *
+           Eigen::Vector2d(std::cos(points_[k].bearing_rad), std::sin(points_[k].bearing_rad));
+  }
+
+  void RemovePoints(Cluster& cluster, const std::vector<int>& removed) const {
+    if (removed.empty()) return;
+    std::vector<int> kept;
+    std::set_difference(cluster.points.begin(), cluster.points.end(), removed.begin(),
+                        removed.end(), std::back_inserter(kept));
+    cluster.points = std::move(kept);
+    if (cluster.points.size() < static_cast<std::size_t>(options_.window_size)) {
+      cluster.points.clear();
+      return;
+    }
+    if (std::optional<Line> line = Fit(cluster.points)) {
+      cluster.line = *line;
+    } else {
+      cluster.points.clear();
+    }
+  }
+
+  double EndpointBearingSigma() const {
+    if (options_.endpoint_bearing_sigma_rad > 0.0) return options_.endpoint_bearing_sigma_rad;
+    const std::size_t n = scan_.readings.size();
+    if (n < 2) return 0.0;
+    // Eq. 5.2: sigma_theta_e = the angular resolution.
+    return std::abs(scan_.readings.back().bearing_rad - scan_.readings.front().bearing_rad) /
+           static_cast<double>(n - 1);
+  }
+
+  std::vector<Segment> ToSegments(const std::vector<Cluster>& clusters) const {
+    const double bearing_sigma = EndpointBearingSigma();
+    std::vector<Segment> segments;
+    for (const Cluster& c : clusters) {
+      const int count = static_cast<int>(c.points.size());
+      if (count < options_.min_points) continue;
+      const PolarPoint& first = points_[c.points.front()];
+      const PolarPoint& last = points_[c.points.back()];
+      // A ray parallel to the line cannot bound it; such a fit is not a wall.
+      if (std::abs(std::cos(c.line.alpha_rad - first.bearing_rad)) < kMinRayIncidenceCos ||
+          std::abs(std::cos(c.line.alpha_rad - last.bearing_rad)) < kMinRayIncidenceCos) {
+        continue;
+      }
+      Segment s = MakeSegment(c.line, first.bearing_rad, last.bearing_rad, bearing_sigma, count,
+                              reading_index_[c.points.front()], reading_index_[c.points.back()]);
+      if (s.length_m < options_.min_length_m || LongestPieceLength(c) < options_.min_length_m) {
+        continue;
+      }
+      segments.push_back(s);
+    }
+    return segments;
+  }
+
+  // |cos(alpha - theta_e)| below which eq. 5.3 is numerically meaningless
+  // (incidence within ~0.06 degrees of grazing).
+  static constexpr double kMinRayIncidenceCos = 1e-3;
+
+  const LaserScan& scan_;
+  const LineExtractionOptions& options_;
+  Eigen::Matrix2d floor_;
+  std::vector<PolarPoint> points_;
+  std::vector<int> reading_index_;
+};
+
+}  // namespace
+
+void LineExtractionOptions::Validate() const {
+  Require(window_size >= 3 && window_size % 2 == 1, "window_size", "an odd integer >= 3");
+  Require(std::isfinite(fidelity_threshold) && fidelity_threshold > 0.0, "fidelity_threshold",
+          "a finite value > 0");
+  Require(std::isfinite(significance) && significance > 0.0 && significance < 1.0, "significance",
+          "a value in (0, 1)");
+  Require(std::isfinite(range_sigma_m) && range_sigma_m > 0.0, "range_sigma_m",
+          "a finite value > 0");
+  Require(min_points >= 2, "min_points", "an integer >= 2");
+  Require(std::isfinite(min_length_m) && min_length_m >= 0.0, "min_length_m",
+          "a finite value >= 0");
+  Require(std::isfinite(alpha_sigma_floor_rad) && alpha_sigma_floor_rad >= 0.0,
+          "alpha_sigma_floor_rad", "a finite value >= 0");
+  Require(std::isfinite(r_sigma_floor_m) && r_sigma_floor_m >= 0.0, "r_sigma_floor_m",
+          "a finite value >= 0");
+  Require(std::isfinite(endpoint_bearing_sigma_rad) && endpoint_bearing_sigma_rad >= 0.0,
+          "endpoint_bearing_sigma_rad", "a finite value >= 0");
+}
+
+// SICK PLS 100: 0.5 deg on 180 deg, 5 cm radial quantization (§3.2.4), i.e. a
+// uniform error of sigma = 5 cm / sqrt(12); n_f = 7 as in the thesis.
+LineExtractionOptions LineExtractionOptions::SickPls100() {
+  LineExtractionOptions o;
+  o.window_size = 7;
+  o.range_sigma_m = 0.05 / std::sqrt(12.0);
+  return o;
+}
+
+// Acuity AccuRange 3000 LV: 1 deg on 360 deg, "relatively big radial noise"
+// (fig. 3.1); the thesis gives no figure, 3 cm is assumed. n_f = 7 as in the thesis.
+LineExtractionOptions LineExtractionOptions::AccuRange3000() {
+  LineExtractionOptions o;
+  o.window_size = 7;
+  o.range_sigma_m = 0.03;
+  return o;
+}
+
+// Leuze RS3: 0.25 deg on 180 deg, low noise (§3.2.4); 5 mm assumed. n_f = 15
+// as in the thesis.
+LineExtractionOptions LineExtractionOptions::LeuzeRs3() {
+  LineExtractionOptions o;
+  o.window_size = 15;
+  o.range_sigma_m = 0.005;
+  return o;
+}
+
+// SICK LMS 200: 0.5 deg on 180 deg, sigma = 1 cm. See the struct default of
+// window_size for the choice of n_f.
+LineExtractionOptions LineExtractionOptions::SickLms200() { return LineExtractionOptions{}; }
+
+double ChiSquare2Quantile(double p) { return -2.0 * std::log1p(-p); }
+
+std::vector<Segment> ExtractLines(const LaserScan& scan, const LineExtractionOptions& options) {
+  options.Validate();
+  return Extractor(scan, options).Run();
+}
+
+}  // namespace pavilion::core
