@@ -36,22 +36,25 @@ Eigen::Vector2d ParamsNear(const Line& line, double reference_alpha_rad) {
 
 // Model fidelity distance of eq. 3.12 for the model points `lines` (the window
 // fits at i - 1, i, i + 1), with their information-filter mean (eqs. 3.13-3.14).
-std::optional<double> FidelityDistance(const Line* lines, int count) {
-  const double ref = lines[count / 2].alpha_rad;
+// `information` holds the three lines' inverse covariances.
+double FidelityDistance(const Line* previous, const Line* centre, const Line* next,
+                        const Eigen::Matrix2d* information) {
+  const Line* lines[3] = {previous, centre, next};
+  const double ref = centre->alpha_rad;
+  Eigen::Vector2d params[3];
   Eigen::Matrix2d info = Eigen::Matrix2d::Zero();
   Eigen::Vector2d info_x = Eigen::Vector2d::Zero();
-  for (int j = 0; j < count; ++j) {
-    if (!(lines[j].covariance.determinant() > 0.0)) return std::nullopt;
-    const Eigen::Matrix2d inv = lines[j].covariance.inverse();
-    info += inv;
-    info_x += inv * ParamsNear(lines[j], ref);
+  for (int j = 0; j < 3; ++j) {
+    params[j] = ParamsNear(*lines[j], ref);
+    info += information[j];
+    info_x += information[j] * params[j];
   }
   const Eigen::Matrix2d cw = info.inverse();  // eq. 3.14
   const Eigen::Vector2d xw = cw * info_x;     // eq. 3.13
   double d = 0.0;
-  for (int j = 0; j < count; ++j) {
-    const Eigen::Vector2d e = ParamsNear(lines[j], ref) - xw;
-    d += e.dot((lines[j].covariance + cw).inverse() * e);  // eq. 3.12
+  for (int j = 0; j < 3; ++j) {
+    const Eigen::Vector2d e = params[j] - xw;
+    d += e.dot((lines[j]->covariance + cw).inverse() * e);  // eq. 3.12
   }
   return d;
 }
@@ -76,7 +79,11 @@ class Extractor {
           !std::isfinite(reading.bearing_rad)) {
         continue;
       }
-      points_.push_back({reading.range_m, reading.bearing_rad, options.range_sigma_m});
+      const PolarPoint point{reading.range_m, reading.bearing_rad, options.range_sigma_m};
+      const std::optional<FitPoint> prepared = PrepareFitPoint(point);
+      if (!prepared) continue;
+      points_.push_back(point);
+      prepared_.push_back(*prepared);
       reading_index_.push_back(i);
     }
   }
@@ -90,10 +97,9 @@ class Extractor {
 
  private:
   std::optional<Line> Fit(const std::vector<int>& indices) const {
-    std::vector<PolarPoint> subset;
-    subset.reserve(indices.size());
-    for (int k : indices) subset.push_back(points_[k]);
-    std::optional<Line> line = FitLine(subset);
+    scratch_.clear();
+    for (int k : indices) scratch_.push_back(prepared_[k]);
+    std::optional<Line> line = FitLinePrepared(scratch_);
     if (line) line->covariance += floor_;
     return line;
   }
@@ -106,17 +112,28 @@ class Extractor {
     const int h = nf / 2;
     std::vector<Cluster> candidates;
     if (n < nf + 2) return candidates;
+    // O(1) per window from prefix moment sums (eqs. 3.4-3.10, line_fit.h).
+    const PrefixLineFits prefix(prepared_);
     std::vector<std::optional<Line>> windows(n);
     for (int c = h; c + h < n; ++c) {
-      windows[c] = FitLine(std::span<const PolarPoint>(points_.data() + (c - h), nf));
+      windows[c] = prefix.Fit(c - h, c - h + nf);
       if (windows[c]) windows[c]->covariance += floor_;
+    }
+    // Each window's information matrix, used by three fidelity distances.
+    std::vector<Eigen::Matrix2d> information(n, Eigen::Matrix2d::Zero());
+    std::vector<char> usable(n, 0);
+    for (int c = h; c + h < n; ++c) {
+      if (windows[c] && windows[c]->covariance.determinant() > 0.0) {
+        information[c] = windows[c]->covariance.inverse();
+        usable[c] = 1;
+      }
     }
     std::vector<char> inlier(n, 0);
     for (int c = h + 1; c + h + 1 < n; ++c) {
-      if (!windows[c - 1] || !windows[c] || !windows[c + 1]) continue;
-      const Line three[3] = {*windows[c - 1], *windows[c], *windows[c + 1]};
-      const std::optional<double> d = FidelityDistance(three, 3);
-      inlier[c] = d && *d <= options_.fidelity_threshold;
+      if (!usable[c - 1] || !usable[c] || !usable[c + 1]) continue;
+      const double d =
+          FidelityDistance(&*windows[c - 1], &*windows[c], &*windows[c + 1], &information[c - 1]);
+      inlier[c] = d <= options_.fidelity_threshold;
     }
     for (int c = 0; c < n;) {
       if (!inlier[c]) {
@@ -328,6 +345,8 @@ class Extractor {
   const LineExtractionOptions& options_;
   Eigen::Matrix2d floor_;
   std::vector<PolarPoint> points_;
+  std::vector<FitPoint> prepared_;  // points_ prepared for fits (no trigonometry per fit)
+  mutable std::vector<FitPoint> scratch_;
   std::vector<int> reading_index_;
 };
 

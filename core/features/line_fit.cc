@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 namespace pavilion::core {
 namespace {
@@ -12,77 +13,20 @@ namespace {
 constexpr double kDegenerateRelativeScatter = 1e-20;
 constexpr double kIsotropicRelativeScatter = 1e-24;
 
-}  // namespace
+// The line and its covariance from the window-level quantities: weighted
+// means, N and D of eq. 3.4, and the three sums of eqs. 3.8-3.10.
+struct FitCore {
+  double sum_w = 0.0, xw = 0.0, yw = 0.0, num = 0.0, den = 0.0, scatter = 0.0, sum_wrho2 = 0.0;
+};
 
-std::optional<Line> FitLine(std::span<const PolarPoint> points) {
-  const std::size_t n = points.size();
-  if (n < 2) return std::nullopt;
-  double sum_w = 0.0;
-  double sum_wx = 0.0;
-  double sum_wy = 0.0;
-  double sum_wrho2 = 0.0;
-  for (const PolarPoint& p : points) {
-    if (!std::isfinite(p.range_sigma_m) || p.range_sigma_m <= 0.0 || !std::isfinite(p.range_m) ||
-        !std::isfinite(p.bearing_rad)) {
-      return std::nullopt;
-    }
-    const double w = 1.0 / (p.range_sigma_m * p.range_sigma_m);  // eq. 3.11
-    sum_w += w;
-    sum_wx += w * p.range_m * std::cos(p.bearing_rad);
-    sum_wy += w * p.range_m * std::sin(p.bearing_rad);
-    sum_wrho2 += w * p.range_m * p.range_m;
-  }
-  // Weighted means x_w, y_w (below eq. 3.5).
-  const double xw = sum_wx / sum_w;
-  const double yw = sum_wy / sum_w;
-  // Numerator N and denominator D of tan(2 alpha), eq. 3.4.
-  double num = 0.0;
-  double den = 0.0;
-  double scatter = 0.0;
-  for (const PolarPoint& p : points) {
-    const double w = 1.0 / (p.range_sigma_m * p.range_sigma_m);
-    const double dx = xw - p.range_m * std::cos(p.bearing_rad);
-    const double dy = yw - p.range_m * std::sin(p.bearing_rad);
-    num += -2.0 * w * dy * dx;
-    den += w * (dy * dy - dx * dx);
-    scatter += w * (dx * dx + dy * dy);
-  }
-  const double nd2 = num * num + den * den;
-  if (!(scatter > kDegenerateRelativeScatter * sum_wrho2) ||
-      !(nd2 > kIsotropicRelativeScatter * scatter * scatter)) {
-    return std::nullopt;
-  }
-  // Eq. 3.4 (atan2 selects the minimum of the perpendicular errors), eq. 3.5.
-  double alpha = 0.5 * std::atan2(num, den);
-  double r = xw * std::cos(alpha) + yw * std::sin(alpha);
-  // Partial derivatives with respect to rho_i (eqs. 3.8-3.10). With
-  // x_i = rho_i cos(theta_i), y_i = rho_i sin(theta_i):
-  //   dN/drho_i = 2 w_i (x_w sin th_i + y_w cos th_i - rho_i sin 2th_i)
-  //   dD/drho_i = 2 w_i (x_w cos th_i - y_w sin th_i - rho_i cos 2th_i)
-  //   dalpha/drho_i = (D dN - N dD) / (2 (D^2 + N^2))            (eq. 3.8)
-  //   dr/drho_i = w_i / sum w cos(th_i - alpha)
-  //             + dalpha/drho_i (y_w cos alpha - x_w sin alpha)   (eq. 3.9)
-  const double ca = std::cos(alpha);
-  const double sa = std::sin(alpha);
-  const double dr_dalpha = yw * ca - xw * sa;
-  double s_aa = 0.0;
-  double s_rr = 0.0;
-  double s_ar = 0.0;
-  for (const PolarPoint& p : points) {
-    const double var = p.range_sigma_m * p.range_sigma_m;
-    const double w = 1.0 / var;
-    const double ct = std::cos(p.bearing_rad);
-    const double st = std::sin(p.bearing_rad);
-    const double s2t = 2.0 * st * ct;
-    const double c2t = ct * ct - st * st;
-    const double dnum = 2.0 * w * (xw * st + yw * ct - p.range_m * s2t);
-    const double dden = 2.0 * w * (xw * ct - yw * st - p.range_m * c2t);
-    const double da = (den * dnum - num * dden) / (2.0 * nd2);
-    const double dr = w / sum_w * (ct * ca + st * sa) + da * dr_dalpha;
-    s_aa += da * da * var;  // eq. 3.8
-    s_rr += dr * dr * var;  // eq. 3.9
-    s_ar += da * dr * var;  // eq. 3.10
-  }
+// alpha and r (eqs. 3.4-3.5) with the r >= 0 convention applied later.
+bool Degenerate(const FitCore& c) {
+  const double nd2 = c.num * c.num + c.den * c.den;
+  return !(c.scatter > kDegenerateRelativeScatter * c.sum_wrho2) ||
+         !(nd2 > kIsotropicRelativeScatter * c.scatter * c.scatter);
+}
+
+Line Finish(double alpha, double r, double s_aa, double s_rr, double s_ar) {
   // r >= 0 convention (eq. B.4, the line is visible from the sensor): flipping
   // (alpha, r) -> (alpha + pi, -r) negates the r row and column of the covariance.
   if (r < 0.0) {
@@ -95,6 +39,152 @@ std::optional<Line> FitLine(std::span<const PolarPoint> points) {
   line.r_m = r;
   line.covariance << s_aa, s_ar, s_ar, s_rr;
   return line;
+}
+
+}  // namespace
+
+std::optional<FitPoint> PrepareFitPoint(const PolarPoint& p) {
+  if (!std::isfinite(p.range_sigma_m) || p.range_sigma_m <= 0.0 || !std::isfinite(p.range_m) ||
+      !std::isfinite(p.bearing_rad)) {
+    return std::nullopt;
+  }
+  return FitPoint{p.range_m, std::cos(p.bearing_rad), std::sin(p.bearing_rad),
+                  1.0 / (p.range_sigma_m * p.range_sigma_m)};  // eq. 3.11
+}
+
+std::optional<Line> FitLine(std::span<const PolarPoint> points) {
+  if (points.size() < 2) return std::nullopt;
+  std::vector<FitPoint> prepared;
+  prepared.reserve(points.size());
+  for (const PolarPoint& p : points) {
+    const std::optional<FitPoint> f = PrepareFitPoint(p);
+    if (!f) return std::nullopt;
+    prepared.push_back(*f);
+  }
+  return FitLinePrepared(prepared);
+}
+
+std::optional<Line> FitLinePrepared(std::span<const FitPoint> points) {
+  if (points.size() < 2) return std::nullopt;
+  FitCore c;
+  double sum_wx = 0.0;
+  double sum_wy = 0.0;
+  for (const FitPoint& p : points) {
+    c.sum_w += p.weight;
+    sum_wx += p.weight * p.range_m * p.cos_bearing;
+    sum_wy += p.weight * p.range_m * p.sin_bearing;
+    c.sum_wrho2 += p.weight * p.range_m * p.range_m;
+  }
+  // Weighted means x_w, y_w (below eq. 3.5).
+  c.xw = sum_wx / c.sum_w;
+  c.yw = sum_wy / c.sum_w;
+  // Numerator N and denominator D of tan(2 alpha), eq. 3.4, about the mean.
+  for (const FitPoint& p : points) {
+    const double dx = c.xw - p.range_m * p.cos_bearing;
+    const double dy = c.yw - p.range_m * p.sin_bearing;
+    c.num += -2.0 * p.weight * dy * dx;
+    c.den += p.weight * (dy * dy - dx * dx);
+    c.scatter += p.weight * (dx * dx + dy * dy);
+  }
+  if (Degenerate(c)) return std::nullopt;
+  const double nd2 = c.num * c.num + c.den * c.den;
+  // Eq. 3.4 (atan2 selects the minimum of the perpendicular errors), eq. 3.5.
+  const double alpha = 0.5 * std::atan2(c.num, c.den);
+  const double ca = std::cos(alpha);
+  const double sa = std::sin(alpha);
+  const double r = c.xw * ca + c.yw * sa;
+  // Partial derivatives with respect to rho_i (eqs. 3.8-3.10). With
+  // x_i = rho_i cos(theta_i), y_i = rho_i sin(theta_i):
+  //   dN/drho_i = 2 w_i (x_w sin th_i + y_w cos th_i - rho_i sin 2th_i)
+  //   dD/drho_i = 2 w_i (x_w cos th_i - y_w sin th_i - rho_i cos 2th_i)
+  //   dalpha/drho_i = (D dN - N dD) / (2 (D^2 + N^2))            (eq. 3.8)
+  //   dr/drho_i = w_i / sum w cos(th_i - alpha)
+  //             + dalpha/drho_i (y_w cos alpha - x_w sin alpha)   (eq. 3.9)
+  const double dr_dalpha = c.yw * ca - c.xw * sa;
+  double s_aa = 0.0;
+  double s_rr = 0.0;
+  double s_ar = 0.0;
+  for (const FitPoint& p : points) {
+    const double w = p.weight;
+    const double var = 1.0 / w;
+    const double ct = p.cos_bearing;
+    const double st = p.sin_bearing;
+    const double s2t = 2.0 * st * ct;
+    const double c2t = ct * ct - st * st;
+    const double dnum = 2.0 * w * (c.xw * st + c.yw * ct - p.range_m * s2t);
+    const double dden = 2.0 * w * (c.xw * ct - c.yw * st - p.range_m * c2t);
+    const double da = (c.den * dnum - c.num * dden) / (2.0 * nd2);
+    const double dr = w / c.sum_w * (ct * ca + st * sa) + da * dr_dalpha;
+    s_aa += da * da * var;  // eq. 3.8
+    s_rr += dr * dr * var;  // eq. 3.9
+    s_ar += da * dr * var;  // eq. 3.10
+  }
+  return Finish(alpha, r, s_aa, s_rr, s_ar);
+}
+
+PrefixLineFits::PrefixLineFits(std::span<const FitPoint> points) {
+  prefix_.resize(points.size() + 1);
+  prefix_[0].fill(0.0);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const FitPoint& p = points[i];
+    const double w = p.weight;
+    const double x = p.range_m * p.cos_bearing;
+    const double y = p.range_m * p.sin_bearing;
+    const double g[4] = {
+        p.sin_bearing, p.cos_bearing, p.range_m * 2.0 * p.sin_bearing * p.cos_bearing,
+        p.range_m * (p.cos_bearing * p.cos_bearing - p.sin_bearing * p.sin_bearing)};
+    std::array<double, kMoments> m = {
+        w, w * x, w * y, w * x * x, w * y * y, w * x * y, w * p.range_m * p.range_m};
+    int k = 7;
+    for (int a = 0; a < 4; ++a) {
+      for (int b = a; b < 4; ++b) m[k++] = w * g[a] * g[b];
+    }
+    for (int j = 0; j < kMoments; ++j) prefix_[i + 1][j] = prefix_[i][j] + m[j];
+  }
+}
+
+std::optional<Line> PrefixLineFits::Fit(int begin, int end) const {
+  if (end - begin < 2) return std::nullopt;
+  std::array<double, kMoments> s;
+  for (int j = 0; j < kMoments; ++j) s[j] = prefix_[end][j] - prefix_[begin][j];
+  FitCore c;
+  c.sum_w = s[0];
+  c.xw = s[1] / c.sum_w;
+  c.yw = s[2] / c.sum_w;
+  c.sum_wrho2 = s[6];
+  // Second moments about the weighted mean.
+  const double cxx = s[3] - c.sum_w * c.xw * c.xw;
+  const double cyy = s[4] - c.sum_w * c.yw * c.yw;
+  const double cxy = s[5] - c.sum_w * c.xw * c.yw;
+  c.num = -2.0 * cxy;  // eq. 3.4, N
+  c.den = cyy - cxx;   // eq. 3.4, D
+  c.scatter = cxx + cyy;
+  if (Degenerate(c)) return std::nullopt;
+  const double nd2 = c.num * c.num + c.den * c.den;
+  const double alpha = 0.5 * std::atan2(c.num, c.den);
+  const double ca = std::cos(alpha);
+  const double sa = std::sin(alpha);
+  const double r = c.xw * ca + c.yw * sa;
+  // d alpha/d rho_i = w_i a.g_i and d r/d rho_i = w_i b.g_i (see the header), so
+  // with var_i = 1/w_i the sums of eqs. 3.8-3.10 are a^T M a, b^T M b, a^T M b.
+  const double a[4] = {(c.den * c.xw + c.num * c.yw) / nd2, (c.den * c.yw - c.num * c.xw) / nd2,
+                       -c.den / nd2, c.num / nd2};
+  const double k = c.yw * ca - c.xw * sa;
+  const double b[4] = {sa / c.sum_w + k * a[0], ca / c.sum_w + k * a[1], k * a[2], k * a[3]};
+  double m[4][4];
+  int idx = 7;
+  for (int i = 0; i < 4; ++i) {
+    for (int j = i; j < 4; ++j) m[i][j] = m[j][i] = s[idx++];
+  }
+  double s_aa = 0.0, s_rr = 0.0, s_ar = 0.0;
+  for (int i = 0; i < 4; ++i) {
+    for (int j = 0; j < 4; ++j) {
+      s_aa += a[i] * m[i][j] * a[j];
+      s_rr += b[i] * m[i][j] * b[j];
+      s_ar += a[i] * m[i][j] * b[j];
+    }
+  }
+  return Finish(alpha, r, s_aa, s_rr, s_ar);
 }
 
 }  // namespace pavilion::core

@@ -1,7 +1,9 @@
 #pragma once
 
+#include <array>
 #include <optional>
 #include <span>
+#include <vector>
 
 #include "core/features/uncertain_geometry.h"
 
@@ -21,5 +23,41 @@ struct PolarPoint {
 // the sensor, eq. B.4). Returns nullopt for fewer than two points, a non-finite
 // or non-positive sigma, or a degenerate point set (all points coincident).
 std::optional<Line> FitLine(std::span<const PolarPoint> points);
+
+// A reading prepared once for many fits: weight w = 1/sigma^2 (eq. 3.11), the
+// bearing's cosine and sine, and the Cartesian point. Fits over prepared points
+// need no trigonometry.
+struct FitPoint {
+  double range_m = 0.0;
+  double cos_bearing = 1.0;
+  double sin_bearing = 0.0;
+  double weight = 1.0;
+};
+
+// Prepares a reading; nullopt for a non-finite value or a non-positive sigma.
+std::optional<FitPoint> PrepareFitPoint(const PolarPoint& point);
+
+// FitLine over prepared points (same result).
+std::optional<Line> FitLinePrepared(std::span<const FitPoint> points);
+
+// Fits of every run of consecutive prepared points in O(1) each, from prefix
+// sums of the weighted moments: eqs. 3.4-3.5 with N and D written in second
+// moments about the weighted mean, and eqs. 3.8-3.10 as quadratic forms in the
+// moment matrix of (sin th, cos th, rho sin 2th, rho cos 2th) — the derivatives
+// d alpha/d rho_i and d r/d rho_i are linear in those per-point terms with
+// coefficients common to the run, and var_i = 1/w_i. For the sliding windows of
+// the extraction (§3.2.2), whose fits only steer the segmentation.
+class PrefixLineFits {
+ public:
+  explicit PrefixLineFits(std::span<const FitPoint> points);
+  // The fit of points [begin, end); nullopt when degenerate.
+  std::optional<Line> Fit(int begin, int end) const;
+
+ private:
+  // Per prefix: w, wx, wy, wxx, wyy, wxy, w rho^2, and the 10 entries of
+  // sum w g g^T with g = (st, ct, rho s2t, rho c2t).
+  static constexpr int kMoments = 17;
+  std::vector<std::array<double, kMoments>> prefix_;
+};
 
 }  // namespace pavilion::core

@@ -6,6 +6,7 @@
 namespace pavilion::core {
 
 double NormalizeAngle(double angle_rad) {
+  if (angle_rad > -std::numbers::pi && angle_rad <= std::numbers::pi) return angle_rad;
   double a = std::remainder(angle_rad, 2.0 * std::numbers::pi);
   if (a <= -std::numbers::pi) a += 2.0 * std::numbers::pi;
   return a;

@@ -100,5 +100,35 @@ TEST(LineFitTest, CovarianceMatchesMonteCarlo) {
   }
 }
 
+// The O(1) window fits from prefix moments equal the direct fit (eqs. 3.4-3.10
+// in moments), windows near and far, noisy, with unequal weights.
+TEST(PrefixLineFits, WindowFitsEqualTheDirectFit) {
+  RandomStream rng(21, 3);
+  std::vector<FitPoint> points;
+  for (int i = 0; i < 361; ++i) {
+    const double bearing = -std::numbers::pi / 2 + i * std::numbers::pi / 360;
+    const double range = 0.5 + 7.5 * std::abs(std::sin(0.05 * i)) + rng.Normal(0.0, 0.01);
+    points.push_back(*PrepareFitPoint({range, bearing, 0.005 + 0.01 * (i % 4)}));
+  }
+  const PrefixLineFits prefix(points);
+  for (int begin = 0; begin + 11 <= 361; begin += 7) {
+    for (int length : {3, 11, 40}) {
+      if (begin + length > 361) continue;
+      const std::optional<Line> fast = prefix.Fit(begin, begin + length);
+      const std::optional<Line> direct =
+          FitLinePrepared(std::span<const FitPoint>(points.data() + begin, length));
+      ASSERT_EQ(fast.has_value(), direct.has_value());
+      if (!fast) continue;
+      SCOPED_TRACE(begin);
+      EXPECT_NEAR(NormalizeAngle(fast->alpha_rad - direct->alpha_rad), 0.0, 1e-9);
+      EXPECT_NEAR(fast->r_m, direct->r_m, 1e-9);
+      for (int k = 0; k < 4; ++k) {
+        EXPECT_NEAR(fast->covariance(k), direct->covariance(k),
+                    1e-7 * std::abs(direct->covariance(k)) + 1e-15);
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace pavilion::core
