@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "scenarios/cli/calibrate_command.h"
+#include "scenarios/cli/extract_command.h"
 #include "scenarios/cli/scan_command.h"
 #include "scenarios/data_paths.h"
 #include "scenarios/input_error.h"
@@ -185,6 +186,9 @@ int main(int argc, char** argv) {
   cli::ScanArgs scan_args;
   auto* scan = cli::AddScanCommand(&app, &scan_args);
 
+  cli::ExtractArgs extract_args;
+  auto* extract = cli::AddExtractCommand(&app, &extract_args);
+
   // --- calibrate: odometry calibration (scenarios/cli/calibrate_command.cc) ---
   cli::CalibrateArgs calibrate_args;
   auto* calibrate = cli::AddCalibrateCommand(&app, &calibrate_args);
@@ -212,6 +216,7 @@ int main(int argc, char** argv) {
     if (*render) return WorldRender(world_args);
     if (*info) return WorldInfo(world_args);
     if (*scan) return cli::RunScanCommand(scan_args);
+    if (*extract) return cli::RunExtractCommand(extract_args);
     if (*calibrate) return cli::RunCalibrateCommand(calibrate_args);  // calibrate
   } catch (const scenarios::InputError& e) {
     for (std::size_t i = 1; i < e.diagnostics().size(); ++i) {

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -146,6 +147,7 @@ TEST(CliTest, HelpOfEverySubcommandHasExample) {
       {{"world", "info", "--help"}, "pavilion world info "},
       {{"scan", "--help"}, "pavilion scan "},
       {{"calibrate", "--help"}, "pavilion calibrate "},
+      {{"extract", "--help"}, "pavilion extract "},
       {{"--help"}, "pavilion run "},
   };
   for (const auto& [args, example] : cases) {
@@ -411,6 +413,67 @@ TEST(CliTest, CalibrateWritesTheOdometryBlockAndJson) {
   EXPECT_EQ(bad.exit_code, 1);
   EXPECT_EQ(Lines(bad.err).size(), 1u) << bad.err;
   EXPECT_TRUE(Contains(bad.err, "no_such_robot")) << bad.err;
+}
+
+// The CARMEN logs in ../shared/data/carmen (next to the source tree); empty if absent.
+fs::path CarmenLog(const std::string& name) {
+  const fs::path path = fs::path(PAVILION_SOURCE_DIR) / ".." / "shared" / "data" / "carmen" / name;
+  return fs::exists(path) ? path.lexically_normal() : fs::path();
+}
+
+// `extract` summarizes a whole CARMEN log, lists and draws one scan's lines, reads a
+// Pavilion scans.bin, and rejects an out-of-range --scan with one line naming it.
+TEST(CliTest, ExtractListsLinesOfCarmenAndScanLogs) {
+  const fs::path dir = TestDir();
+  const fs::path intel = CarmenLog("intel-corrected.log.gz");
+  if (!intel.empty()) {
+    const Result summary = RunPavilion({"extract", "--log", intel.string()}, dir);
+    ASSERT_EQ(summary.exit_code, 0) << summary.err;
+    EXPECT_TRUE(Contains(summary.out, "scans: 910")) << summary.out;
+    EXPECT_TRUE(Contains(summary.out, "lines per scan")) << summary.out;
+
+    const fs::path png = dir / "x.png";
+    const Result one = RunPavilion(
+        {"extract", "--log", intel.string(), "--scan", "5", "--png", png.string()}, dir);
+    ASSERT_EQ(one.exit_code, 0) << one.err;
+    EXPECT_TRUE(fs::exists(png));
+    EXPECT_GT(fs::file_size(png), 1000u);
+    // Rows of the table: "   1  alpha r ..." after the header line starting with "#".
+    int rows = 0;
+    bool in_table = false;
+    for (const std::string& line : Lines(one.out)) {
+      if (Contains(line, "   # ")) {
+        in_table = true;
+      } else if (in_table && line.find_first_not_of(' ') != std::string::npos &&
+                 std::isdigit(static_cast<unsigned char>(line[line.find_first_not_of(' ')]))) {
+        ++rows;
+      }
+    }
+    EXPECT_GE(rows, 2) << one.out;
+
+    const Result bad = RunPavilion({"extract", "--log", intel.string(), "--scan", "100000"}, dir);
+    EXPECT_EQ(bad.exit_code, 1);
+    EXPECT_EQ(Lines(bad.err).size(), 1u) << bad.err;
+    EXPECT_TRUE(Contains(bad.err, "--scan")) << bad.err;
+  }
+
+  WriteFile(dir, "world.yaml", kWorld);
+  WriteFile(dir, "scenario.yaml", kBusyScenario);
+  const fs::path out = RunBusy(dir, "busy", 7);
+  const Result sim = RunPavilion({"extract", "--log", (out / "scans.bin").string()}, dir);
+  EXPECT_EQ(sim.exit_code, 0) << sim.err;
+  EXPECT_TRUE(Contains(sim.out, "lines per scan")) << sim.out;
+  const Result robot = RunPavilion(
+      {"extract", "--log", (out / "scans.bin").string(), "--robot", "robox", "--scan", "0"}, dir);
+  EXPECT_EQ(robot.exit_code, 0) << robot.err;
+  EXPECT_TRUE(Contains(robot.out, "robox/")) << robot.out;
+
+  WriteFile(dir, "garbage.log", "FLASER 3 1.0 2.0\n");
+  const Result malformed = RunPavilion({"extract", "--log", (dir / "garbage.log").string()}, dir);
+  EXPECT_EQ(malformed.exit_code, 1);
+  EXPECT_EQ(Lines(malformed.err).size(), 1u) << malformed.err;
+
+  if (intel.empty()) GTEST_SKIP() << "no ../shared/data/carmen/intel-corrected.log.gz";
 }
 
 }  // namespace
