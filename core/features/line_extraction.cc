@@ -80,12 +80,30 @@ class Extractor {
         continue;
       }
       const PolarPoint point{reading.range_m, reading.bearing_rad, options.range_sigma_m};
-      const std::optional<FitPoint> prepared = PrepareFitPoint(point);
-      if (!prepared) continue;
+      if (!(options.range_sigma_m > 0.0)) continue;
+      const auto [cos_bearing, sin_bearing] = CosSin(i, reading.bearing_rad);
       points_.push_back(point);
-      prepared_.push_back(*prepared);
+      prepared_.push_back({reading.range_m, cos_bearing, sin_bearing,
+                           1.0 / (options.range_sigma_m * options.range_sigma_m)});  // eq. 3.11
       reading_index_.push_back(i);
     }
+  }
+
+  // cos and sin of reading i's bearing, cached per thread across scans: a
+  // scanner's bearings repeat from scan to scan.
+  static std::pair<double, double> CosSin(int i, double bearing_rad) {
+    thread_local std::vector<double> bearings, cosines, sines;
+    if (static_cast<int>(bearings.size()) <= i) {
+      bearings.resize(i + 1, std::numeric_limits<double>::quiet_NaN());
+      cosines.resize(i + 1);
+      sines.resize(i + 1);
+    }
+    if (bearings[i] != bearing_rad) {  // exact: a cache, never an approximation
+      bearings[i] = bearing_rad;
+      cosines[i] = std::cos(bearing_rad);
+      sines[i] = std::sin(bearing_rad);
+    }
+    return {cosines[i], sines[i]};
   }
 
   std::vector<Segment> Run() {

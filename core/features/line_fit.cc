@@ -162,8 +162,19 @@ std::optional<Line> PrefixLineFits::Fit(int begin, int end) const {
   if (Degenerate(c)) return std::nullopt;
   const double nd2 = c.num * c.num + c.den * c.den;
   const double alpha = 0.5 * std::atan2(c.num, c.den);
-  const double ca = std::cos(alpha);
-  const double sa = std::sin(alpha);
+  // cos and sin of alpha from those of 2 alpha = atan2(N, D) by the half-angle
+  // formulas (alpha in (-pi/2, pi/2], so cos alpha >= 0), without trigonometry.
+  const double norm = std::sqrt(nd2);
+  const double c2 = c.den / norm;
+  const double s2 = c.num / norm;
+  double ca, sa;
+  if (c2 >= 0.0) {
+    ca = std::sqrt(0.5 * (1.0 + c2));
+    sa = s2 / (2.0 * ca);
+  } else {
+    sa = std::copysign(std::sqrt(0.5 * (1.0 - c2)), s2);
+    ca = s2 / (2.0 * sa);
+  }
   const double r = c.xw * ca + c.yw * sa;
   // d alpha/d rho_i = w_i a.g_i and d r/d rho_i = w_i b.g_i (see the header), so
   // with var_i = 1/w_i the sums of eqs. 3.8-3.10 are a^T M a, b^T M b, a^T M b.

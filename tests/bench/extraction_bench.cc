@@ -1,0 +1,138 @@
+// Time per 361-reading scan of the probabilistic line extraction (ExtractLines,
+// thesis §3.2, LMS 200 preset) and of the split-and-merge baseline, on the same
+// simulated sick_lms200 scans (noise and surface effects on) in expo_hall and
+// office_floor, measured in the same run. Each iteration extracts one scan,
+// cycling through the set, so the reported time is per scan. Counters:
+// lines_per_scan (mean segments), mixed_per_scan (mean segments whose readings
+// are not >= 90% from one world element by the simulator's per-ray truth, a
+// cheap false-positive proxy), readings_per_scan.
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "core/features/line_extraction.h"
+#include "core/features/split_and_merge.h"
+#include "core/random/random_stream.h"
+#include "scenarios/data_paths.h"
+#include "scenarios/world_loader.h"
+#include "sim/laser_scanner.h"
+#include "sim/world.h"
+
+namespace {
+
+using namespace pavilion;
+
+constexpr int kScansPerWorld = 25;
+constexpr double kMountHeightM = 0.5;
+constexpr double kClearanceM = 0.5;
+
+struct ScanWithTruth {
+  core::LaserScan scan;
+  core::LaserScanTruth truth;
+};
+
+// kScansPerWorld scans from random free-floor poses (>= kClearanceM from the
+// section at the scan height) with random headings.
+void AddScans(const std::string& world_name, std::uint64_t seed, std::vector<ScanWithTruth>* out) {
+  const sim::WorldDescription d = scenarios::LoadWorldFile(scenarios::ResolveWorldPath(world_name));
+  const sim::World world(d, sim::WorldOptions{});
+  const core::PlanarSection section = world.SectionAt(kMountHeightM);
+  auto clear = [&](const Eigen::Vector2d& p) {
+    for (const auto& s : section.segments) {
+      const Eigen::Vector2d ab = s.b_m - s.a_m;
+      const double t = std::clamp((p - s.a_m).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+      if ((s.a_m + t * ab - p).norm() < kClearanceM) return false;
+    }
+    for (const auto& c : section.circles) {
+      if ((c.center_m - p).norm() < c.radius_m + kClearanceM) return false;
+    }
+    return true;
+  };
+  core::RandomStream rng(seed, 0);
+  sim::LaserScanner laser("laser", sim::LaserScannerOptions::Profile("sick_lms200"), core::Pose2{},
+                          kMountHeightM, core::RandomStream(seed, 1));
+  int made = 0;
+  for (int attempt = 0; made < kScansPerWorld && attempt < 100000; ++attempt) {
+    const Eigen::Vector2d p(rng.Uniform(d.floor.min_m.x(), d.floor.max_m.x()),
+                            rng.Uniform(d.floor.min_m.y(), d.floor.max_m.y()));
+    if (!clear(p)) continue;
+    const core::Pose2 pose{p.x(), p.y(), rng.Uniform(-std::numbers::pi, std::numbers::pi)};
+    ScanWithTruth s;
+    s.scan = laser.ScanFrom(world, pose, 0.1 * made, -1, &s.truth);
+    out->push_back(std::move(s));
+    ++made;
+  }
+}
+
+const std::vector<ScanWithTruth>& Scans() {
+  static const std::vector<ScanWithTruth> scans = [] {
+    std::vector<ScanWithTruth> v;
+    AddScans("expo_hall", 11, &v);
+    AddScans("office_floor", 12, &v);
+    return v;
+  }();
+  return scans;
+}
+
+// Segments whose spanned readings are not >= 90% from one world element.
+int MixedSegments(const std::vector<core::Segment>& segments, const core::LaserScanTruth& truth) {
+  int mixed = 0;
+  for (const core::Segment& seg : segments) {
+    std::map<int, int> hits;
+    int best = 0;
+    for (int i = seg.first_index; i <= seg.last_index; ++i) {
+      if (truth.element[i] >= 0) best = std::max(best, ++hits[truth.element[i]]);
+    }
+    mixed += best < 0.9 * seg.point_count;
+  }
+  return mixed;
+}
+
+template <typename Extract>
+void RunExtraction(benchmark::State& state, Extract extract) {
+  const std::vector<ScanWithTruth>& scans = Scans();
+  // Quality counters, outside the timed loop.
+  double lines = 0.0;
+  double mixed = 0.0;
+  double readings = 0.0;
+  for (const ScanWithTruth& s : scans) {
+    const std::vector<core::Segment> segments = extract(s.scan);
+    lines += static_cast<double>(segments.size());
+    mixed += MixedSegments(segments, s.truth);
+    readings += static_cast<double>(s.scan.readings.size());
+  }
+  std::size_t k = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(extract(scans[k].scan));
+    if (++k == scans.size()) k = 0;
+  }
+  const double n = static_cast<double>(scans.size());
+  state.SetItemsProcessed(state.iterations());
+  state.counters["scans"] = n;
+  state.counters["readings_per_scan"] = readings / n;
+  state.counters["lines_per_scan"] = lines / n;
+  state.counters["mixed_per_scan"] = mixed / n;
+}
+
+void BM_ExtractLines(benchmark::State& state) {
+  const core::LineExtractionOptions options = core::LineExtractionOptions::SickLms200();
+  RunExtraction(state,
+                [&](const core::LaserScan& scan) { return core::ExtractLines(scan, options); });
+}
+BENCHMARK(BM_ExtractLines)->Unit(benchmark::kMicrosecond)->MinTime(2.0);
+
+void BM_SplitAndMerge(benchmark::State& state) {
+  const core::SplitAndMergeOptions options = core::SplitAndMergeOptions::SickLms200();
+  RunExtraction(state,
+                [&](const core::LaserScan& scan) { return core::SplitAndMerge(scan, options); });
+}
+BENCHMARK(BM_SplitAndMerge)->Unit(benchmark::kMicrosecond)->MinTime(2.0);
+
+}  // namespace
+
+BENCHMARK_MAIN();
