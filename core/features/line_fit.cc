@@ -187,14 +187,14 @@ std::optional<Line> PrefixLineFits::Fit(int begin, int end) const {
   for (int i = 0; i < 4; ++i) {
     for (int j = i; j < 4; ++j) m[i][j] = m[j][i] = s[idx++];
   }
-  double s_aa = 0.0, s_rr = 0.0, s_ar = 0.0;
+  double ma[4], mb[4];
   for (int i = 0; i < 4; ++i) {
-    for (int j = 0; j < 4; ++j) {
-      s_aa += a[i] * m[i][j] * a[j];
-      s_rr += b[i] * m[i][j] * b[j];
-      s_ar += a[i] * m[i][j] * b[j];
-    }
+    ma[i] = m[i][0] * a[0] + m[i][1] * a[1] + m[i][2] * a[2] + m[i][3] * a[3];
+    mb[i] = m[i][0] * b[0] + m[i][1] * b[1] + m[i][2] * b[2] + m[i][3] * b[3];
   }
+  const double s_aa = a[0] * ma[0] + a[1] * ma[1] + a[2] * ma[2] + a[3] * ma[3];
+  const double s_rr = b[0] * mb[0] + b[1] * mb[1] + b[2] * mb[2] + b[3] * mb[3];
+  const double s_ar = b[0] * ma[0] + b[1] * ma[1] + b[2] * ma[2] + b[3] * ma[3];
   return Finish(alpha, r, s_aa, s_rr, s_ar);
 }
 
