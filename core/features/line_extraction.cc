@@ -134,8 +134,10 @@ class Extractor {
     const PrefixLineFits prefix(prepared_);
     std::vector<std::optional<Line>> windows(n);
     for (int c = h; c + h < n; ++c) {
+      // No covariance floor here: a correlated error (§2.2.1.3) is common to
+      // neighbouring windows and cancels in their fidelity distance (eq. 3.12);
+      // adding it would let windows across corners pass as one line.
       windows[c] = prefix.Fit(c - h, c - h + nf);
-      if (windows[c]) windows[c]->covariance += floor_;
     }
     // Each window's information matrix, used by three fidelity distances.
     std::vector<Eigen::Matrix2d> information(n, Eigen::Matrix2d::Zero());
