@@ -12,7 +12,9 @@
 #include <stdexcept>
 #include <vector>
 
+#include "core/features/beacon_extraction.h"
 #include "core/features/line_extraction.h"
+#include "core/features/scene_description.h"
 #include "core/types/image.h"
 #include "scenarios/carmen_log.h"
 #include "scenarios/png.h"
@@ -301,6 +303,12 @@ void PrintLines(const LabelledScan& s, std::size_t k, std::size_t count,
                 g.first_endpoint.position_m.x(), g.first_endpoint.position_m.y(),
                 g.last_endpoint.position_m.x(), g.last_endpoint.position_m.y());
   }
+  // Beacons (§3.3) and the scene description (§3.5) of the same scan.
+  const std::vector<core::Beacon> beacons =
+      core::ExtractBeacons(s.scan, core::BeaconExtractionOptions{});
+  const core::SceneDescription scene = core::DescribeScene(segments, beacons, core::SceneOptions{});
+  std::printf("beacons: %zu\n", beacons.size());
+  std::printf("scene: %s\n", scene.ToString().c_str());
 }
 
 }  // namespace
