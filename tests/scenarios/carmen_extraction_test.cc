@@ -9,6 +9,7 @@
 
 #include "core/features/line_extraction.h"
 #include "scenarios/carmen_log.h"
+#include "tests/support/test_files.h"
 
 namespace pavilion {
 namespace {
@@ -33,7 +34,7 @@ core::LineExtractionOptions RealLogOptions() {
 
 void CheckScan(const std::string& log_name, scenarios::CarmenAngleStep step, int scan_index,
                const std::vector<ExpectedWall>& walls) {
-  const std::string path = std::string(PAVILION_SOURCE_DIR) + "/../shared/data/carmen/" + log_name;
+  const std::string path = pavilion::testing::CarmenDataDir() + "/" + log_name;
   if (!std::filesystem::exists(path)) GTEST_SKIP() << "no " << path;
   scenarios::CarmenLog log = scenarios::ReadCarmenLog(path, scenarios::CarmenOptions{});
   scenarios::SetCarmenAngleStep(step, &log);

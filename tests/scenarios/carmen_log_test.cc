@@ -23,7 +23,7 @@ using pavilion::testing::WriteFile;
 
 // The shipped real logs, beside the repository (../shared/data/carmen).
 std::string CarmenPath(const std::string& name) {
-  return std::string(PAVILION_SOURCE_DIR) + "/../shared/data/carmen/" + name + "-corrected.log.gz";
+  return pavilion::testing::CarmenDataDir() + "/" + name + "-corrected.log.gz";
 }
 
 // What the data set's README states per log, plus the counts of the files and

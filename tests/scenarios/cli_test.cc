@@ -417,8 +417,10 @@ TEST(CliTest, CalibrateWritesTheOdometryBlockAndJson) {
 
 // The CARMEN logs in ../shared/data/carmen (next to the source tree); empty if absent.
 fs::path CarmenLog(const std::string& name) {
-  const fs::path path = fs::path(PAVILION_SOURCE_DIR) / ".." / "shared" / "data" / "carmen" / name;
-  return fs::exists(path) ? path.lexically_normal() : fs::path();
+  const std::string dir = pavilion::testing::CarmenDataDir();
+  if (dir.empty()) return fs::path();
+  const fs::path path = fs::path(dir) / name;
+  return fs::exists(path) ? path : fs::path();
 }
 
 // `extract` summarizes a whole CARMEN log, lists and draws one scan's lines, reads a

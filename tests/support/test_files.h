@@ -5,9 +5,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 namespace pavilion::testing {
 
@@ -42,6 +44,22 @@ inline int LineOf(const std::string& text, const std::string& marker) {
 inline ::testing::AssertionResult Contains(const std::string& text, const std::string& part) {
   if (text.find(part) != std::string::npos) return ::testing::AssertionSuccess();
   return ::testing::AssertionFailure() << "'" << text << "' does not contain '" << part << "'";
+}
+
+// The folder of the real CARMEN logs: $PAVILION_CARMEN_DIR, else
+// ../shared/data/carmen beside the source tree, else /work/shared/data/carmen
+// (where the project's machines keep it). Empty when none exists; tests on the
+// real logs skip then, saying so.
+inline std::string CarmenDataDir() {
+  std::vector<std::filesystem::path> candidates;
+  if (const char* env = std::getenv("PAVILION_CARMEN_DIR")) candidates.emplace_back(env);
+  candidates.push_back(std::filesystem::path(PAVILION_SOURCE_DIR) / ".." / "shared" / "data" /
+                       "carmen");
+  candidates.emplace_back("/work/shared/data/carmen");
+  for (const auto& c : candidates) {
+    if (std::filesystem::exists(c / "intel-corrected.log.gz")) return c.lexically_normal().string();
+  }
+  return "";
 }
 
 }  // namespace pavilion::testing
