@@ -10,6 +10,7 @@
 #include <string>
 
 #include "core/features/line_fit.h"
+#include "core/features/segment_builder.h"
 
 namespace pavilion::core {
 namespace {
@@ -285,24 +286,6 @@ class Extractor {
     std::erase_if(clusters, [&](const Cluster& c) { return c.points.size() < min_points; });
   }
 
-  // Length along the line of the longest run of consecutive valid readings in
-  // the cluster (a run is what one fidelity segment or overlapping ones cover;
-  // runs are separated by occluders). Collinear leg-sized clusters fused across
-  // a gap, such as the two legs of a person, have only short runs (§6.5).
-  double LongestPieceLength(const Cluster& c) const {
-    const Eigen::Vector2d along(std::sin(c.line.alpha_rad), -std::cos(c.line.alpha_rad));
-    double longest = 0.0;
-    std::size_t begin = 0;
-    for (std::size_t k = 1; k <= c.points.size(); ++k) {
-      if (k < c.points.size() && c.points[k] == c.points[k - 1] + 1) continue;
-      const double length =
-          std::abs(along.dot(Cartesian(c.points[k - 1]) - Cartesian(c.points[begin])));
-      longest = std::max(longest, length);
-      begin = k;
-    }
-    return longest;
-  }
-
   Eigen::Vector2d Cartesian(int k) const {
     return points_[k].range_m *
            Eigen::Vector2d(std::cos(points_[k].bearing_rad), std::sin(points_[k].bearing_rad));
@@ -325,41 +308,17 @@ class Extractor {
     }
   }
 
-  double EndpointBearingSigma() const {
-    if (options_.endpoint_bearing_sigma_rad > 0.0) return options_.endpoint_bearing_sigma_rad;
-    const std::size_t n = scan_.readings.size();
-    if (n < 2) return 0.0;
-    // Eq. 5.2: sigma_theta_e = the angular resolution.
-    return std::abs(scan_.readings.back().bearing_rad - scan_.readings.front().bearing_rad) /
-           static_cast<double>(n - 1);
-  }
-
   std::vector<Segment> ToSegments(const std::vector<Cluster>& clusters) const {
-    const double bearing_sigma = EndpointBearingSigma();
+    const double bearing_sigma = EndpointBearingSigma(scan_, options_.endpoint_bearing_sigma_rad);
+    const SegmentFilter filter{options_.min_points, options_.min_length_m};
     std::vector<Segment> segments;
     for (const Cluster& c : clusters) {
-      const int count = static_cast<int>(c.points.size());
-      if (count < options_.min_points) continue;
-      const PolarPoint& first = points_[c.points.front()];
-      const PolarPoint& last = points_[c.points.back()];
-      // A ray parallel to the line cannot bound it; such a fit is not a wall.
-      if (std::abs(std::cos(c.line.alpha_rad - first.bearing_rad)) < kMinRayIncidenceCos ||
-          std::abs(std::cos(c.line.alpha_rad - last.bearing_rad)) < kMinRayIncidenceCos) {
-        continue;
+      if (auto s = BuildSegment(c.line, c.points, points_, reading_index_, bearing_sigma, filter)) {
+        segments.push_back(*s);
       }
-      Segment s = MakeSegment(c.line, first.bearing_rad, last.bearing_rad, bearing_sigma, count,
-                              reading_index_[c.points.front()], reading_index_[c.points.back()]);
-      if (s.length_m < options_.min_length_m || LongestPieceLength(c) < options_.min_length_m) {
-        continue;
-      }
-      segments.push_back(s);
     }
     return segments;
   }
-
-  // |cos(alpha - theta_e)| below which eq. 5.3 is numerically meaningless
-  // (incidence within ~0.06 degrees of grazing).
-  static constexpr double kMinRayIncidenceCos = 1e-3;
 
   const LaserScan& scan_;
   const LineExtractionOptions& options_;

@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "core/features/line_fit.h"
+#include "core/features/segment_builder.h"
 
 namespace pavilion::core {
 namespace {
@@ -179,54 +180,17 @@ class SplitMerger {
     }
   }
 
-  // As ExtractLines: length along the line of the longest run of consecutive
-  // valid readings (§6.5, legs fused across a gap have only short runs).
-  double LongestPieceLength(const Piece& p) const {
-    const Eigen::Vector2d along(std::sin(p.line.alpha_rad), -std::cos(p.line.alpha_rad));
-    double longest = 0.0;
-    std::size_t begin = 0;
-    for (std::size_t k = 1; k <= p.points.size(); ++k) {
-      if (k < p.points.size() && p.points[k] == p.points[k - 1] + 1) continue;
-      longest = std::max(longest, std::abs(along.dot(xy_[p.points[k - 1]] - xy_[p.points[begin]])));
-      begin = k;
-    }
-    return longest;
-  }
-
-  double EndpointBearingSigma() const {
-    if (options_.endpoint_bearing_sigma_rad > 0.0) return options_.endpoint_bearing_sigma_rad;
-    const std::size_t n = scan_.readings.size();
-    if (n < 2) return 0.0;
-    // Eq. 5.2: sigma_theta_e = the angular resolution.
-    return std::abs(scan_.readings.back().bearing_rad - scan_.readings.front().bearing_rad) /
-           static_cast<double>(n - 1);
-  }
-
   std::vector<Segment> ToSegments(const std::vector<Piece>& pieces) const {
-    const double bearing_sigma = EndpointBearingSigma();
+    const double bearing_sigma = EndpointBearingSigma(scan_, options_.endpoint_bearing_sigma_rad);
+    const SegmentFilter filter{options_.min_points, options_.min_length_m};
     std::vector<Segment> segments;
     for (const Piece& p : pieces) {
-      const int count = static_cast<int>(p.points.size());
-      if (count < options_.min_points) continue;
-      const PolarPoint& first = points_[p.points.front()];
-      const PolarPoint& last = points_[p.points.back()];
-      // A ray parallel to the line cannot bound it (eq. 5.3).
-      if (std::abs(std::cos(p.line.alpha_rad - first.bearing_rad)) < kMinRayIncidenceCos ||
-          std::abs(std::cos(p.line.alpha_rad - last.bearing_rad)) < kMinRayIncidenceCos) {
-        continue;
+      if (auto s = BuildSegment(p.line, p.points, points_, reading_index_, bearing_sigma, filter)) {
+        segments.push_back(*s);
       }
-      Segment s = MakeSegment(p.line, first.bearing_rad, last.bearing_rad, bearing_sigma, count,
-                              reading_index_[p.points.front()], reading_index_[p.points.back()]);
-      if (s.length_m < options_.min_length_m || LongestPieceLength(p) < options_.min_length_m) {
-        continue;
-      }
-      segments.push_back(s);
     }
     return segments;
   }
-
-  // As ExtractLines: |cos(alpha - theta_e)| below which eq. 5.3 is meaningless.
-  static constexpr double kMinRayIncidenceCos = 1e-3;
 
   const LaserScan& scan_;
   const SplitAndMergeOptions& options_;
