@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/random/random_stream.h"
+#include "tests/support/synthetic_room.h"
 
 namespace pavilion::core {
 namespace {
@@ -28,92 +29,16 @@ constexpr double kMatchRM = 0.05;
 constexpr int kCornerReadingsLost = 3;
 constexpr double kAssociationGate = 13.815510558;  // chi^2(2) quantile at 0.999
 
-struct WallElement {
-  Eigen::Vector2d a, b;  // world frame
-};
-struct Circle {
-  Eigen::Vector2d center;
-  double radius_m;
-};
-struct World {
-  std::vector<WallElement> walls;
-  std::vector<Circle> legs;
-};
+using testing::SimulatedScan;
+using testing::TrueLine;
+using testing::WallElement;
+using World = testing::SyntheticWorld;
 
-// An 8 m x 5 m room with a 0.6 m square pillar.
-World Room() {
-  World w;
-  const std::vector<Eigen::Vector2d> room = {{0, 0}, {8, 0}, {8, 5}, {0, 5}};
-  for (int i = 0; i < 4; ++i) w.walls.push_back({room[i], room[(i + 1) % 4]});
-  const std::vector<Eigen::Vector2d> pillar = {{5.5, 3.2}, {6.1, 3.2}, {6.1, 3.8}, {5.5, 3.8}};
-  for (int i = 0; i < 4; ++i) w.walls.push_back({pillar[i], pillar[(i + 1) % 4]});
-  return w;
-}
-
-// Ray casting: range to the first hit and the element hit (-1 for a leg or none).
-struct Hit {
-  double range_m = std::numeric_limits<double>::infinity();
-  int wall = -1;
-};
-Hit CastRay(const World& world, const Eigen::Vector2d& o, const Eigen::Vector2d& d) {
-  Hit hit;
-  for (int k = 0; k < static_cast<int>(world.walls.size()); ++k) {
-    const Eigen::Vector2d e = world.walls[k].b - world.walls[k].a;
-    const double den = d.x() * e.y() - d.y() * e.x();
-    if (std::abs(den) < 1e-12) continue;
-    const Eigen::Vector2d w = world.walls[k].a - o;
-    const double t = (w.x() * e.y() - w.y() * e.x()) / den;
-    const double u = (w.x() * d.y() - w.y() * d.x()) / den;
-    if (t > 0 && u >= 0 && u <= 1 && t < hit.range_m) hit = {t, k};
-  }
-  for (const Circle& c : world.legs) {
-    const Eigen::Vector2d oc = o - c.center;
-    const double b = oc.dot(d);
-    const double disc = b * b - (oc.squaredNorm() - c.radius_m * c.radius_m);
-    if (disc < 0) continue;
-    const double t = -b - std::sqrt(disc);
-    if (t > 0 && t < hit.range_m) hit = {t, -1};
-  }
-  return hit;
-}
-
-struct SimulatedScan {
-  LaserScan scan;
-  std::vector<int> wall_hit;  // per reading, -1 for none or a leg
-};
+World Room() { return {testing::RoomWithPillar(), {}}; }
 
 SimulatedScan Simulate(const World& world, const Pose2& world_from_sensor, RandomStream* rng) {
-  SimulatedScan out;
-  out.scan.max_range_m = kMaxRangeM;
-  for (int i = 0; i < kReadings; ++i) {
-    LaserReading reading;
-    reading.bearing_rad = -kPi / 2 + i * kPi / (kReadings - 1);
-    const double heading = world_from_sensor.theta_rad + reading.bearing_rad;
-    const Hit hit =
-        CastRay(world, world_from_sensor.translation(), {std::cos(heading), std::sin(heading)});
-    reading.valid = hit.range_m < kMaxRangeM;
-    reading.range_m = reading.valid ? hit.range_m : kMaxRangeM;
-    if (reading.valid && rng != nullptr) reading.range_m += rng->Normal(0.0, kRangeSigmaM);
-    out.scan.readings.push_back(reading);
-    out.wall_hit.push_back(reading.valid ? hit.wall : -1);
-  }
-  return out;
-}
-
-// The true line of a wall in the sensor frame, r >= 0.
-Line TrueLine(const WallElement& wall, const Pose2& world_from_sensor) {
-  const Pose2 sensor_from_world = world_from_sensor.Inverse();
-  const Eigen::Vector2d p = sensor_from_world * wall.a;
-  const Eigen::Vector2d q = sensor_from_world * wall.b;
-  const Eigen::Vector2d t = (q - p).normalized();
-  Line line;
-  line.alpha_rad = std::atan2(t.x(), -t.y());
-  line.r_m = line.normal().dot(p);
-  if (line.r_m < 0) {
-    line.r_m = -line.r_m;
-    line.alpha_rad = NormalizeAngle(line.alpha_rad + kPi);
-  }
-  return line;
+  return testing::SimulateScan(world, world_from_sensor, rng,
+                               {kReadings, kRangeSigmaM, kMaxRangeM});
 }
 
 // The part of each wall seen by the noise-free scan: first and last reading

@@ -13,6 +13,7 @@
 
 #include "core/features/line_fit.h"
 #include "core/random/random_stream.h"
+#include "tests/support/synthetic_room.h"
 
 namespace pavilion::core {
 namespace {
@@ -27,71 +28,16 @@ constexpr double kMatchAlphaRad = 3.0 * kPi / 180.0;
 constexpr double kMatchRM = 0.05;
 constexpr int kCornerReadingsLost = 3;
 
-struct WallElement {
-  Eigen::Vector2d a, b;
-};
+using testing::SimulatedScan;
+using testing::TrueLine;
+using testing::WallElement;
 
-// An 8 m x 5 m room with a 0.6 m square pillar.
-std::vector<WallElement> Room() {
-  std::vector<WallElement> walls;
-  const std::vector<Eigen::Vector2d> room = {{0, 0}, {8, 0}, {8, 5}, {0, 5}};
-  for (int i = 0; i < 4; ++i) walls.push_back({room[i], room[(i + 1) % 4]});
-  const std::vector<Eigen::Vector2d> pillar = {{5.5, 3.2}, {6.1, 3.2}, {6.1, 3.8}, {5.5, 3.8}};
-  for (int i = 0; i < 4; ++i) walls.push_back({pillar[i], pillar[(i + 1) % 4]});
-  return walls;
-}
-
-struct SimulatedScan {
-  LaserScan scan;
-  std::vector<int> wall_hit;  // per reading, -1 for none
-};
+std::vector<WallElement> Room() { return testing::RoomWithPillar(); }
 
 SimulatedScan Simulate(const std::vector<WallElement>& walls, const Pose2& world_from_sensor,
                        RandomStream* rng) {
-  SimulatedScan out;
-  out.scan.max_range_m = kMaxRangeM;
-  const Eigen::Vector2d o = world_from_sensor.translation();
-  for (int i = 0; i < kReadings; ++i) {
-    LaserReading reading;
-    reading.bearing_rad = -kPi / 2 + i * kPi / (kReadings - 1);
-    const double heading = world_from_sensor.theta_rad + reading.bearing_rad;
-    const Eigen::Vector2d d(std::cos(heading), std::sin(heading));
-    double best = std::numeric_limits<double>::infinity();
-    int wall = -1;
-    for (int k = 0; k < static_cast<int>(walls.size()); ++k) {
-      const Eigen::Vector2d e = walls[k].b - walls[k].a;
-      const double den = d.x() * e.y() - d.y() * e.x();
-      if (std::abs(den) < 1e-12) continue;
-      const Eigen::Vector2d w = walls[k].a - o;
-      const double t = (w.x() * e.y() - w.y() * e.x()) / den;
-      const double u = (w.x() * d.y() - w.y() * d.x()) / den;
-      if (t > 0 && u >= 0 && u <= 1 && t < best) {
-        best = t;
-        wall = k;
-      }
-    }
-    reading.valid = best < kMaxRangeM;
-    reading.range_m = reading.valid ? best : kMaxRangeM;
-    if (reading.valid && rng != nullptr) reading.range_m += rng->Normal(0.0, kRangeSigmaM);
-    out.scan.readings.push_back(reading);
-    out.wall_hit.push_back(reading.valid ? wall : -1);
-  }
-  return out;
-}
-
-Line TrueLine(const WallElement& wall, const Pose2& world_from_sensor) {
-  const Pose2 sensor_from_world = world_from_sensor.Inverse();
-  const Eigen::Vector2d p = sensor_from_world * wall.a;
-  const Eigen::Vector2d q = sensor_from_world * wall.b;
-  const Eigen::Vector2d t = (q - p).normalized();
-  Line line;
-  line.alpha_rad = std::atan2(t.x(), -t.y());
-  line.r_m = line.normal().dot(p);
-  if (line.r_m < 0) {
-    line.r_m = -line.r_m;
-    line.alpha_rad = NormalizeAngle(line.alpha_rad + kPi);
-  }
-  return line;
+  return testing::SimulateScan({walls, {}}, world_from_sensor, rng,
+                               {kReadings, kRangeSigmaM, kMaxRangeM});
 }
 
 struct Visibility {
