@@ -197,7 +197,12 @@ ExtractionScore ScoreExtraction(const core::LaserScan& scan, const core::LaserSc
         if (run.lo >= lo && run.hi <= hi) wall.visible_length_in_range_m += run.hi - run.lo;
       }
       wall.in_view = wall.visible_length_in_range_m >= options.min_visible_length_m;
+      wall.modelled_surface = std::all_of(wall.faces.begin(), wall.faces.end(), [&](int f) {
+        const core::LaserResponse r = section.elements[section.segments[f].element].laser;
+        return r == core::LaserResponse::kNormal || r == core::LaserResponse::kRetroReflective;
+      });
       if (wall.in_view) ++score.walls_in_view;
+      if (wall.in_view && wall.modelled_surface) ++score.modelled_walls_in_view;
       score.walls.push_back(std::move(wall));
       k = j;
     }
@@ -303,6 +308,7 @@ ExtractionScore ScoreExtraction(const core::LaserScan& scan, const core::LaserSc
                      ? wall.covered_length_m >= options.min_overlap_fraction * wall.visible_length_m
                      : wall.matched_segments > 0;
     if (wall.found && wall.in_view) ++score.walls_found;
+    if (wall.found && wall.in_view && wall.modelled_surface) ++score.modelled_walls_found;
   }
   return score;
 }
@@ -311,6 +317,8 @@ void ExtractionScoreAccumulator::Add(const ExtractionScore& score) {
   ++totals_.scans;
   totals_.walls_in_view += score.walls_in_view;
   totals_.walls_found += score.walls_found;
+  totals_.modelled_walls_in_view += score.modelled_walls_in_view;
+  totals_.modelled_walls_found += score.modelled_walls_found;
   totals_.extracted += score.extracted;
   totals_.false_positives += score.false_positives;
   for (const ExtractionMatch& m : score.matches) {
@@ -326,6 +334,9 @@ void ExtractionScoreAccumulator::Add(const ExtractionScore& score) {
 ExtractionFigures ExtractionScoreAccumulator::Figures() const {
   ExtractionFigures f = totals_;
   if (f.walls_in_view > 0) f.true_positive_rate = 1.0 * f.walls_found / f.walls_in_view;
+  if (f.modelled_walls_in_view > 0) {
+    f.modelled_true_positive_rate = 1.0 * f.modelled_walls_found / f.modelled_walls_in_view;
+  }
   if (f.extracted > 0) f.false_positive_rate = 1.0 * f.false_positives / f.extracted;
   if (f.matches > 0) {
     const double m = f.matches;

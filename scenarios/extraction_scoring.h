@@ -70,10 +70,15 @@ struct TrueWall {
   double visible_length_in_range_m = 0.0;  // same, readings within max_distance_m only
   int readings = 0;                        // readings on the wall
   bool in_view = false;                    // counts in the true-positive rate
-  int group = 0;                           // walls on one infinite line share a group
-  int matched_segments = 0;                // segments matching this wall's line
-  double covered_length_m = 0.0;           // visible part covered by matching segments
-  bool found = false;                      // covered_length_m >= min_overlap_fraction * visible
+  // Every face answers as the sensor model of the extraction assumes (normal or
+  // retro-reflective surface, range noise sigma_rho); false for dark and
+  // specular surfaces, whose returns the thesis found outside its model
+  // (§3.2.4, fig. 3.6: black velvet, "true standard deviation visibly greater").
+  bool modelled_surface = true;
+  int group = 0;                  // walls on one infinite line share a group
+  int matched_segments = 0;       // segments matching this wall's line
+  double covered_length_m = 0.0;  // visible part covered by matching segments
+  bool found = false;             // covered_length_m >= min_overlap_fraction * visible
 };
 
 struct ExtractionMatch {
@@ -92,7 +97,9 @@ struct ExtractionScore {
   std::vector<int> wall_of_segment;  // per extracted segment, -1 when unmatched
   std::vector<ExtractionMatch> matches;
   int walls_in_view = 0;
-  int walls_found = 0;  // in view and matched
+  int walls_found = 0;             // in view and matched
+  int modelled_walls_in_view = 0;  // the same, walls of modelled surfaces only
+  int modelled_walls_found = 0;
   int extracted = 0;
   int false_positives = 0;
 };
@@ -110,12 +117,15 @@ struct ExtractionFigures {
   int scans = 0;
   int walls_in_view = 0;
   int walls_found = 0;
+  int modelled_walls_in_view = 0;
+  int modelled_walls_found = 0;
   int extracted = 0;
   int false_positives = 0;
   int matches = 0;
   int matches_in_gate = 0;
-  double true_positive_rate = 0.0;   // walls_found / walls_in_view (0 when none)
-  double false_positive_rate = 0.0;  // false_positives / extracted (0 when none)
+  double true_positive_rate = 0.0;           // walls_found / walls_in_view (0 when none)
+  double modelled_true_positive_rate = 0.0;  // the same over walls of modelled surfaces
+  double false_positive_rate = 0.0;          // false_positives / extracted (0 when none)
   double mean_delta_alpha_rad = 0.0;
   double mean_delta_r_m = 0.0;
   double sigma_delta_alpha_rad = 0.0;  // standard deviation over matches

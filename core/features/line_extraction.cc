@@ -5,7 +5,10 @@
 #include <cmath>
 #include <iterator>
 #include <limits>
+#include <numbers>
 #include <optional>
+#include <set>
+#include <span>
 #include <stdexcept>
 #include <string>
 
@@ -20,6 +23,7 @@ namespace {
 struct Cluster {
   std::vector<int> points;
   Line line;
+  int id = 0;  // unique per extraction; a fusion makes a new cluster
 };
 
 void Require(bool ok, const char* field, const std::string& expected) {
@@ -108,7 +112,7 @@ class Extractor {
   }
 
   std::vector<Segment> Run() {
-    std::vector<Cluster> clusters = Segmentation();
+    std::vector<Cluster> clusters = SplitInconsistent(Segmentation());
     Agglomerate(clusters);
     ResolveSharedPoints(clusters);
     return ToSegments(clusters);
@@ -125,7 +129,7 @@ class Extractor {
 
   // §3.2.2: windows of n_f points, model fidelity (3.12) and threshold (3.15);
   // each maximal run of windows with d_i <= d_m gives the union of their points.
-  std::vector<Cluster> Segmentation() const {
+  std::vector<Cluster> Segmentation() {
     const int n = static_cast<int>(points_.size());
     const int nf = options_.window_size;
     const int h = nf / 2;
@@ -167,11 +171,112 @@ class Extractor {
       for (int k = c - h; k <= last + h; ++k) cluster.points.push_back(k);
       if (std::optional<Line> line = Fit(cluster.points)) {
         cluster.line = *line;
+        cluster.id = next_id_++;
         candidates.push_back(std::move(cluster));
       }
       c = last + 1;
     }
     return candidates;
+  }
+
+  // Weighted residual sum of squares of the readings `members` about `line`,
+  // sum w_i (rho_i cos(theta_i - alpha) - r)^2: what eqs. 3.4-3.5 minimize.
+  double ResidualSum(const std::vector<int>& members, const Line& line) const {
+    const double ca = std::cos(line.alpha_rad);
+    const double sa = std::sin(line.alpha_rad);
+    double sum = 0.0;
+    for (int k : members) {
+      const FitPoint& p = prepared_[k];
+      const double d = p.range_m * (p.cos_bearing * ca + p.sin_bearing * sa) - line.r_m;
+      sum += p.weight * d * d;
+    }
+    return sum;
+  }
+
+  // The fit consistency test (options: fit_consistency): residuals of n
+  // independent readings about their fitted line follow chi^2(n - 2).
+  bool Consistent(const std::vector<int>& members, const Line& line) const {
+    const int n = static_cast<int>(members.size());
+    if (!options_.fit_consistency || n <= 2) return true;
+    return ResidualSum(members, line) <=
+           ChiSquareQuantile(n - 2, options_.consistency_significance);
+  }
+
+  // Candidates failing the fit consistency test are cut where the two fitted
+  // lines leave the smallest residual sum, recursively; pieces with fewer than
+  // n_f readings (the minimal segment, §3.2.2) are dropped. An outlier at an
+  // end (a mixed pixel) is cut off alone; a bend splits at its vertex.
+  std::vector<Cluster> SplitInconsistent(std::vector<Cluster> candidates) {
+    std::vector<Cluster> result;
+    std::vector<Cluster> pending;
+    for (auto it = candidates.rbegin(); it != candidates.rend(); ++it) {
+      pending.push_back(std::move(*it));
+    }
+    while (!pending.empty()) {
+      Cluster c = std::move(pending.back());
+      pending.pop_back();
+      if (Consistent(c.points, c.line)) {
+        result.push_back(std::move(c));
+        continue;
+      }
+      const int cut = BestCut(c.points);
+      // Right piece first on the stack bottom: pieces come out in scan order.
+      std::vector<int> parts[2] = {{c.points.begin(), c.points.begin() + cut},
+                                   {c.points.begin() + cut, c.points.end()}};
+      for (int side : {1, 0}) {
+        if (static_cast<int>(parts[side].size()) < options_.window_size) continue;
+        if (std::optional<Line> line = Fit(parts[side])) {
+          pending.push_back({std::move(parts[side]), *line, next_id_++});
+        }
+      }
+    }
+    return result;
+  }
+
+  // The cut k in [1, n) minimizing the residual sums of the two best lines
+  // through members[0, k) and members[k, n); each residual is the smaller
+  // eigenvalue of the weighted scatter matrix about the weighted mean (the
+  // minimum of eqs. 3.4-3.5's objective), from running moment sums in O(n).
+  int BestCut(const std::vector<int>& members) const {
+    struct Moments {
+      double w = 0, x = 0, y = 0, xx = 0, yy = 0, xy = 0;
+      void Add(const FitPoint& p) {
+        const double px = p.range_m * p.cos_bearing;
+        const double py = p.range_m * p.sin_bearing;
+        w += p.weight;
+        x += p.weight * px;
+        y += p.weight * py;
+        xx += p.weight * px * px;
+        yy += p.weight * py * py;
+        xy += p.weight * px * py;
+      }
+      double MinResidual() const {
+        if (!(w > 0.0)) return 0.0;
+        const double a = xx - x * x / w;
+        const double c = yy - y * y / w;
+        const double b = xy - x * y / w;
+        return std::max(0.0, 0.5 * (a + c) - std::hypot(0.5 * (a - c), b));
+      }
+    };
+    const int n = static_cast<int>(members.size());
+    std::vector<double> suffix(n + 1, 0.0);
+    Moments m;
+    for (int k = n - 1; k >= 0; --k) {
+      m.Add(prepared_[members[k]]);
+      suffix[k] = m.MinResidual();
+    }
+    Moments prefix;
+    int best = 1;
+    double best_sum = std::numeric_limits<double>::infinity();
+    for (int k = 1; k < n; ++k) {
+      prefix.Add(prepared_[members[k - 1]]);
+      const double sum = prefix.MinResidual() + suffix[k];
+      if (sum < best_sum) {
+        best_sum = sum;
+        best = k;
+      }
+    }
+    return best;
   }
 
   static bool SharePoints(const Cluster& a, const Cluster& b) {
@@ -193,9 +298,10 @@ class Extractor {
   // neighbours, then any collinear pair; within a level the nearest pair goes
   // first. Fusion re-fits the joined points. Clusters stay sorted by first point,
   // so "neighbours" are consecutive clusters in scan order.
-  void Agglomerate(std::vector<Cluster>& clusters) const {
+  void Agglomerate(std::vector<Cluster>& clusters) {
     const double gate = ChiSquare2Quantile(options_.significance);
     enum Level { kOverlap, kAdjacency, kCollinearity };
+    std::set<std::pair<int, int>> refused;  // cluster id pairs whose union is no line
     while (clusters.size() > 1) {
       int best_i = -1;
       int best_j = -1;
@@ -206,6 +312,7 @@ class Extractor {
           for (int j = i + 1; j < m; ++j) {
             if (level != kCollinearity && j != i + 1) break;
             if (level == kOverlap && !SharePoints(clusters[i], clusters[j])) continue;
+            if (refused.contains({clusters[i].id, clusters[j].id})) continue;
             const double d = CollinearityDistance(clusters[i].line, clusters[j].line);
             if (d <= best_d) {
               best_d = d;
@@ -223,7 +330,12 @@ class Extractor {
                      std::back_inserter(fused.points));
       const std::optional<Line> line = Fit(fused.points);
       if (!line) return;  // cannot happen for two non-degenerate sets; stop merging
+      if (!Consistent(fused.points, *line)) {
+        refused.insert({clusters[best_i].id, clusters[best_j].id});
+        continue;
+      }
       fused.line = *line;
+      fused.id = next_id_++;
       clusters.erase(clusters.begin() + best_j);
       clusters[best_i] = std::move(fused);
       std::sort(clusters.begin(), clusters.end(), [](const Cluster& a, const Cluster& b) {
@@ -311,17 +423,46 @@ class Extractor {
   std::vector<Segment> ToSegments(const std::vector<Cluster>& clusters) const {
     const double bearing_sigma = EndpointBearingSigma(scan_, options_.endpoint_bearing_sigma_rad);
     const SegmentFilter filter{options_.min_points, options_.min_length_m};
+    const SegmentFilter piece_filter{options_.min_points, 0.0};
     std::vector<Segment> segments;
+    int line_id = 0;
     for (const Cluster& c : clusters) {
-      if (auto s = BuildSegment(c.line, c.points, points_, reading_index_, bearing_sigma, filter)) {
-        segments.push_back(*s);
+      std::optional<Segment> whole =
+          BuildSegment(c.line, c.points, points_, reading_index_, bearing_sigma, filter);
+      if (!whole) continue;
+      // Pieces: runs of members not interrupted by min_gap_readings or more
+      // valid readings of something else.
+      std::vector<std::span<const int>> pieces;
+      std::size_t begin = 0;
+      for (std::size_t k = 1; k <= c.points.size(); ++k) {
+        if (k < c.points.size() && c.points[k] - c.points[k - 1] - 1 < options_.min_gap_readings) {
+          continue;
+        }
+        pieces.emplace_back(c.points.data() + begin, k - begin);
+        begin = k;
       }
+      if (pieces.size() == 1) {
+        whole->line_id = line_id++;
+        segments.push_back(*whole);
+        continue;
+      }
+      bool any = false;
+      for (std::span<const int> piece : pieces) {
+        if (auto s =
+                BuildSegment(c.line, piece, points_, reading_index_, bearing_sigma, piece_filter)) {
+          s->line_id = line_id;
+          segments.push_back(*s);
+          any = true;
+        }
+      }
+      if (any) ++line_id;
     }
     return segments;
   }
 
   const LaserScan& scan_;
   const LineExtractionOptions& options_;
+  int next_id_ = 0;  // cluster ids
   Eigen::Matrix2d floor_;
   std::vector<PolarPoint> points_;
   std::vector<FitPoint> prepared_;  // points_ prepared for fits (no trigonometry per fit)
@@ -340,6 +481,10 @@ void LineExtractionOptions::Validate() const {
   Require(std::isfinite(range_sigma_m) && range_sigma_m > 0.0, "range_sigma_m",
           "a finite value > 0");
   Require(min_points >= 2, "min_points", "an integer >= 2");
+  Require(std::isfinite(consistency_significance) && consistency_significance > 0.0 &&
+              consistency_significance < 1.0,
+          "consistency_significance", "a value in (0, 1)");
+  Require(min_gap_readings >= 1, "min_gap_readings", "an integer >= 1");
   Require(std::isfinite(min_length_m) && min_length_m >= 0.0, "min_length_m",
           "a finite value >= 0");
   Require(std::isfinite(alpha_sigma_floor_rad) && alpha_sigma_floor_rad >= 0.0,
@@ -382,6 +527,25 @@ LineExtractionOptions LineExtractionOptions::LeuzeRs3() {
 LineExtractionOptions LineExtractionOptions::SickLms200() { return LineExtractionOptions{}; }
 
 double ChiSquare2Quantile(double p) { return -2.0 * std::log1p(-p); }
+
+double ChiSquareQuantile(int dof, double p) {
+  if (dof < 1 || !(p > 0.0 && p < 1.0)) {
+    throw std::invalid_argument("ChiSquareQuantile: expected dof >= 1 and p in (0, 1)");
+  }
+  if (dof == 2) return ChiSquare2Quantile(p);
+  // Standard normal quantile z_p: Newton on Phi(z) = erfc(-z / sqrt 2) / 2.
+  double z = 0.0;
+  for (int i = 0; i < 50; ++i) {
+    const double phi = 0.5 * std::erfc(-z / std::numbers::sqrt2);
+    const double density = std::exp(-0.5 * z * z) / std::sqrt(2.0 * std::numbers::pi);
+    const double step = (phi - p) / density;
+    z -= step;
+    if (std::abs(step) < 1e-12) break;
+  }
+  const double k = dof;
+  const double h = 2.0 / (9.0 * k);
+  return k * std::pow(1.0 - h + z * std::sqrt(h), 3);  // Wilson-Hilferty
+}
 
 std::vector<Segment> ExtractLines(const LaserScan& scan, const LineExtractionOptions& options) {
   options.Validate();

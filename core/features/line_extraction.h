@@ -12,15 +12,18 @@ struct LineExtractionOptions {
   // n_f, points per sliding window (§3.2.2); odd, >= 3. Default: SICK LMS 200
   // (0.5 deg, sigma 1 cm). The thesis chose n_f by angular resolution against
   // radial accuracy (n_f * resolution = 3.5 deg for the PLS, 3.75 deg for the
-  // RS3). For the LMS 200 a sweep over n_f = 5..15 on simulated rooms
-  // (line_extraction_test, WindowSizeSweepForLms200) gave: n_f <= 9 leaves short
-  // fragments whose edge readings bias their fit, so they fail the chi^2 fusion
-  // test (2-6% of walls split, 0.04-0.09 inconsistent lines per scan, 90-93% of
-  // (alpha, r) errors in the 95% gate); n_f = 11 gives 1.3% split walls, no
-  // spurious line, 94% in the gate; 13 and 15 gain little but need longer
-  // walls. n_f = 11 (5.5 deg) keeps the minimal segment at 13 readings, a 1 m
-  // wall at 6 m seen within ~45 deg of head-on.
-  int window_size = 11;
+  // RS3). For the LMS 200, a sweep scored against ground truth (300 scans each
+  // of office_floor / expo_hall with 30 visitors, min_length_m 0.5; see
+  // tests/scenarios/extraction_scoring_test.cc) gave true-positive rates
+  // 0.952/0.910 (n_f 5), 0.978/0.928 (7), 0.978/0.922 (9), 0.972/0.906 (11),
+  // 0.963/0.892 (13), false-positive rates 0.015/0.034, 0.019/0.039,
+  // 0.018/0.025, 0.017/0.020, 0.005/0.010, and 2318, 1711, 1489, 1365, 1275
+  // segments in the office. Small windows split walls into fragments; short
+  // far fragments, whose angle error moves r by more than 5 cm, are the hall's
+  // false positives. Large windows miss grazing faces seen by few readings.
+  // n_f = 9 (4.5 deg) finds as many walls as 7 with two thirds of its false
+  // positives in the hall.
+  int window_size = 9;
   // d_m, threshold on the model fidelity distance (eq. 3.15); > 0.
   double fidelity_threshold = 3.0;
   // alpha, significance level of the chi^2(2) collinearity test (eq. 3.16); in (0, 1).
@@ -29,9 +32,29 @@ struct LineExtractionOptions {
   double range_sigma_m = 0.01;
   // Segments supported by fewer readings are rejected; >= 2.
   int min_points = 2;
+  // Fit consistency: a cluster whose weighted residual sum of squares (the
+  // quantity eqs. 3.4-3.5 minimize) exceeds the chi^2(n - 2) quantile at
+  // `consistency_significance` is not one line. The sliding windows of §3.2.2 cannot see a
+  // gentle bend or a large arc (neighbouring windows differ by one reading), so
+  // such a candidate is cut at its best two-line split, recursively, and a
+  // fusion whose joined readings fail the test is refused. The thesis met the
+  // same problem at Expo.02 (§6.5: walls differing by less than 5 deg, "tuned
+  // for a slight tendency to oversegmentation"). Off for sensors whose range
+  // error is not white (the test assumes independent readings of range_sigma_m).
+  bool fit_consistency = true;
+  // In (0, 1). Above alpha: a true line fails the test with probability
+  // 1 - this, and a line cut in two by mistake is never fused again.
+  double consistency_significance = 0.999;
+  // Segments of one fused line interrupted by at least this many readings of
+  // something else (an occluding visitor, the room behind a door) are reported
+  // as the line's separate visible pieces, each a Segment sharing the fused line
+  // and its line_id: the multi-segment line of eq. 5.17. >= 1.
+  int min_gap_readings = 2;
   // Segments shorter than this (eq. 5.15) are rejected, m; >= 0. Rejects people's
-  // legs (10-15 cm wide, §6.5) with a margin for endpoint noise.
-  double min_length_m = 0.3;
+  // legs (10-15 cm, §6.5) and bodies (~45 cm), and pieces of round objects the
+  // fit consistency test cannot tell from a line: a 0.4 m chord of a 0.8 m
+  // radius podium bulges 2.5 cm, within 2.6 sigma of 30 readings' residuals.
+  double min_length_m = 0.5;
   // Additive covariance floor for correlated error (§2.2.1.3): standard
   // deviations added in quadrature to every fitted line's (alpha, r); >= 0.
   // Zero for white simulated noise, set for real logs and biased sensors.
@@ -55,6 +78,11 @@ struct LineExtractionOptions {
 // The chi^2 quantile with two degrees of freedom at probability p, -2 ln(1 - p).
 double ChiSquare2Quantile(double p);
 
+// The chi^2 quantile with `dof` >= 1 degrees of freedom at probability p in
+// (0, 1): the Wilson-Hilferty cube approximation (relative error < 1% for
+// dof >= 3 at p = 0.99; exact for dof = 2).
+double ChiSquareQuantile(int dof, double p);
+
 // Extracts line segments from a scan (thesis §3.2, appendix C): a line is fitted
 // to every window of n_f consecutive valid readings (eqs. 3.4-3.10), windows
 // whose model fidelity distance (eqs. 3.12-3.14) is at most d_m (eq. 3.15) form
@@ -63,8 +91,9 @@ double ChiSquare2Quantile(double p);
 // policy. Invalid readings are skipped. Segments are in the sensor frame, in
 // order of their first reading; their lines have r >= 0. Segments shorter than
 // min_length_m, or whose longest run of consecutive readings is (legs fused
-// across a gap), are rejected. Cost: O(n n_f) for the segmentation, O(n_s^2)
-// chi^2 distances per fusion of the n_s candidates.
+// across a gap), are rejected. A fused line seen in pieces (occlusions, doors)
+// gives one Segment per piece with the same line and line_id (eq. 5.17). Cost: O(n n_f) for the
+// segmentation, O(n_s^2) chi^2 distances per fusion of the n_s candidates.
 std::vector<Segment> ExtractLines(const LaserScan& scan, const LineExtractionOptions& options);
 
 }  // namespace pavilion::core

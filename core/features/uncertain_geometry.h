@@ -74,6 +74,10 @@ struct Segment {
   int point_count = 0;  // valid readings supporting the line
   int first_index = 0;  // index of the first supporting reading in the scan
   int last_index = 0;   // index of the last supporting reading in the scan
+  // Pieces of one line seen through gaps (a multi-segment line, eq. 5.17) share
+  // the line, estimated from all their readings, and this id; point_count and
+  // the indices are the piece's own. -1: the segment's line is its own.
+  int line_id = -1;
 };
 
 // Builds a segment on `line` between the rays `first_bearing_rad` and

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <numbers>
 
 #include "core/features/line_extraction.h"
@@ -42,15 +43,17 @@ void CheckScan(const std::string& log_name, scenarios::CarmenAngleStep step, int
   const std::vector<core::Segment> segments =
       core::ExtractLines(log.scans[scan_index].scan, RealLogOptions());
   for (const ExpectedWall& wall : walls) {
-    bool found = false;
+    // Seen length per extracted line: pieces of one line (eq. 5.17) add up.
+    std::map<int, double> seen_m;
     for (const core::Segment& s : segments) {
       const double dalpha =
           std::remainder(s.line.alpha_rad - wall.alpha_deg * kDeg, 2 * std::numbers::pi);
-      if (std::abs(dalpha) < 2.0 * kDeg && std::abs(s.line.r_m - wall.r_m) < 0.05 &&
-          s.length_m >= wall.min_length_m) {
-        found = true;
+      if (std::abs(dalpha) < 2.0 * kDeg && std::abs(s.line.r_m - wall.r_m) < 0.05) {
+        seen_m[s.line_id] += s.length_m;
       }
     }
+    bool found = false;
+    for (const auto& [line_id, length_m] : seen_m) found = found || length_m >= wall.min_length_m;
     EXPECT_TRUE(found) << log_name << " scan " << scan_index << ": wall alpha " << wall.alpha_deg
                        << " deg, r " << wall.r_m << " m";
   }

@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <numbers>
 #include <string>
@@ -196,10 +197,12 @@ std::vector<Eigen::Vector2d> FreeCells(const sim::World& world, const sim::World
 
 void Print(const std::string& what, const ExtractionFigures& f) {
   std::printf(
-      "[ info ] %s: %d scans; walls in view %d, found %d: TP rate %.4f; extracted %d, false "
+      "[ info ] %s: %d scans; walls in view %d, found %d: TP rate %.4f (modelled surfaces %d / "
+      "%d: %.4f); extracted %d, false "
       "positives %d: FP rate %.4f; matches %d: sigma dr %.2f mm (mean %.2f), sigma da %.3f deg "
       "(mean %.3f), in 95%% gate %.4f\n",
-      what.c_str(), f.scans, f.walls_in_view, f.walls_found, f.true_positive_rate, f.extracted,
+      what.c_str(), f.scans, f.walls_in_view, f.walls_found, f.true_positive_rate,
+      f.modelled_walls_found, f.modelled_walls_in_view, f.modelled_true_positive_rate, f.extracted,
       f.false_positives, f.false_positive_rate, f.matches, 1e3 * f.sigma_delta_r_m,
       1e3 * f.mean_delta_r_m, f.sigma_delta_alpha_rad / kDeg, f.mean_delta_alpha_rad / kDeg,
       f.in_gate_fraction);
@@ -228,56 +231,57 @@ ExtractionFigures ScoreWorld(const std::string& name, int visitors, int scans) {
   const std::vector<Eigen::Vector2d> cells = FreeCells(world, d, 0.7, 0.5);
   EXPECT_GE(static_cast<int>(cells.size()), scans) << name;
   const core::PlanarSection section = world.SectionAt(kBeamHeightM);
-  sim::LaserScanner laser("laser", sim::LaserScannerOptions::Profile("sick_lms200"), core::Pose2{},
-                          kBeamHeightM, core::RandomStream(5, 1));
-  EXPECT_TRUE(laser.options().noise);
   const core::LineExtractionOptions extraction = core::LineExtractionOptions::SickLms200();
-  ExtractionScoreAccumulator acc, bridged;
-  ExtractionScoringOptions bridge;
-  bridge.bridge_gaps = true;
-  const double step = static_cast<double>(cells.size()) / scans;
-  for (int k = 0; k < scans; ++k) {
-    const Eigen::Vector2d& c = cells[static_cast<std::size_t>(k * step)];
-    const core::Pose2 pose{c.x(), c.y(), core::NormalizeAngle(2.399963229728653 * k)};
-    core::LaserScanTruth truth;
-    const core::LaserScan scan = laser.ScanFrom(world, pose, 0.0, -1, &truth);
-    const std::vector<core::Segment> segments = core::ExtractLines(scan, extraction);
-    acc.Add(ScoreExtraction(scan, truth, section, segments));
-    bridged.Add(ScoreExtraction(scan, truth, section, segments, bridge));
+  ExtractionScoreAccumulator acc;
+  // Three noise seeds; headings differ per seed, positions repeat.
+  for (const std::uint64_t seed : {5, 6, 7}) {
+    sim::LaserScanner laser("laser", sim::LaserScannerOptions::Profile("sick_lms200"),
+                            core::Pose2{}, kBeamHeightM, core::RandomStream(seed, 1));
+    EXPECT_TRUE(laser.options().noise);
+    EXPECT_TRUE(laser.options().effects);
+    const double step = static_cast<double>(cells.size()) / scans;
+    for (int k = 0; k < scans; ++k) {
+      const Eigen::Vector2d& c = cells[static_cast<std::size_t>(k * step)];
+      const double heading = 2.399963229728653 * (k + 1000.0 * static_cast<double>(seed));
+      const core::Pose2 pose{c.x(), c.y(), core::NormalizeAngle(heading)};
+      core::LaserScanTruth truth;
+      const core::LaserScan scan = laser.ScanFrom(world, pose, 0.0, -1, &truth);
+      const std::vector<core::Segment> segments = core::ExtractLines(scan, extraction);
+      acc.Add(ScoreExtraction(scan, truth, section, segments));
+    }
   }
   const ExtractionFigures f = acc.Figures();
   Print(name + " (metrics.md)", f);
-  Print(name + " (diagnostic: occluded gaps count as visible)", bridged.Figures());
   return f;
 }
 
 // Issue 5 acceptance: TP rate >= 0.95, FP rate <= 0.03, >= 90% of (alpha, r)
-// errors inside the 95% gate. Criteria that do not hold yet are marked TODO and
-// checked at the measured value (seed 5, this commit's extractor), so a
-// regression still fails; the acceptance bound is in the comment.
+// errors inside the 95% gate; 3 noise seeds x 300 (office) or 200 (hall) sensor
+// poses per world with 30 visitors.
 TEST(ExtractionScoringTest, OfficeFloorLms200WithVisitors) {
-  const ExtractionFigures f = ScoreWorld("office_floor", 30, 100);
-  EXPECT_EQ(f.scans, 100);
-  EXPECT_GT(f.walls_in_view, 200);
-  EXPECT_GE(f.true_positive_rate, 0.95);  // measured 0.9611 (272 / 283)
-  // TODO(issue 5): acceptance is FP rate <= 0.03; measured 0.0358 (15 / 419):
-  // short (0.3-0.6 m) lines on visitors and segments fused across occlusions
-  // whose visible overlap is < 50%. Decision pending; not met yet.
-  EXPECT_LE(f.false_positive_rate, 0.04);  // measured 0.0358
-  EXPECT_GE(f.in_gate_fraction, 0.90);     // measured 0.9134
+  const ExtractionFigures f = ScoreWorld("office_floor", 30, 300);
+  EXPECT_EQ(f.scans, 900);
+  EXPECT_GT(f.walls_in_view, 2000);
+  EXPECT_GE(f.true_positive_rate, 0.95);   // measured 0.9719
+  EXPECT_LE(f.false_positive_rate, 0.03);  // measured 0.0200
+  EXPECT_GE(f.in_gate_fraction, 0.90);     // measured 0.9168
 }
 
 TEST(ExtractionScoringTest, ExpoHallLms200WithVisitors) {
-  const ExtractionFigures f = ScoreWorld("expo_hall", 30, 100);
-  EXPECT_EQ(f.scans, 100);
-  EXPECT_GT(f.walls_in_view, 150);
-  // TODO(issue 5): acceptance is TP rate >= 0.95; measured 0.8925 (191 / 214):
-  // grazing showcase faces seen by 3-11 readings (fewer than n_f = 11), walls
-  // fused with a non-collinear neighbour, segments spanning occlusions.
-  EXPECT_GE(f.true_positive_rate, 0.88);  // measured 0.8925
-  // TODO(issue 5): acceptance is FP rate <= 0.03; measured 0.0870 (28 / 322).
-  EXPECT_LE(f.false_positive_rate, 0.09);  // measured 0.0870
-  EXPECT_GE(f.in_gate_fraction, 0.90);     // measured 0.9014 (marginal)
+  const ExtractionFigures f = ScoreWorld("expo_hall", 30, 200);  // 219 free cells
+  EXPECT_EQ(f.scans, 600);
+  EXPECT_GT(f.walls_in_view, 1200);
+  // Walls of surfaces the extraction's sensor model covers (all but the black
+  // velvet booth, exhibit 15: sigma x5 and 30% dropouts, which the thesis too
+  // found outside its model, §3.2.4 fig. 3.6).
+  EXPECT_GE(f.modelled_true_positive_rate, 0.95);  // measured 0.9605
+  // TODO(issue 5): acceptance is TP rate >= 0.95 over all walls; measured
+  // 0.9157: 62 of the 112 missed walls are the velvet booth's faces (a 1 cm
+  // sigma model cannot fit 5 cm noise), most others grazing showcase faces
+  // seen by fewer than n_f readings.
+  EXPECT_GE(f.true_positive_rate, 0.91);
+  EXPECT_LE(f.false_positive_rate, 0.03);  // measured 0.0261
+  EXPECT_GE(f.in_gate_fraction, 0.90);     // measured 0.9093
 }
 
 }  // namespace
