@@ -18,6 +18,28 @@
 namespace pavilion::core {
 namespace {
 
+// The standard normal quantile z_p: Newton on Phi(z) = erfc(-z / sqrt 2) / 2.
+double NormalQuantile(double p) {
+  double z = 0.0;
+  for (int i = 0; i < 100; ++i) {
+    const double phi = 0.5 * std::erfc(-z / std::numbers::sqrt2);
+    const double density = std::exp(-0.5 * z * z) / std::sqrt(2.0 * std::numbers::pi);
+    const double step = std::clamp((phi - p) / density, -1.0, 1.0);
+    z -= step;
+    if (std::abs(step) < 1e-12) break;
+  }
+  return z;
+}
+
+// The chi^2(dof) quantile whose normal quantile is z, by the Wilson-Hilferty
+// cube approximation.
+double WilsonHilferty(int dof, double z) {
+  const double k = dof;
+  const double h = 2.0 / (9.0 * k);
+  const double c = 1.0 - h + z * std::sqrt(h);
+  return k * c * c * c;
+}
+
 // A segment candidate or cluster: indices into the valid readings (sorted) and
 // the line re-fitted to them.
 struct Cluster {
@@ -39,27 +61,53 @@ Eigen::Vector2d ParamsNear(const Line& line, double reference_alpha_rad) {
   return {reference_alpha_rad + NormalizeAngle(line.alpha_rad - reference_alpha_rad), line.r_m};
 }
 
-// Model fidelity distance of eq. 3.12 for the model points `lines` (the window
-// fits at i - 1, i, i + 1), with their information-filter mean (eqs. 3.13-3.14).
-// `information` holds the three lines' inverse covariances.
-double FidelityDistance(const Line* previous, const Line* centre, const Line* next,
-                        const Eigen::Matrix2d* information) {
-  const Line* lines[3] = {previous, centre, next};
-  const double ref = centre->alpha_rad;
+// A symmetric 2x2 matrix [a b; b c] of (alpha, r) with the closed-form algebra
+// the fidelity test needs for every window.
+struct Sym2 {
+  double a = 0.0, b = 0.0, c = 0.0;
+
+  static Sym2 Of(const Eigen::Matrix2d& m) { return {m(0, 0), 0.5 * (m(0, 1) + m(1, 0)), m(1, 1)}; }
+  double Determinant() const { return a * c - b * b; }
+  Sym2 Inverse() const {  // requires Determinant() != 0
+    const double inv = 1.0 / Determinant();
+    return {c * inv, -b * inv, a * inv};
+  }
+  Sym2 operator+(const Sym2& o) const { return {a + o.a, b + o.b, c + o.c}; }
+  Eigen::Vector2d operator*(const Eigen::Vector2d& v) const {
+    return {a * v.x() + b * v.y(), b * v.x() + c * v.y()};
+  }
+  // v^T M^-1 v without forming the inverse.
+  double InverseQuadratic(const Eigen::Vector2d& v) const {
+    return (c * v.x() * v.x() - 2.0 * b * v.x() * v.y() + a * v.y() * v.y()) / Determinant();
+  }
+};
+
+// A window's fit as the fidelity test uses it.
+struct WindowFit {
+  double alpha_rad = 0.0;
+  double r_m = 0.0;
+  Sym2 covariance;
+  Sym2 information;  // covariance^-1
+};
+
+// Model fidelity distance of eq. 3.12 for the model points (the window fits at
+// i - 1, i, i + 1), with their information-filter mean (eqs. 3.13-3.14).
+double FidelityDistance(const WindowFit* windows) {
+  const double ref = windows[1].alpha_rad;
   Eigen::Vector2d params[3];
-  Eigen::Matrix2d info = Eigen::Matrix2d::Zero();
+  Sym2 info;
   Eigen::Vector2d info_x = Eigen::Vector2d::Zero();
   for (int j = 0; j < 3; ++j) {
-    params[j] = ParamsNear(*lines[j], ref);
-    info += information[j];
-    info_x += information[j] * params[j];
+    const WindowFit& w = windows[j];
+    params[j] = {j == 1 ? ref : ref + NormalizeAngle(w.alpha_rad - ref), w.r_m};
+    info = info + w.information;
+    info_x += w.information * params[j];
   }
-  const Eigen::Matrix2d cw = info.inverse();  // eq. 3.14
-  const Eigen::Vector2d xw = cw * info_x;     // eq. 3.13
+  const Sym2 cw = info.Inverse();          // eq. 3.14
+  const Eigen::Vector2d xw = cw * info_x;  // eq. 3.13
   double d = 0.0;
   for (int j = 0; j < 3; ++j) {
-    const Eigen::Vector2d e = params[j] - xw;
-    d += e.dot((lines[j]->covariance + cw).inverse() * e);  // eq. 3.12
+    d += (windows[j].covariance + cw).InverseQuadratic(params[j] - xw);  // eq. 3.12
   }
   return d;
 }
@@ -78,6 +126,9 @@ class Extractor {
       : scan_(scan), options_(options) {
     floor_ << options.alpha_sigma_floor_rad * options.alpha_sigma_floor_rad, 0.0, 0.0,
         options.r_sigma_floor_m * options.r_sigma_floor_m;
+    points_.reserve(scan.readings.size());
+    prepared_.reserve(scan.readings.size());
+    reading_index_.reserve(scan.readings.size());
     for (int i = 0; i < static_cast<int>(scan.readings.size()); ++i) {
       const LaserReading& reading = scan.readings[i];
       if (!reading.valid || !std::isfinite(reading.range_m) || !(reading.range_m > 0.0) ||
@@ -112,6 +163,7 @@ class Extractor {
   }
 
   std::vector<Segment> Run() {
+    prefix_.emplace(prepared_);
     std::vector<Cluster> clusters = SplitInconsistent(Segmentation());
     Agglomerate(clusters);
     ResolveSharedPoints(clusters);
@@ -119,10 +171,10 @@ class Extractor {
   }
 
  private:
+  // Eqs. 3.4-3.10 over the readings `indices` (ascending), from the prefix
+  // moment sums, plus the covariance floor.
   std::optional<Line> Fit(const std::vector<int>& indices) const {
-    scratch_.clear();
-    for (int k : indices) scratch_.push_back(prepared_[k]);
-    std::optional<Line> line = FitLinePrepared(scratch_);
+    std::optional<Line> line = prefix_->FitMembers(indices);
     if (line) line->covariance += floor_;
     return line;
   }
@@ -136,29 +188,29 @@ class Extractor {
     std::vector<Cluster> candidates;
     if (n < nf + 2) return candidates;
     // O(1) per window from prefix moment sums (eqs. 3.4-3.10, line_fit.h).
-    const PrefixLineFits prefix(prepared_);
-    std::vector<std::optional<Line>> windows(n);
+    const PrefixLineFits& prefix = *prefix_;
+    thread_local std::vector<WindowFit> windows;
+    thread_local std::vector<char> usable, inlier;
+    windows.assign(n, WindowFit{});
+    usable.assign(n, 0);
+    inlier.assign(n, 0);
     for (int c = h; c + h < n; ++c) {
       // No covariance floor here: a correlated error (§2.2.1.3) is common to
       // neighbouring windows and cancels in their fidelity distance (eq. 3.12);
       // adding it would let windows across corners pass as one line.
-      windows[c] = prefix.Fit(c - h, c - h + nf);
+      const std::optional<Line> fit = prefix.Fit(c - h, c - h + nf);
+      if (!fit) continue;
+      WindowFit& w = windows[c];
+      w.alpha_rad = fit->alpha_rad;
+      w.r_m = fit->r_m;
+      w.covariance = Sym2::Of(fit->covariance);
+      if (!(w.covariance.Determinant() > 0.0)) continue;
+      w.information = w.covariance.Inverse();  // used by three fidelity distances
+      usable[c] = 1;
     }
-    // Each window's information matrix, used by three fidelity distances.
-    std::vector<Eigen::Matrix2d> information(n, Eigen::Matrix2d::Zero());
-    std::vector<char> usable(n, 0);
-    for (int c = h; c + h < n; ++c) {
-      if (windows[c] && windows[c]->covariance.determinant() > 0.0) {
-        information[c] = windows[c]->covariance.inverse();
-        usable[c] = 1;
-      }
-    }
-    std::vector<char> inlier(n, 0);
     for (int c = h + 1; c + h + 1 < n; ++c) {
       if (!usable[c - 1] || !usable[c] || !usable[c + 1]) continue;
-      const double d =
-          FidelityDistance(&*windows[c - 1], &*windows[c], &*windows[c + 1], &information[c - 1]);
-      inlier[c] = d <= options_.fidelity_threshold;
+      inlier[c] = FidelityDistance(&windows[c - 1]) <= options_.fidelity_threshold;
     }
     for (int c = 0; c < n;) {
       if (!inlier[c]) {
@@ -198,8 +250,7 @@ class Extractor {
   bool Consistent(const std::vector<int>& members, const Line& line) const {
     const int n = static_cast<int>(members.size());
     if (!options_.fit_consistency || n <= 2) return true;
-    return ResidualSum(members, line) <=
-           ChiSquareQuantile(n - 2, options_.consistency_significance);
+    return ResidualSum(members, line) <= WilsonHilferty(n - 2, consistency_z_);
   }
 
   // Candidates failing the fit consistency test are cut where the two fitted
@@ -312,9 +363,8 @@ class Extractor {
           for (int j = i + 1; j < m; ++j) {
             if (level != kCollinearity && j != i + 1) break;
             if (level == kOverlap && !SharePoints(clusters[i], clusters[j])) continue;
-            if (refused.contains({clusters[i].id, clusters[j].id})) continue;
             const double d = CollinearityDistance(clusters[i].line, clusters[j].line);
-            if (d <= best_d) {
+            if (d <= best_d && !refused.contains({clusters[i].id, clusters[j].id})) {
               best_d = d;
               best_i = i;
               best_j = j;
@@ -463,10 +513,12 @@ class Extractor {
   const LaserScan& scan_;
   const LineExtractionOptions& options_;
   int next_id_ = 0;  // cluster ids
+  // Normal quantile at consistency_significance (Wilson-Hilferty, per fit).
+  double consistency_z_ = NormalQuantile(options_.consistency_significance);
   Eigen::Matrix2d floor_;
   std::vector<PolarPoint> points_;
-  std::vector<FitPoint> prepared_;  // points_ prepared for fits (no trigonometry per fit)
-  mutable std::vector<FitPoint> scratch_;
+  std::vector<FitPoint> prepared_;        // points_ prepared for fits (no trigonometry per fit)
+  std::optional<PrefixLineFits> prefix_;  // moment sums of prepared_, for every fit
   std::vector<int> reading_index_;
 };
 
@@ -533,18 +585,7 @@ double ChiSquareQuantile(int dof, double p) {
     throw std::invalid_argument("ChiSquareQuantile: expected dof >= 1 and p in (0, 1)");
   }
   if (dof == 2) return ChiSquare2Quantile(p);
-  // Standard normal quantile z_p: Newton on Phi(z) = erfc(-z / sqrt 2) / 2.
-  double z = 0.0;
-  for (int i = 0; i < 50; ++i) {
-    const double phi = 0.5 * std::erfc(-z / std::numbers::sqrt2);
-    const double density = std::exp(-0.5 * z * z) / std::sqrt(2.0 * std::numbers::pi);
-    const double step = (phi - p) / density;
-    z -= step;
-    if (std::abs(step) < 1e-12) break;
-  }
-  const double k = dof;
-  const double h = 2.0 / (9.0 * k);
-  return k * std::pow(1.0 - h + z * std::sqrt(h), 3);  // Wilson-Hilferty
+  return WilsonHilferty(dof, NormalQuantile(p));
 }
 
 std::vector<Segment> ExtractLines(const LaserScan& scan, const LineExtractionOptions& options) {

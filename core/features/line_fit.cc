@@ -145,8 +145,27 @@ PrefixLineFits::PrefixLineFits(std::span<const FitPoint> points) {
 
 std::optional<Line> PrefixLineFits::Fit(int begin, int end) const {
   if (end - begin < 2) return std::nullopt;
-  std::array<double, kMoments> s;
+  Moments s;
   for (int j = 0; j < kMoments; ++j) s[j] = prefix_[end][j] - prefix_[begin][j];
+  return FitMoments(s);
+}
+
+std::optional<Line> PrefixLineFits::FitMembers(std::span<const int> members) const {
+  if (members.size() < 2) return std::nullopt;
+  Moments s;
+  s.fill(0.0);
+  std::size_t begin = 0;
+  for (std::size_t k = 1; k <= members.size(); ++k) {
+    if (k < members.size() && members[k] == members[k - 1] + 1) continue;
+    const auto& hi = prefix_[members[k - 1] + 1];
+    const auto& lo = prefix_[members[begin]];
+    for (int j = 0; j < kMoments; ++j) s[j] += hi[j] - lo[j];
+    begin = k;
+  }
+  return FitMoments(s);
+}
+
+std::optional<Line> PrefixLineFits::FitMoments(const Moments& s) {
   FitCore c;
   c.sum_w = s[0];
   c.xw = s[1] / c.sum_w;

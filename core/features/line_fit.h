@@ -46,18 +46,25 @@ std::optional<Line> FitLinePrepared(std::span<const FitPoint> points);
 // moment matrix of (sin th, cos th, rho sin 2th, rho cos 2th) — the derivatives
 // d alpha/d rho_i and d r/d rho_i are linear in those per-point terms with
 // coefficients common to the run, and var_i = 1/w_i. For the sliding windows of
-// the extraction (§3.2.2), whose fits only steer the segmentation.
+// the extraction (§3.2.2) and its clusters (unions of runs). The differences of
+// prefix sums lose ~1e-16 of the scan's total moments: for ranges <= 80 m and
+// sigma >= 1 mm the fitted alpha agrees with FitLinePrepared to ~1e-12.
 class PrefixLineFits {
  public:
   explicit PrefixLineFits(std::span<const FitPoint> points);
   // The fit of points [begin, end); nullopt when degenerate.
   std::optional<Line> Fit(int begin, int end) const;
+  // The fit of the points `members` (ascending indices, no repeats) in
+  // O(number of runs of consecutive indices).
+  std::optional<Line> FitMembers(std::span<const int> members) const;
 
  private:
   // Per prefix: w, wx, wy, wxx, wyy, wxy, w rho^2, and the 10 entries of
   // sum w g g^T with g = (st, ct, rho s2t, rho c2t).
   static constexpr int kMoments = 17;
-  std::vector<std::array<double, kMoments>> prefix_;
+  using Moments = std::array<double, kMoments>;
+  static std::optional<Line> FitMoments(const Moments& sums);
+  std::vector<Moments> prefix_;
 };
 
 }  // namespace pavilion::core
