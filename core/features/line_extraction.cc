@@ -3,6 +3,7 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <iterator>
 #include <limits>
 #include <numbers>
@@ -353,9 +354,17 @@ class Extractor {
     const double gate = ChiSquare2Quantile(options_.significance);
     enum Level { kOverlap, kAdjacency, kCollinearity };
     std::set<std::pair<int, int>> refused;  // cluster id pairs whose union is no line
+    const auto union_of = [&](int i, int j) {
+      Cluster fused;
+      std::set_union(clusters[i].points.begin(), clusters[i].points.end(),
+                     clusters[j].points.begin(), clusters[j].points.end(),
+                     std::back_inserter(fused.points));
+      return fused;
+    };
     while (clusters.size() > 1) {
       int best_i = -1;
       int best_j = -1;
+      std::optional<Cluster> fused;  // set when the union was already fitted
       for (Level level : {kOverlap, kAdjacency, kCollinearity}) {
         double best_d = gate;
         const int m = static_cast<int>(clusters.size());
@@ -372,26 +381,75 @@ class Extractor {
           }
         }
         if (best_i >= 0) break;
+        // Overlapping and adjacent fragments of one wall estimate their lines
+        // from shared or neighbouring readings: eq. 3.16, which assumes two
+        // independent estimates, rejects fragments a noisy reading biased
+        // (short ones, whose alpha and r are strongly correlated). For them
+        // the readings decide, by the likelihood-ratio test of one line
+        // against two: with the union split into a's readings and the rest,
+        // the residual sum of the joint fit exceeds the two separate fits' by
+        // a chi^2(2) variable when all lie on one line. Of the pairs passing it
+        // (and the fit consistency test) the one nearest by eq. 3.16 is fused.
+        if (level == kCollinearity || !options_.fit_consistency) continue;
+        double best_union_d = std::numeric_limits<double>::infinity();
+        for (int i = 0; i + 1 < m; ++i) {
+          const int j = i + 1;
+          if (level == kOverlap && !SharePoints(clusters[i], clusters[j])) continue;
+          if (refused.contains({clusters[i].id, clusters[j].id})) continue;
+          const double d = CollinearityDistance(clusters[i].line, clusters[j].line);
+          if (d >= best_union_d) continue;
+          Cluster candidate = union_of(i, j);
+          if (!OneLine(clusters[i], &candidate, gate)) {
+            refused.insert({clusters[i].id, clusters[j].id});
+            continue;
+          }
+          best_union_d = d;
+          best_i = i;
+          best_j = j;
+          fused = std::move(candidate);
+        }
+        if (best_i >= 0) break;
       }
       if (best_i < 0) return;
-      Cluster fused;
-      std::set_union(clusters[best_i].points.begin(), clusters[best_i].points.end(),
-                     clusters[best_j].points.begin(), clusters[best_j].points.end(),
-                     std::back_inserter(fused.points));
-      const std::optional<Line> line = Fit(fused.points);
-      if (!line) return;  // cannot happen for two non-degenerate sets; stop merging
-      if (!Consistent(fused.points, *line)) {
-        refused.insert({clusters[best_i].id, clusters[best_j].id});
-        continue;
+      if (!fused) {
+        fused = union_of(best_i, best_j);
+        const std::optional<Line> line = Fit(fused->points);
+        if (!line) return;  // cannot happen for two non-degenerate sets; stop merging
+        if (!Consistent(fused->points, *line)) {
+          refused.insert({clusters[best_i].id, clusters[best_j].id});
+          continue;
+        }
+        fused->line = *line;
       }
-      fused.line = *line;
-      fused.id = next_id_++;
+      fused->id = next_id_++;
       clusters.erase(clusters.begin() + best_j);
-      clusters[best_i] = std::move(fused);
+      clusters[best_i] = std::move(*fused);
       std::sort(clusters.begin(), clusters.end(), [](const Cluster& a, const Cluster& b) {
         return a.points.front() < b.points.front();
       });
     }
+  }
+
+  // The likelihood-ratio test of Agglomerate for `a` and the union `joined`
+  // (points set, line fitted here when it passes): the residual sum about the
+  // joint line minus those of a's readings and of the rest about their own
+  // lines is at most the chi^2(2) quantile `gate`, and the union passes the
+  // fit consistency test.
+  bool OneLine(const Cluster& a, Cluster* joined, double gate) const {
+    const std::optional<Line> line = Fit(joined->points);
+    if (!line || !Consistent(joined->points, *line)) return false;
+    std::vector<int> rest;
+    std::set_difference(joined->points.begin(), joined->points.end(), a.points.begin(),
+                        a.points.end(), std::back_inserter(rest));
+    double separate = ResidualSum(a.points, a.line);
+    if (rest.size() >= 2) {
+      const std::optional<Line> rest_line = Fit(rest);
+      if (!rest_line) return false;
+      separate += ResidualSum(rest, *rest_line);
+    }
+    if (ResidualSum(joined->points, *line) - separate > gate) return false;
+    joined->line = *line;
+    return true;
   }
 
   // Non-collinear clusters may still share the readings of their window unions

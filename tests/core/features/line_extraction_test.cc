@@ -224,9 +224,7 @@ TEST(LineExtractionTest, NoisyRoomScansAreFoundAndConsistent) {
   ASSERT_GT(stats.expected, 400);
   EXPECT_EQ(stats.found, stats.expected);
   EXPECT_EQ(stats.spurious, 0);
-  // A slight tendency to oversegment is the price of finding every wall (the
-  // thesis tuned for it at Expo.02, §6.5); measured 3.2% with n_f = 9.
-  EXPECT_LE(stats.split, 0.05 * stats.expected);
+  EXPECT_LE(stats.split, 0.03 * stats.expected);  // measured 0.7%
   EXPECT_LE(stats.inconsistent, 0.05 * 200);
   EXPECT_GE(stats.in_gate, 0.9 * stats.matched);
   std::printf(
