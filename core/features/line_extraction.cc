@@ -199,7 +199,8 @@ class Extractor {
       // No covariance floor here: a correlated error (§2.2.1.3) is common to
       // neighbouring windows and cancels in their fidelity distance (eq. 3.12);
       // adding it would let windows across corners pass as one line.
-      const std::optional<Line> fit = prefix.Fit(c - h, c - h + nf);
+      const std::optional<Line> fit =
+          prefix.Fit(c - h, c - h + nf, PrefixLineFits::Precision::kFast);
       if (!fit) continue;
       WindowFit& w = windows[c];
       w.alpha_rad = fit->alpha_rad;

@@ -52,8 +52,12 @@ std::optional<Line> FitLinePrepared(std::span<const FitPoint> points);
 class PrefixLineFits {
  public:
   explicit PrefixLineFits(std::span<const FitPoint> points);
+  // kFast computes alpha with a polynomial atan2 good to 1e-7 rad (for the
+  // sliding windows, whose alpha sigma is of the order of 1e-2 rad); kExact
+  // with std::atan2.
+  enum class Precision { kExact, kFast };
   // The fit of points [begin, end); nullopt when degenerate.
-  std::optional<Line> Fit(int begin, int end) const;
+  std::optional<Line> Fit(int begin, int end, Precision precision = Precision::kExact) const;
   // The fit of the points `members` (ascending indices, no repeats) in
   // O(number of runs of consecutive indices).
   std::optional<Line> FitMembers(std::span<const int> members) const;
@@ -63,7 +67,7 @@ class PrefixLineFits {
   // sum w g g^T with g = (st, ct, rho s2t, rho c2t).
   static constexpr int kMoments = 17;
   using Moments = std::array<double, kMoments>;
-  static std::optional<Line> FitMoments(const Moments& sums);
+  static std::optional<Line> FitMoments(const Moments& sums, Precision precision);
   std::vector<Moments> prefix_;
 };
 

@@ -130,5 +130,38 @@ TEST(PrefixLineFits, WindowFitsEqualTheDirectFit) {
   }
 }
 
+// Members given as runs (a cluster fused across a gap) fit as the direct fit of
+// those points; the windows' polynomial atan2 agrees to 5e-8 rad.
+TEST(PrefixLineFits, MemberFitsAndFastWindowsAgreeWithTheDirectFit) {
+  RandomStream rng(22, 3);
+  std::vector<FitPoint> points;
+  for (int i = 0; i < 361; ++i) {
+    const double bearing = -std::numbers::pi / 2 + i * std::numbers::pi / 360;
+    const double range = 0.5 + 7.5 * std::abs(std::cos(0.03 * i)) + rng.Normal(0.0, 0.01);
+    points.push_back(*PrepareFitPoint({range, bearing, 0.01}));
+  }
+  const PrefixLineFits prefix(points);
+  std::vector<int> members;
+  std::vector<FitPoint> subset;
+  for (int i = 40; i < 300; ++i) {
+    if (i % 50 < 20) continue;  // gaps
+    members.push_back(i);
+    subset.push_back(points[i]);
+  }
+  const std::optional<Line> runs = prefix.FitMembers(members);
+  const std::optional<Line> direct = FitLinePrepared(subset);
+  ASSERT_TRUE(runs && direct);
+  EXPECT_NEAR(NormalizeAngle(runs->alpha_rad - direct->alpha_rad), 0.0, 1e-9);
+  EXPECT_NEAR(runs->r_m, direct->r_m, 1e-9);
+  for (int begin = 0; begin + 9 <= 361; ++begin) {
+    const std::optional<Line> exact = prefix.Fit(begin, begin + 9);
+    const std::optional<Line> fast = prefix.Fit(begin, begin + 9, PrefixLineFits::Precision::kFast);
+    ASSERT_EQ(exact.has_value(), fast.has_value());
+    if (!exact) continue;
+    EXPECT_NEAR(NormalizeAngle(fast->alpha_rad - exact->alpha_rad), 0.0, 5e-8) << begin;
+    EXPECT_NEAR(fast->r_m, exact->r_m, 1e-7) << begin;
+  }
+}
+
 }  // namespace
 }  // namespace pavilion::core
