@@ -1,5 +1,6 @@
 #include "scenarios/validate.h"
 
+#include "scenarios/map_file.h"
 #include "scenarios/robot_loader.h"
 #include "scenarios/scenario.h"
 #include "scenarios/world_loader.h"
@@ -40,13 +41,18 @@ std::vector<Diagnostic> ValidateFile(const std::string& path) {
     ReadRobot(&doc);  // also reads and checks the URDF it names
     return doc.diagnostics();
   }
+  if (kind == "map") {
+    ReadRobotMap(&doc);
+    return doc.diagnostics();
+  }
   const int line = root.IsMap() ? root.Mark().line + 1 : 0;
   if (kind.empty()) {
-    return {Diagnostic{path, line, "kind", "missing top-level 'kind' (world, scenario or robot)"}};
+    return {
+        Diagnostic{path, line, "kind", "missing top-level 'kind' (world, scenario, robot or map)"}};
   }
   return {Diagnostic{
       path, line, "kind",
-      "unknown kind '" + kind + "' (this version validates world, scenario and robot files)"}};
+      "unknown kind '" + kind + "' (this version validates world, scenario, robot and map files)"}};
 }
 
 }  // namespace pavilion::scenarios

@@ -12,6 +12,7 @@
 
 #include "scenarios/cli/calibrate_command.h"
 #include "scenarios/cli/extract_command.h"
+#include "scenarios/cli/map_command.h"
 #include "scenarios/cli/scan_command.h"
 #include "scenarios/data_paths.h"
 #include "scenarios/input_error.h"
@@ -137,6 +138,7 @@ int main(int argc, char** argv) {
       "Examples:\n  pavilion run scenarios/expo_visitors.yaml --out out/demo\n"
       "  pavilion validate worlds/*/world.yaml scenarios/*.yaml\n"
       "  pavilion world render expo_hall --png hall.png\n"
+      "  pavilion map derive expo_hall --out map.yaml\n"
       "  pavilion scan expo_hall robox --pose 15,3,1.57 --out scan.csv --png scan.png");
   std::string log_level = "info";
   app.add_option("--log-level", log_level, "trace, debug, info, warn, error or off")
@@ -157,11 +159,12 @@ int main(int argc, char** argv) {
       "--duration 20 --set physics.rate_hz=100");
 
   std::vector<std::string> validate_files;
-  auto* validate =
-      app.add_subcommand("validate", "Check world, robot and scenario files, print every error");
+  auto* validate = app.add_subcommand(
+      "validate", "Check world, robot, scenario and map files, print every error");
   validate->add_option("files", validate_files, "Files to check")->required();
   validate->footer(
-      "Example:\n  pavilion validate worlds/*/world.yaml robots/*/robot.yaml scenarios/*.yaml");
+      "Example:\n  pavilion validate worlds/*/world.yaml worlds/*/map.yaml robots/*/robot.yaml "
+      "scenarios/*.yaml");
 
   auto* version = app.add_subcommand("version", "Print the version");
   version->footer("Example:\n  pavilion version");
@@ -188,6 +191,11 @@ int main(int argc, char** argv) {
 
   cli::ExtractArgs extract_args;
   auto* extract = cli::AddExtractCommand(&app, &extract_args);
+
+  // --- map: robot maps (scenarios/cli/map_command.cc) ---
+  cli::MapArgs map_args;
+  auto* map = cli::AddMapCommand(&app, &map_args);
+  // --- end map ---
 
   // --- calibrate: odometry calibration (scenarios/cli/calibrate_command.cc) ---
   cli::CalibrateArgs calibrate_args;
@@ -218,6 +226,7 @@ int main(int argc, char** argv) {
     if (*scan) return cli::RunScanCommand(scan_args);
     if (*extract) return cli::RunExtractCommand(extract_args);
     if (*calibrate) return cli::RunCalibrateCommand(calibrate_args);  // calibrate
+    if (*map) return cli::RunMapCommand(map_args);                    // map
   } catch (const scenarios::InputError& e) {
     for (std::size_t i = 1; i < e.diagnostics().size(); ++i) {
       spdlog::debug("also: {}", e.diagnostics()[i].ToString());
