@@ -15,6 +15,7 @@
 
 #include "core/features/line_fit.h"
 #include "core/features/segment_builder.h"
+#include "core/math/chi_square.h"
 
 namespace pavilion::core {
 namespace {
@@ -636,16 +637,6 @@ LineExtractionOptions LineExtractionOptions::LeuzeRs3() {
 // SICK LMS 200: 0.5 deg on 180 deg, sigma = 1 cm. See the struct default of
 // window_size for the choice of n_f.
 LineExtractionOptions LineExtractionOptions::SickLms200() { return LineExtractionOptions{}; }
-
-double ChiSquare2Quantile(double p) { return -2.0 * std::log1p(-p); }
-
-double ChiSquareQuantile(int dof, double p) {
-  if (dof < 1 || !(p > 0.0 && p < 1.0)) {
-    throw std::invalid_argument("ChiSquareQuantile: expected dof >= 1 and p in (0, 1)");
-  }
-  if (dof == 2) return ChiSquare2Quantile(p);
-  return WilsonHilferty(dof, NormalQuantile(p));
-}
 
 std::vector<Segment> ExtractLines(const LaserScan& scan, const LineExtractionOptions& options) {
   options.Validate();

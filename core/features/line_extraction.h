@@ -75,14 +75,6 @@ struct LineExtractionOptions {
   static LineExtractionOptions SickLms200();
 };
 
-// The chi^2 quantile with two degrees of freedom at probability p, -2 ln(1 - p).
-double ChiSquare2Quantile(double p);
-
-// The chi^2 quantile with `dof` >= 1 degrees of freedom at probability p in
-// (0, 1): the Wilson-Hilferty cube approximation (relative error < 1% for
-// dof >= 3 at p = 0.99; exact for dof = 2).
-double ChiSquareQuantile(int dof, double p);
-
 // Extracts line segments from a scan (thesis §3.2, appendix C): a line is fitted
 // to every window of n_f consecutive valid readings (eqs. 3.4-3.10), windows
 // whose model fidelity distance (eqs. 3.12-3.14) is at most d_m (eq. 3.15) form

@@ -7,6 +7,7 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "core/math/chi_square.h"
 #include "core/types/pose2.h"
 
 namespace pavilion::core {
@@ -43,8 +44,6 @@ Line AlignedTo(const Line& line, const Line& reference) {
   return Mahalanobis2Fixed(flipped, reference) < Mahalanobis2Fixed(line, reference) ? flipped
                                                                                     : line;
 }
-
-double ChiSquare2QuantileLocal(double p) { return -2.0 * std::log(1.0 - p); }
 
 }  // namespace
 
@@ -93,7 +92,7 @@ Line FuseLines(const std::vector<Line>& lines) {
 std::vector<MultiSegmentLine> GroupMultiSegmentLines(const std::vector<Segment>& segments,
                                                      const MultiSegmentLineOptions& options) {
   options.Validate();
-  const double gate = ChiSquare2QuantileLocal(options.significance);
+  const double gate = ChiSquare2Quantile(options.significance);
 
   struct Cluster {
     std::vector<int> members;

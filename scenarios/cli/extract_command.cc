@@ -19,6 +19,7 @@
 #include "core/features/scene_description.h"
 #include "core/features/split_and_merge.h"
 #include "core/geometry/planar_section.h"
+#include "core/math/chi_square.h"
 #include "core/types/image.h"
 #include "scenarios/carmen_log.h"
 #include "scenarios/data_paths.h"

@@ -12,6 +12,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "core/math/chi_square.h"
 #include "core/random/random_stream.h"
 #include "tests/support/synthetic_room.h"
 

@@ -1,0 +1,204 @@
+#pragma once
+
+// EKF pose tracking with features (thesis chapter 4, §4.4): multi-sensor,
+// on-the-fly. The class the rest of the system reads for the robot's pose.
+
+#include <Eigen/Core>
+#include <numbers>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/features/beacon_extraction.h"
+#include "core/features/line_extraction.h"
+#include "core/localization/encoder_odometry.h"
+#include "core/localization/matching.h"
+#include "core/localization/measurement_prediction.h"
+#include "core/localization/observation.h"
+#include "core/localization/odometry_buffer.h"
+#include "core/map/robot_map.h"
+#include "core/odometry/diff_drive.h"
+#include "core/types/sensor_data.h"
+
+namespace pavilion::core {
+
+// How the Localizer turns one laser's scans into observations.
+struct LaserSensorOptions {
+  std::string id;  // LaserScan::sensor_id these options apply to
+  // R_S, perception radius (eq. 5.47), m; >= 0, 0: the scan's max_range_m.
+  double perception_radius_m = 0.0;
+  // Phi_S (eq. 5.48), rad; in [0, pi). See SensorView::min_view_angle_rad.
+  double min_view_angle_rad = SensorView{}.min_view_angle_rad;
+  // P_S, covariance of the mounting pose (eq. 4.9); zero for a SICK (§2.2.2).
+  Eigen::Matrix3d robot_from_sensor_covariance = Eigen::Matrix3d::Zero();
+  LineExtractionOptions lines = LineExtractionOptions::SickLms200();
+  bool extract_beacons = true;  // retro-reflectors (§3.3) as kBeacon observations
+  BeaconExtractionOptions beacons;
+  // Register the scan into the frame of its first reading before extraction
+  // (§2.2.1.4, §4.4.4) when its readings carry different time offsets.
+  bool deskew = true;
+
+  void Validate() const;  // throws std::invalid_argument naming the field
+};
+
+struct LocalizerOptions {
+  EncoderOdometryOptions odometry;  // calibrated radii, wheelbase, k_L, k_R (§2.3)
+  // alpha of the validation gate (eq. 4.16) and of the Mahalanobis pre-tests of
+  // the visibility (eq. 5.47) and extension (eq. 5.58) constraints; the
+  // thesis' experiments use 0.95 (§5.7); in (0, 1).
+  double significance = 0.95;
+  // Extension constraint for map segments and MS-lines (§5.3.2.3).
+  bool use_extension_constraint = true;
+  // See PredictionOptions::use_map_line_angle_variance (thesis §4.3: false).
+  bool use_map_line_angle_variance = false;
+  // How far back odometry is kept: the oldest observation time stamp that can
+  // still be integrated, relative to the latest encoder reading, s; > 0.
+  double odometry_buffer_s = 2.0;
+  // Scans from sensors without an entry in `lasers` use `default_laser`.
+  LaserSensorOptions default_laser;
+  std::vector<LaserSensorOptions> lasers;  // ids unique
+
+  // "Lost" detection. The thesis counts a lost situation when manual
+  // relocalization was needed, and saw periods of 5-10 s without any match
+  // from which the robot recovered by itself (§4.5.3.1): the timeout lies
+  // above those. Lost is sticky until the next Initialize().
+  double lost_no_match_timeout_s = 20.0;  // no match for this long, s; > 0
+  // Consecutive failed cycles: at least `min_observations_for_failure`
+  // observations and as many visible predictions, but no pairing in any
+  // validation gate (the signature of a kidnapped robot); >= 1.
+  int lost_failed_cycles = 20;
+  int min_observations_for_failure = 3;  // >= 1
+  // Position uncertainty beyond which tracking is hopeless (the validation
+  // gates then admit wrong pairings, Fig. 4.4): largest sigma of (x, y), m; > 0.
+  double lost_position_sigma_m = 1.0;
+
+  void Validate() const;  // throws std::invalid_argument naming the field
+};
+
+enum class LocalizationState { kUninitialized, kTracking, kLost };
+enum class LostReason { kNone, kNoMatchTimeout, kRepeatedGateFailures, kUncertaintyTooLarge };
+
+struct LocalizerStatus {
+  LocalizationState state = LocalizationState::kUninitialized;
+  LostReason reason = LostReason::kNone;
+  double lost_since_s = 0.0;  // when kLost: the time it was detected
+  double last_match_s = 0.0;  // stamp of the latest cycle with a match (or of Initialize)
+  int consecutive_failed_cycles = 0;
+};
+
+// What happened to an observation batch or scan handed to the Localizer.
+enum class ObservationStatus {
+  kIntegrated,      // matched and estimated at its time stamp, carried forward
+  kDeferred,        // waits for odometry to reach it (or behind an earlier deferred item)
+  kNotInitialized,  // dropped: Initialize() first
+  kTooOld,          // dropped: older than the odometry buffer
+  kOutOfOrder,      // dropped: older than an already integrated observation (§4.4.3)
+};
+
+// The latest localization cycle (one batch of one sensor).
+struct CycleReport {
+  std::string sensor_id;
+  double stamp_s = 0.0;
+  int predictions = 0;                // visible map features
+  int observations = 0;               // extracted features
+  std::vector<FeatureMatch> matches;  // predicted feature, observation index, innovation, NIS
+};
+
+// Cumulative counts since construction.
+struct LocalizerCounters {
+  long cycles = 0;
+  long predictions = 0;
+  long observations = 0;
+  long matches = 0;
+  long deferred = 0;
+  long too_old = 0;
+  long out_of_order = 0;
+};
+
+// EKF pose tracking (§4.4). Odometry from encoder readings predicts the state
+// step by step (eqs. 4.6-4.7 with 2.5-2.13) into an odometry buffer; every
+// observation batch is matched and estimated at its own time stamp against the
+// state predicted for that instant, and the correction is carried forward to
+// the present by re-running the buffered odometry steps (§4.4.3). Sensors are
+// integrated sequentially in time-stamp order, never as nested filters (§4.4.3),
+// so a slow sensor's update cannot overwrite a faster one's. A batch stamped
+// after the latest encoder reading waits until odometry reaches its stamp (a
+// scan to be registered: its last reading), and later-stamped batches wait
+// behind it; one stamped before an already integrated batch is refused
+// (kOutOfOrder): callers hand over data in time-stamp order within the
+// buffer's latency.
+//
+// Not copyable or movable (the predictor refers to the owned map).
+class Localizer {
+ public:
+  // Throws std::invalid_argument from options.Validate().
+  Localizer(RobotMap map, const LocalizerOptions& options);
+  Localizer(const Localizer&) = delete;
+  Localizer& operator=(const Localizer&) = delete;
+
+  // Sets the estimate (e.g. from global localization) at the latest encoder
+  // time, or at `stamp_s`: a stamp within the odometry buffer is carried forward
+  // to the present; one after the latest encoder reading is taken as the
+  // latest; an older one throws std::invalid_argument. Resets the lost state.
+  void Initialize(const Pose2& world_from_robot, const Eigen::Matrix3d& covariance);
+  void Initialize(const Pose2& world_from_robot, const Eigen::Matrix3d& covariance, double stamp_s);
+
+  // One odometry step from cumulative encoder counts (first reading: starts the
+  // count). Throws std::invalid_argument for a stamp earlier than the previous
+  // reading's or a bad ticks_per_revolution. Integrates deferred batches that
+  // the new odometry reaches.
+  void AddEncoders(const EncoderReading& reading);
+
+  // Registers (deskew), extracts lines (grouping the pieces of one line,
+  // Segment::line_id, into one observation) and beacons, and integrates them.
+  ObservationStatus AddScan(const LaserScan& scan);
+
+  // Integrates already extracted observations (any sensor, e.g. a camera's
+  // vertical edges). Throws std::invalid_argument for a bad view, a non-finite
+  // observation, or one whose type is not in a non-empty `batch.types`.
+  ObservationStatus AddObservations(const ObservationBatch& batch);
+
+  // The estimate at the latest encoder time stamp_s(). Meaningful once initialized.
+  const PoseWithCovariance& estimate() const;
+  double stamp_s() const;
+  const LocalizerStatus& status() const { return status_; }
+  const CycleReport& last_cycle() const { return last_cycle_; }
+  const LocalizerCounters& counters() const { return counters_; }
+  const RobotMap& map() const { return map_; }
+  const LocalizerOptions& options() const { return options_; }
+  const OdometryBuffer& odometry_buffer() const { return buffer_; }
+
+ private:
+  struct Pending {
+    double stamp_s = 0.0;  // time of integration (a scan's first reading)
+    double ready_s = 0.0;  // odometry must reach this time (a scan's last reading)
+    std::optional<LaserScan> scan;
+    ObservationBatch batch;
+  };
+
+  const LaserSensorOptions& LaserOptions(const std::string& sensor_id) const;
+  ObservationStatus ProcessScan(const LaserScan& scan);
+  ObservationStatus Integrate(const ObservationBatch& batch);
+  // kOutOfOrder, kTooOld, or kIntegrated when the stamp can still be integrated.
+  ObservationStatus Admit(double stamp_s) const;
+  bool MustWait(double stamp_s, double ready_s) const;
+  void Defer(Pending pending);
+  void ProcessPending();
+  void CheckLost(double now_s);
+  void DeclareLost(LostReason reason, double now_s);
+
+  RobotMap map_;
+  LocalizerOptions options_;
+  MeasurementPredictor predictor_;
+  IterativeMatcher matcher_;
+  OdometryBuffer buffer_;
+  std::optional<EncoderReading> last_encoders_;
+  Pose2 dead_reckoning_;  // uncorrected odometry pose
+  double last_integrated_s_ = 0.0;
+  std::vector<Pending> pending_;  // by stamp_s
+  LocalizerStatus status_;
+  CycleReport last_cycle_;
+  LocalizerCounters counters_;
+};
+
+}  // namespace pavilion::core
