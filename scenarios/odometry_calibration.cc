@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <numbers>
 #include <optional>
@@ -107,6 +108,11 @@ constexpr double kSettleS = 0.5;
 // Stop after each segment, as UMBmark's stop-and-turn squares do (s); and at the end.
 constexpr double kPauseS = 0.3;
 constexpr double kFinalRestS = 0.5;
+// The grid of the (C5') likelihood search: log10 of k and k_turn (m) from
+// kLogKMin to kLogKMax in kLikelihoodGridSteps steps.
+constexpr double kLogKMin = -10.0;
+constexpr double kLogKMax = -3.0;
+constexpr int kLikelihoodGridSteps = 56;
 // Deceleration planned into the speed profile, as a fraction of the motors'
 // rim acceleration limit, so the ramped motors can follow it.
 constexpr double kDecelFraction = 0.5;
@@ -610,25 +616,84 @@ OdometryCalibrationReport EstimateCalibration(const sim::RobotConfig& config,
   }
   report.calibrated = CorrectedModel(report.nominal, report.umbmark, scale);
 
-  // (C5): k̂ from the residuals of every run under the calibrated model.
-  double sum_m2 = 0.0;
+  // (C5'): k̂ and k̂_turn from the residuals of every run under the calibrated
+  // model. P_i is linear in the two: P_i = k·A_i + k_turn·B_i, with A_i and
+  // B_i eq. 2.13 propagated with unit k and unit k_turn. The log-likelihood
+  //     ℓ = −½ Σ_i [log det P_i + e_iᵀ P_i⁻¹ e_i]
+  // has no closed-form maximum with two terms: it is maximized over a grid in
+  // log k × log k_turn (and k_turn = 0), then refined by coordinate search.
+  std::vector<Eigen::Matrix3d> unit_k, unit_turn;
+  std::vector<Eigen::Vector3d> world_errors;
   std::vector<Eigen::Vector3d> calibrated_errors;
+  for (const RecordedRun& r : runs) {
+    const core::PoseWithCovariance a =
+        IntegrateRecordedRun(r, report.calibrated, core::WheelNoise{1.0, 1.0, 0.0});
+    const core::PoseWithCovariance b =
+        IntegrateRecordedRun(r, report.calibrated, core::WheelNoise{0.0, 0.0, 1.0});
+    calibrated_errors.push_back(EndPoseError(r, a.pose));
+    // The residual in the world frame, as P is.
+    world_errors.emplace_back(r.true_end.x_m - a.pose.x_m, r.true_end.y_m - a.pose.y_m,
+                              Wrap(r.true_end.theta_rad - a.pose.theta_rad));
+    unit_k.push_back(a.covariance);
+    unit_turn.push_back(b.covariance);
+  }
+  const auto log_likelihood = [&](double k, double k_turn) {
+    double l = 0.0;
+    for (std::size_t i = 0; i < runs.size(); ++i) {
+      const Eigen::Matrix3d p = k * unit_k[i] + k_turn * unit_turn[i];
+      const Eigen::LDLT<Eigen::Matrix3d> ldlt(p);
+      if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 0.0)) {
+        return -std::numeric_limits<double>::infinity();
+      }
+      l -= 0.5 *
+           (ldlt.vectorD().array().log().sum() + world_errors[i].dot(ldlt.solve(world_errors[i])));
+    }
+    return l;
+  };
+  double best_k = 1e-6, best_turn = 0.0;
+  double best_l = -std::numeric_limits<double>::infinity();
+  for (int a = 0; a <= kLikelihoodGridSteps; ++a) {
+    const double k = std::pow(10.0, kLogKMin + (kLogKMax - kLogKMin) * a / kLikelihoodGridSteps);
+    for (int b = -1; b <= kLikelihoodGridSteps; ++b) {
+      const double turn =
+          b < 0 ? 0.0 : std::pow(10.0, kLogKMin + (kLogKMax - kLogKMin) * b / kLikelihoodGridSteps);
+      const double l = log_likelihood(k, turn);
+      if (l > best_l) {
+        best_l = l;
+        best_k = k;
+        best_turn = turn;
+      }
+    }
+  }
+  // Coordinate refinement: multiplicative steps that shrink.
+  for (double step = 1.5; step > 1.0001; step = std::sqrt(step)) {
+    for (bool improved = true; improved;) {
+      improved = false;
+      for (const auto& [k, turn] : {std::pair{best_k * step, best_turn},
+                                    {best_k / step, best_turn},
+                                    {best_k, best_turn * step},
+                                    {best_k, best_turn / step}}) {
+        const double l = log_likelihood(k, turn);
+        if (l > best_l) {
+          best_l = l;
+          best_k = k;
+          best_turn = turn;
+          improved = true;
+        }
+      }
+    }
+  }
   std::vector<double> m2;
   for (std::size_t i = 0; i < runs.size(); ++i) {
-    const RecordedRun& r = runs[i];
-    const core::PoseWithCovariance unit =
-        IntegrateRecordedRun(r, report.calibrated, core::WheelNoise{1.0, 1.0});
-    calibrated_errors.push_back(EndPoseError(r, unit.pose));
-    // The residual in the world frame, as P is.
-    const Eigen::Vector3d e(r.true_end.x_m - unit.pose.x_m, r.true_end.y_m - unit.pose.y_m,
-                            Wrap(r.true_end.theta_rad - unit.pose.theta_rad));
-    m2.push_back(e.dot(unit.covariance.ldlt().solve(e)));
-    sum_m2 += m2.back();
+    const Eigen::Matrix3d p = best_k * unit_k[i] + best_turn * unit_turn[i];
+    m2.push_back(world_errors[i].dot(p.ldlt().solve(world_errors[i])));
   }
   report.k_dof = 3 * static_cast<int>(runs.size());
-  report.k_m = sum_m2 / report.k_dof;
+  report.k_m = best_k;
+  report.k_turn_m = best_turn;
   report.calibrated.k_left_m = report.k_m;
   report.calibrated.k_right_m = report.k_m;
+  report.calibrated.k_turn_m = report.k_turn_m;
   report.e_max_syst_after_m = std::max(
       CentreOfGravity(ErrorsOf(runs, calibrated_errors, CalibrationRunKind::kSquareCcw)).norm(),
       CentreOfGravity(ErrorsOf(runs, calibrated_errors, CalibrationRunKind::kSquareCw)).norm());
@@ -646,7 +711,7 @@ OdometryCalibrationReport EstimateCalibration(const sim::RobotConfig& config,
     }
     row.error_nominal = nominal_errors[i];
     row.error_calibrated = calibrated_errors[i];
-    row.mahalanobis_sq = report.k_m > 0.0 ? m2[i] / report.k_m : 0.0;
+    row.mahalanobis_sq = m2[i];
     report.runs.push_back(row);
   }
   return report;
@@ -715,6 +780,7 @@ std::string CalibrationJson(const OdometryCalibrationReport& r) {
             r.calibrated.right_wheel_radius_m / r.calibrated.left_wheel_radius_m},
            {"wheelbase_factor", r.calibrated.wheelbase_m / r.nominal.wheelbase_m},
            {"k_m", r.k_m},
+           {"k_turn_m", r.k_turn_m},
            {"k_dof", r.k_dof},
            {"e_max_syst_before_m", u.e_max_syst_m},
            {"e_max_syst_after_m", r.e_max_syst_after_m}}},
@@ -733,6 +799,7 @@ std::string OdometryYamlBlock(const OdometryCalibrationReport& r, const std::str
   s << "  wheelbase_m: " << Format("%.6f", r.calibrated.wheelbase_m) << "\n";
   s << "  k_left_m: " << Format("%.3e", r.calibrated.k_left_m) << "\n";
   s << "  k_right_m: " << Format("%.3e", r.calibrated.k_right_m) << "\n";
+  s << "  k_turn_m: " << Format("%.3e", r.calibrated.k_turn_m) << "\n";
   return s.str();
 }
 
@@ -779,8 +846,9 @@ std::string CalibrationTable(const OdometryCalibrationReport& r) {
                 r.systematic.wheel_radius_ratio, r.calibrated.wheelbase_m,
                 r.calibrated.wheelbase_m / r.nominal.wheelbase_m, r.systematic.wheelbase_factor);
   s << buf;
-  std::snprintf(buf, sizeof buf, "           k_L = k_R = %.3e m from %d residual dof", r.k_m,
-                r.k_dof);
+  std::snprintf(buf, sizeof buf,
+                "           k_L = k_R = %.3e m, k_turn = %.3e m from %d residual dof", r.k_m,
+                r.k_turn_m, r.k_dof);
   s << buf;
   if (r.encoder_noise) {
     std::snprintf(buf, sizeof buf, " (encoder noise on: k_L %.3e, k_R %.3e)", r.encoder_k_left_m,

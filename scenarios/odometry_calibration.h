@@ -155,6 +155,7 @@ struct OdometryCalibrationReport {
   double straight_scale = 1.0;      // true / odometric distance of the straight runs
   double e_max_syst_after_m = 0.0;  // UMBmark's measure with the calibrated model
   double k_m = 0.0;                 // k̂ (= k_L = k_R)
+  double k_turn_m = 0.0;            // k̂_turn, the turn-slip term (core::WheelNoise)
   int k_dof = 0;                    // 3 × runs used
   std::vector<CalibrationRunReport> runs;
   double simulated_s = 0.0;

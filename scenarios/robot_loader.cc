@@ -330,6 +330,7 @@ class RobotReader {
     length("wheelbase_m", d.wheelbase_m(), &o.wheelbase_m);
     o.k_left_m = r.RequiredNumber("k_left_m", 0.0, kMaxK).value_or(o.k_left_m);
     o.k_right_m = r.RequiredNumber("k_right_m", 0.0, kMaxK).value_or(o.k_right_m);
+    o.k_turn_m = r.Number("k_turn_m", 0.0, 0.0, kMaxK);
     r.Finish();
     CheckValid(r.node(), "odometry", [&] { o.Validate(); });
     return o;

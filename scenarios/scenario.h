@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "nav/path_follower.h"
 #include "sim/body_motion.h"
 #include "sim/robot_config.h"
 #include "sim/world.h"
@@ -36,14 +37,41 @@ struct DriveCommand {
   double right_radps = 0.0;
 };
 
-// A robot of the scenario: its model (robots/<name>/robot.yaml), start pose
-// and scripted wheel-speed profile.
+// A robot's EKF pose tracking (thesis §4.4): the map it is given, how often it
+// localizes and where its estimate starts.
+struct LocalizationEntry {
+  bool enabled = false;
+  std::string map_file;  // the robot's map.yaml (default: the world's)
+  // Localization cycles per second: each laser's scans are integrated at most
+  // this often (the thesis: 2 Hz, §4.5.2).
+  double rate_hz = 2.0;
+  // The estimate starts at the true start pose plus `initial_offset` (x, y in
+  // the world frame, theta), with standard deviations `initial_sigma`.
+  core::Pose2 initial_offset;
+  Eigen::Vector3d initial_sigma{0.01, 0.01, 0.0175};  // m, m, rad
+  double significance = 0.95;                         // of the validation gate (eq. 4.16)
+  std::vector<std::string> lasers;                    // lasers that feed it; empty: all
+};
+
+// A tour through the stops of the robot's map topology, driven by the path
+// follower from the robot's estimate (localization, or odometry without it).
+struct RouteEntry {
+  std::vector<std::string> stops;  // node ids of the map
+  double start_s = 0.0;
+  nav::PathFollowerOptions follower;
+  double control_rate_hz = 20.0;  // path follower updates per second
+};
+
+// A robot of the scenario: its model (robots/<name>/robot.yaml), start pose,
+// and either a scripted wheel-speed profile or a route.
 struct RobotEntry {
   std::string id;
   std::string model;  // as written in the scenario
   sim::RobotConfig config;
   core::Pose2 pose;
   std::vector<DriveCommand> drive;  // sorted by time
+  LocalizationEntry localization;
+  std::optional<RouteEntry> route;
 };
 
 // A scripted event of the timeline.
@@ -70,6 +98,9 @@ struct Scenario {
   std::string source_file;
   std::uint64_t seed = 1;
   double duration_s = 60.0;
+  // End the run early once every robot with a route has finished it.
+  bool end_when_routes_done = false;
+  std::string world_file;  // the world.yaml (its folder holds the default map.yaml)
   sim::WorldOptions physics;
   sim::WorldDescription world;
   std::vector<BodyEntry> bodies;

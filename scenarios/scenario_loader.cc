@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -192,6 +193,90 @@ void ReadBodies(YamlDocument* doc, MapReader& top, const sim::WorldDescription& 
   }
 }
 
+// localization: {map, rate_hz, initial_offset: [x, y, theta], initial_sigma:
+// [x, y, theta], significance, lasers: [ids]} (thesis §4.4).
+void ReadLocalization(YamlDocument* doc, MapReader& r, const std::string& base,
+                      const Scenario& scenario, RobotEntry* robot) {
+  YAML::Node node = r.Child("localization");
+  if (!node.IsDefined()) return;
+  MapReader m(doc, node, r.PathOf("localization"));
+  if (!m.valid()) return;
+  LocalizationEntry& l = robot->localization;
+  l.enabled = m.Bool("enabled", true);
+  const std::string map = m.String("map", "");
+  if (map.empty()) {
+    l.map_file = (std::filesystem::path(scenario.world_file).parent_path() / "map.yaml").string();
+  } else {
+    l.map_file = (std::filesystem::path(base) / map).string();
+  }
+  if (!std::filesystem::exists(l.map_file)) {
+    doc->Error(m.Has("map") ? m.Child("map") : node, m.PathOf("map"),
+               "no map file '" + l.map_file + "' (derive one: pavilion map derive)");
+  }
+  l.rate_hz = m.Number("rate_hz", l.rate_hz, 0.01, 1000.0);
+  if (auto o = m.Numbers("initial_offset", 3, false))
+    l.initial_offset = {(*o)[0], (*o)[1], (*o)[2]};
+  if (auto sigma = m.Numbers("initial_sigma", 3, false)) {
+    for (int k = 0; k < 3; ++k) {
+      if (!((*sigma)[k] > 0.0)) {
+        doc->Error(m.Child("initial_sigma"), m.PathOf("initial_sigma"), "expected values > 0");
+        break;
+      }
+      l.initial_sigma[k] = (*sigma)[k];
+    }
+  }
+  l.significance = m.Number("significance", l.significance, 0.5, 0.999999);
+  if (YAML::Node lasers = m.Child("lasers"); lasers.IsDefined()) {
+    if (!lasers.IsSequence()) {
+      doc->Error(lasers, m.PathOf("lasers"), "expected a list of laser ids");
+    } else {
+      for (std::size_t k = 0; k < lasers.size(); ++k) {
+        const std::string id = lasers[k].as<std::string>("");
+        const bool known =
+            std::any_of(robot->config.lasers.begin(), robot->config.lasers.end(),
+                        [&](const sim::LaserMount& mount) { return mount.id == id; });
+        if (!known) {
+          doc->Error(lasers[k], Index(m.PathOf("lasers"), k),
+                     "robot model '" + robot->model + "' has no laser '" + id + "'");
+        }
+        l.lasers.push_back(id);
+      }
+    }
+  }
+  m.Finish();
+}
+
+// route: {stops: [node ids], start_s, max_speed_mps, max_accel_mps2,
+// max_turn_rate_radps, max_turn_accel_radps2, lookahead_m, max_lateral_accel_mps2,
+// goal_tolerance_m, control_rate_hz}
+void ReadRoute(YamlDocument* doc, MapReader& r, RobotEntry* robot) {
+  YAML::Node node = r.Child("route");
+  if (!node.IsDefined()) return;
+  MapReader m(doc, node, r.PathOf("route"));
+  if (!m.valid()) return;
+  RouteEntry route;
+  YAML::Node stops = m.Child("stops", true);
+  if (stops.IsDefined() && (!stops.IsSequence() || stops.size() < 2)) {
+    doc->Error(stops, m.PathOf("stops"), "expected a list of at least two map node ids");
+  }
+  for (std::size_t k = 0; stops.IsSequence() && k < stops.size(); ++k) {
+    route.stops.push_back(stops[k].as<std::string>(""));
+  }
+  route.start_s = m.Number("start_s", 0.0, 0.0, kMaxDurationS);
+  nav::PathFollowerOptions& f = route.follower;
+  f.max_speed_mps = m.Number("max_speed_mps", f.max_speed_mps, 0.01, 5.0);
+  f.max_accel_mps2 = m.Number("max_accel_mps2", f.max_accel_mps2, 0.01, 10.0);
+  f.max_turn_rate_radps = m.Number("max_turn_rate_radps", f.max_turn_rate_radps, 0.01, 10.0);
+  f.max_turn_accel_radps2 = m.Number("max_turn_accel_radps2", f.max_turn_accel_radps2, 0.01, 100.0);
+  f.lookahead_m = m.Number("lookahead_m", f.lookahead_m, 0.05, 10.0);
+  f.max_lateral_accel_mps2 =
+      m.Number("max_lateral_accel_mps2", f.max_lateral_accel_mps2, 0.01, 10.0);
+  f.goal_tolerance_m = m.Number("goal_tolerance_m", f.goal_tolerance_m, 0.001, 5.0);
+  route.control_rate_hz = m.Number("control_rate_hz", route.control_rate_hz, 0.1, 1000.0);
+  m.Finish();
+  robot->route = route;
+}
+
 // robots: [{id, model, pose: [x, y, theta], drive: [{at_s, left, right} |
 // {at_s, speed_mps, turn_radps}], systematic: {...}, encoder_noise: bool}]
 void ReadRobots(YamlDocument* doc, MapReader& top, const std::string& base, Scenario* s) {
@@ -275,6 +360,11 @@ void ReadRobots(YamlDocument* doc, MapReader& top, const std::string& base, Scen
       }
       robot.drive.push_back(c);
     }
+    ReadLocalization(doc, r, base, *s, &robot);
+    ReadRoute(doc, r, &robot);
+    if (robot.route && !robot.drive.empty()) {
+      doc->Error(r.Child("route"), r.PathOf("route"), "give either drive or route, not both");
+    }
     r.Finish();
     s->robots.push_back(robot);
   }
@@ -341,6 +431,7 @@ Scenario LoadScenarioFile(const std::string& path, const ScenarioOverrides& over
   s.description = top.String("description", "");
   s.seed = static_cast<std::uint64_t>(top.Integer("seed", 1, 0, INT64_MAX));
   s.duration_s = top.RequiredNumber("duration_s", 1e-3, kMaxDurationS).value_or(1.0);
+  s.end_when_routes_done = top.Bool("end_when_routes_done", false);
   if (overrides.seed) s.seed = *overrides.seed;
   if (overrides.duration_s) s.duration_s = *overrides.duration_s;
 
@@ -368,7 +459,8 @@ Scenario LoadScenarioFile(const std::string& path, const ScenarioOverrides& over
   const std::string base = std::filesystem::path(path).parent_path().string();
   if (auto world = top.RequiredString("world")) {
     try {
-      s.world = LoadWorldFile(ResolveWorldPath(*world, base));
+      s.world_file = ResolveWorldPath(*world, base);
+      s.world = LoadWorldFile(s.world_file);
     } catch (const InputError& e) {
       auto all = doc.diagnostics();
       all.insert(all.end(), e.diagnostics().begin(), e.diagnostics().end());

@@ -11,7 +11,11 @@
 
 #include "core/odometry/diff_drive.h"
 #include "core/random/random_stream.h"
+#include "nav/path_follower.h"
+#include "nav/route_planner.h"
 #include "scenarios/input_error.h"
+#include "scenarios/localization_run.h"
+#include "scenarios/map_file.h"
 #include "scenarios/output_files.h"
 #include "scenarios/png.h"
 #include "scenarios/report.h"
@@ -45,6 +49,38 @@ std::string Fixed(double v, int decimals) {
   std::snprintf(buf, sizeof buf, "%.*f", decimals, v == 0.0 ? 0.0 : v);  // no "-0.000"
   return buf;
 }
+
+// One CSV row built field by field (GCC 12 warns falsely, -Wrestrict, on long
+// chains of string `+`).
+class CsvRow {
+ public:
+  CsvRow& Add(const std::string& field) {
+    if (!row_.empty() || fields_ > 0) row_ += ',';
+    row_ += field;
+    ++fields_;
+    return *this;
+  }
+  CsvRow& Add(double value, int decimals) { return Add(Fixed(value, decimals)); }
+  CsvRow& Add(std::int64_t value) { return Add(std::to_string(value)); }
+  CsvRow& Empty(int count) {
+    for (int k = 0; k < count; ++k) Add(std::string());
+    return *this;
+  }
+  // The six distinct entries of a 3x3 covariance, %.6e.
+  CsvRow& Covariance(const Eigen::Matrix3d& c) {
+    for (const auto& [i, j] : {std::pair{0, 0}, {0, 1}, {0, 2}, {1, 1}, {1, 2}, {2, 2}}) {
+      char buf[32];
+      std::snprintf(buf, sizeof buf, "%.6e", c(i, j));
+      Add(std::string(buf));
+    }
+    return *this;
+  }
+  const std::string& str() const { return row_; }
+
+ private:
+  std::string row_;
+  int fields_ = 0;
+};
 
 double FootprintRadius(const sim::BodyShape& s) {
   if (s.type == sim::BodyShapeType::kBox) return 0.5 * s.box_size_m.head<2>().norm();
@@ -166,7 +202,35 @@ struct RobotRun {
   std::int64_t bumper_presses = 0;
   std::vector<Eigen::Vector2d> track;
   std::vector<Eigen::Vector2d> odometry_track;
+  std::vector<Eigen::Vector2d> estimate_track;
+  std::unique_ptr<LocalizationRun> localization;
+  std::unique_ptr<nav::PathFollower> follower;
+  std::int64_t control_period_ticks = 1;
+  bool route_done = false;
+  double route_done_s = 0.0;
 };
+
+// The path of a robot's route over its map's topology; errors name the
+// scenario key.
+std::vector<Eigen::Vector2d> RoutePath(const RobotEntry& entry, const Scenario& scenario,
+                                       std::size_t index) {
+  const std::string key = "robots[" + std::to_string(index) + "].route.stops";
+  std::string map_file = entry.localization.map_file;
+  if (map_file.empty()) {
+    map_file = (std::filesystem::path(scenario.world_file).parent_path() / "map.yaml").string();
+  }
+  try {
+    const core::RobotMap map = LoadMapFile(map_file);
+    std::vector<Eigen::Vector2d> path = nav::TourPath(map, entry.route->stops);
+    // From the robot's start to the first stop.
+    path.insert(path.begin(), entry.pose.translation());
+    return path;
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw InputError(Diagnostic{scenario.source_file, 0, key, e.what()});
+  }
+}
 
 // Shows "sim 12.3/60.0 s  RTF 41.2x  ETA 1.2 s" on one updating line.
 class ProgressLine {
@@ -229,6 +293,16 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
           Diagnostic{scenario.source_file, 0, "robots[" + std::to_string(k) + "]", e.what()});
     }
     robot_index[entry.id] = static_cast<int>(k);
+    RobotRun& run = robots.back();
+    if (entry.localization.enabled) {
+      run.localization = std::make_unique<LocalizationRun>(entry, scenario.source_file);
+    }
+    if (entry.route) {
+      run.follower =
+          std::make_unique<nav::PathFollower>(RoutePath(entry, scenario, k), entry.route->follower);
+      run.control_period_ticks = std::max<std::int64_t>(
+          1, std::llround(scenario.physics.physics_rate_hz / entry.route->control_rate_hz));
+    }
   }
 
   const double dt = world.step_s();
@@ -240,7 +314,20 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   LineWriter events(fs::path(out / "events.jsonl").string());
   LineWriter trajectories(fs::path(out / "trajectories.csv").string());
   trajectories.Append(
-      "time_s,id,true_x_m,true_y_m,true_theta_rad,odom_x_m,odom_y_m,odom_theta_rad");
+      "time_s,id,true_x_m,true_y_m,true_theta_rad,odom_x_m,odom_y_m,odom_theta_rad,est_x_m,est_y_"
+      "m,est_theta_rad,cov_xx,cov_xy,cov_xtheta,cov_yy,cov_ytheta,cov_thetatheta");
+  const bool any_localization = std::any_of(
+      robots.begin(), robots.end(), [](const RobotRun& r) { return r.localization != nullptr; });
+  std::unique_ptr<LineWriter> localization_log;
+  if (any_localization) {
+    localization_log = std::make_unique<LineWriter>((out / "localization.csv").string());
+    localization_log->Append(
+        "time_s,id,cycle,true_x_m,true_y_m,true_theta_rad,est_x_m,est_y_m,est_theta_rad,cov_xx,"
+        "cov_xy,cov_xtheta,cov_yy,cov_ytheta,cov_thetatheta,position_error_m,heading_error_rad,"
+        "nees,two_sigma_frontal_m,two_sigma_lateral_m,two_sigma_heading_rad,predictions,"
+        "observations,matched_lines,matched_beacons,lost");
+  }
+
   std::unique_ptr<ScanLogWriter> scan_log;
   if (scenario.outputs.scan_log && !robots.empty()) {
     std::vector<std::string> ids;
@@ -272,16 +359,36 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   auto record = [&](double t) {
     for (int b = 0; b < world.body_count(); ++b) {
       const core::Pose2& p = snapshot.bodies[b].pose;
-      trajectories.Append(Fixed(t, 3) + "," + world.body_spec(b).id + "," + Fixed(p.x_m, 6) + "," +
-                          Fixed(p.y_m, 6) + "," + Fixed(p.theta_rad, 6) + ",,,");
+      trajectories.Append(CsvRow()
+                              .Add(t, 3)
+                              .Add(world.body_spec(b).id)
+                              .Add(p.x_m, 6)
+                              .Add(p.y_m, 6)
+                              .Add(p.theta_rad, 6)
+                              .Empty(12)
+                              .str());
       tracks[b].push_back(p.translation());
     }
     for (std::size_t k = 0; k < robots.size(); ++k) {
       const core::Pose2& p = snapshot.robots[k].pose;
       const core::Pose2& o = robots[k].odometry.pose();
-      trajectories.Append(Fixed(t, 3) + "," + robots[k].entry->id + "," + Fixed(p.x_m, 6) + "," +
-                          Fixed(p.y_m, 6) + "," + Fixed(p.theta_rad, 6) + "," + Fixed(o.x_m, 6) +
-                          "," + Fixed(o.y_m, 6) + "," + Fixed(o.theta_rad, 6));
+      CsvRow row;
+      row.Add(t, 3)
+          .Add(robots[k].entry->id)
+          .Add(p.x_m, 6)
+          .Add(p.y_m, 6)
+          .Add(p.theta_rad, 6)
+          .Add(o.x_m, 6)
+          .Add(o.y_m, 6)
+          .Add(o.theta_rad, 6);
+      if (robots[k].localization) {
+        const core::PoseWithCovariance& e = robots[k].localization->localizer().estimate();
+        row.Add(e.pose.x_m, 6).Add(e.pose.y_m, 6).Add(e.pose.theta_rad, 6).Covariance(e.covariance);
+        robots[k].estimate_track.push_back(e.pose.translation());
+      } else {
+        row.Empty(9);
+      }
+      trajectories.Append(row.str());
       robots[k].track.push_back(p.translation());
       robots[k].odometry_track.push_back(o.translation());
     }
@@ -298,7 +405,10 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   const auto t_loop = Clock::now();
   const double startup_s = Seconds(t_loop - t_start);
   double physics_s = 0.0;
-  double sensors_s = 0.0;  // robots' sensors, laser rays included
+  double sensors_s = 0.0;       // robots' sensors, laser rays included
+  double localization_s = 0.0;  // extraction and EKF (part of sensors_s)
+  std::int64_t localization_cycles = 0;
+  std::int64_t ticks_run = 0;
   ProgressLine progress(options.progress, scenario.duration_s);
   std::size_t next_event = 0;
   for (std::int64_t tick = 0; tick < total_ticks; ++tick) {
@@ -348,6 +458,29 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
     for (int b = 0; b < world.body_count(); ++b) {
       if (motions[b])
         world.SetPlanarVelocity(b, commands[b].linear_mps, commands[b].yaw_rate_radps);
+    }
+    for (RobotRun& r : robots) {
+      if (!r.follower || r.route_done || t + 1e-9 < r.entry->route->start_s ||
+          tick % r.control_period_ticks != 0) {
+        continue;
+      }
+      // Steer from what the robot believes: its estimate, or odometry without it.
+      const core::Pose2 believed =
+          r.localization ? r.localization->localizer().estimate().pose : r.odometry.pose();
+      const double period_s = static_cast<double>(r.control_period_ticks) * dt;
+      const nav::VelocityCommand command = r.follower->Update(believed, period_s);
+      const sim::OdometryCalibration& c = r.entry->config.odometry;
+      const nav::WheelSpeeds w =
+          nav::ToWheelSpeeds(command, c.left_wheel_radius_m, c.right_wheel_radius_m, c.wheelbase_m);
+      r.robot->SetWheelSpeeds(w.left_radps, w.right_radps);
+      if (r.follower->done()) {
+        r.route_done = true;
+        r.route_done_s = t;
+        emit(Json{{"time_s", std::stod(Fixed(t, 6))},
+                  {"type", "route_done"},
+                  {"robot", r.entry->id},
+                  {"length_m", std::stod(Fixed(r.follower->length_m(), 3))}});
+      }
     }
     for (RobotRun& r : robots) {
       const auto& drive = r.entry->drive;
@@ -405,19 +538,73 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
         ++r.scans;
         if (scan_log) scan_log->Append(r.entry->id, scan.scan, scan.truth);
       }
+      if (r.localization) {
+        const auto t_localization = Clock::now();
+        std::vector<const core::LaserScan*> scans;
+        for (const sim::ScanRecord& scan : outputs.scans) scans.push_back(&scan.scan);
+        const bool cycle =
+            r.localization->Update(outputs.encoders, scans, next.robots[k].pose, t_after);
+        localization_s += Seconds(Clock::now() - t_localization);
+        if (cycle) {
+          ++localization_cycles;
+          const LocalizationCycle& c = r.localization->last_cycle();
+          localization_log->Append(
+              CsvRow()
+                  .Add(c.time_s, 3)
+                  .Add(r.entry->id)
+                  .Add(static_cast<std::int64_t>(r.localization->cycles().size()) - 1)
+                  .Add(c.truth.x_m, 6)
+                  .Add(c.truth.y_m, 6)
+                  .Add(c.truth.theta_rad, 6)
+                  .Add(c.estimate.x_m, 6)
+                  .Add(c.estimate.y_m, 6)
+                  .Add(c.estimate.theta_rad, 6)
+                  .Covariance(c.covariance)
+                  .Add(c.position_error_m, 6)
+                  .Add(c.heading_error_rad, 6)
+                  .Add(c.nees, 4)
+                  .Add(c.two_sigma_frontal_m, 6)
+                  .Add(c.two_sigma_lateral_m, 6)
+                  .Add(c.two_sigma_heading_rad, 6)
+                  .Add(std::int64_t{c.predictions})
+                  .Add(std::int64_t{c.observations})
+                  .Add(std::int64_t{c.matched_lines})
+                  .Add(std::int64_t{c.matched_beacons})
+                  .Add(std::int64_t{c.lost ? 1 : 0})
+                  .str());
+          if (r.localization->lost_started()) {
+            emit(Json{{"time_s", std::stod(Fixed(t_after, 6))},
+                      {"type", "lost"},
+                      {"robot", r.entry->id},
+                      {"reason", r.localization->lost_reason()},
+                      {"position_error_m", std::stod(Fixed(c.position_error_m, 4))},
+                      {"heading_error_deg",
+                       std::stod(Fixed(c.heading_error_rad * 180.0 / std::numbers::pi, 3))}});
+          }
+        }
+      }
     }
     sensors_s += Seconds(Clock::now() - t_sensors);
     snapshot = std::move(next);
     if (schedule.IsDue(trajectory_task, tick + 1)) record(t_after);
     if ((tick & 255) == 0) progress.Update(t_after, Seconds(Clock::now() - t_loop));
+    ticks_run = tick + 1;
+    if (scenario.end_when_routes_done &&
+        std::any_of(robots.begin(), robots.end(),
+                    [](const RobotRun& r) { return r.follower != nullptr; }) &&
+        std::all_of(robots.begin(), robots.end(),
+                    [](const RobotRun& r) { return !r.follower || r.route_done; })) {
+      break;
+    }
   }
   progress.Done();
   const double loop_s = Seconds(Clock::now() - t_loop);
-  const double sim_s = static_cast<double>(total_ticks) * dt;
+  const double sim_s = static_cast<double>(ticks_run) * dt;
   emit(Json{{"time_s", std::stod(Fixed(sim_s, 6))}, {"type", "run_finished"}});
   events.Flush();
   trajectories.Flush();
   if (scan_log) scan_log->Close();
+  if (localization_log) localization_log->Flush();
 
   // metrics.json: a function of scenario and seed only (metrics.md, schema 1).
   Json metrics;
@@ -427,7 +614,7 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   metrics["pavilion_version"] = kVersion;
   metrics["world"] = scenario.world.name;
   metrics["sim_duration_s"] = sim_s;
-  metrics["physics"] = {{"rate_hz", scenario.physics.physics_rate_hz}, {"ticks", total_ticks}};
+  metrics["physics"] = {{"rate_hz", scenario.physics.physics_rate_hz}, {"ticks", ticks_run}};
   if (world.body_count() > 0) {
     Json bodies;
     double total_distance = 0.0;
@@ -460,6 +647,34 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
             {"heading_rad",
              std::stod(
                  Fixed(std::abs(core::NormalizeAngle(odo.theta_rad - truth.theta_rad)), 6))}}}};
+      if (r.localization) {
+        const LocalizationFigures f = r.localization->Figures();
+        const auto n = [](double v) { return std::stod(Fixed(v, 6)); };
+        robot_metrics[r.entry->id]["localization"] = {
+            {"cycles", f.cycles},
+            {"position_rmse_m", n(f.position_rmse_m)},
+            {"position_median_m", n(f.position_median_m)},
+            {"position_max_m", n(f.position_max_m)},
+            {"heading_rmse_deg", n(f.heading_rmse_deg)},
+            {"heading_median_deg", n(f.heading_median_deg)},
+            {"heading_max_deg", n(f.heading_max_deg)},
+            {"two_sigma_frontal_m", n(f.two_sigma_frontal_m)},
+            {"two_sigma_lateral_m", n(f.two_sigma_lateral_m)},
+            {"two_sigma_heading_deg", n(f.two_sigma_heading_deg)},
+            {"anees", n(f.anees)},
+            {"nees_below_95_bound_ratio", n(f.nees_below_95_bound_ratio)},
+            {"matched_lines_per_cycle", n(f.matched_lines_per_cycle)},
+            {"matched_beacons_per_cycle", n(f.matched_beacons_per_cycle)},
+            {"cycles_without_match", f.cycles_without_match},
+            {"lost_situations", f.lost_situations}};
+      }
+      if (r.follower) {
+        robot_metrics[r.entry->id]["route"] = {
+            {"stops", r.entry->route->stops},
+            {"length_m", std::stod(Fixed(r.follower->length_m(), 3))},
+            {"done", r.route_done},
+            {"done_at_s", r.route_done ? std::stod(Fixed(r.route_done_s, 3)) : sim_s}};
+      }
     }
     metrics["robots"] = robot_metrics;
   }
@@ -472,6 +687,9 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   for (const RobotRun& r : robots) {
     top_tracks.push_back({r.odometry_track, {230, 150, 20}, 0.8});  // what the encoders believe
     top_tracks.push_back({r.track, {20, 60, 220}, 0.9});            // the true path
+    if (!r.estimate_track.empty()) {
+      top_tracks.push_back({r.estimate_track, {30, 160, 60}, 0.7});  // the localization estimate
+    }
   }
   sim::TopDownOptions view;
   view.width_px = scenario.outputs.image_width_px;
@@ -484,7 +702,7 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
 
   RunSummary summary;
   summary.sim_duration_s = sim_s;
-  summary.ticks = total_ticks;
+  summary.ticks = ticks_run;
   summary.startup_s = startup_s;
   summary.wall_time_s = Seconds(Clock::now() - t_start);
   summary.real_time_factor = loop_s > 0 ? sim_s / loop_s : 0.0;
@@ -498,8 +716,12 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   perf["real_time_factor"] = summary.real_time_factor;
   perf["peak_rss_mb"] = PeakRssMb();
   perf["threads"] = 1;  // the worker pool comes with the speed issue
-  perf["physics_steps_per_s"] = physics_s > 0 ? static_cast<double>(total_ticks) / physics_s : 0.0;
+  perf["physics_steps_per_s"] = physics_s > 0 ? static_cast<double>(ticks_run) / physics_s : 0.0;
   perf["laser_rays"] = world.rays_cast();
+  if (localization_cycles > 0) {
+    // Line extraction, matching and estimation per localization cycle.
+    perf["localization_us_per_cycle"] = 1e6 * localization_s / localization_cycles;
+  }
   perf["laser_rays_per_s"] =
       sensors_s > 0 ? static_cast<double>(world.rays_cast()) / sensors_s : 0.0;
   perf["stages_s"] = {{"startup", startup_s},

@@ -20,6 +20,7 @@ void OdometryCalibration::Validate() const {
   positive(wheelbase_m, "wheelbase_m");
   non_negative(k_left_m, "k_left_m");
   non_negative(k_right_m, "k_right_m");
+  non_negative(k_turn_m, "k_turn_m");
 }
 
 }  // namespace pavilion::sim

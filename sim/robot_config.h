@@ -40,6 +40,7 @@ struct OdometryCalibration {
   double wheelbase_m = 0.4;           // > 0
   double k_left_m = 5e-6;   // §2.3 wheel-space noise per metre of travel, >= 0 (thesis: 5e-6 m)
   double k_right_m = 5e-6;  // >= 0
+  double k_turn_m = 0.0;    // turn slip (core::WheelNoise), >= 0
 
   void Validate() const;  // throws std::invalid_argument naming the field
 };

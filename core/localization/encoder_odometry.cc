@@ -22,6 +22,7 @@ void EncoderOdometryOptions::Validate() const {
   Require(std::isfinite(wheelbase_m) && wheelbase_m > 0.0, "wheelbase_m", "a finite value > 0");
   Require(std::isfinite(k_left_m) && k_left_m >= 0.0, "k_left_m", "a finite value >= 0");
   Require(std::isfinite(k_right_m) && k_right_m >= 0.0, "k_right_m", "a finite value >= 0");
+  Require(std::isfinite(k_turn_m) && k_turn_m >= 0.0, "k_turn_m", "a finite value >= 0");
 }
 
 WheelTravel WheelTravelFromEncoders(const EncoderReading& previous, const EncoderReading& current,

@@ -18,8 +18,9 @@ struct EncoderOdometryOptions {
   double wheelbase_m = 0.5;            // calibrated b, m; > 0
   double k_left_m = 5e-6;              // k_L of eq. 2.9, m; >= 0
   double k_right_m = 5e-6;             // k_R of eq. 2.9, m; >= 0
+  double k_turn_m = 0.0;               // turn slip (WheelNoise), m; >= 0
 
-  WheelNoise noise() const { return {k_left_m, k_right_m}; }
+  WheelNoise noise() const { return {k_left_m, k_right_m, k_turn_m}; }
   void Validate() const;  // throws std::invalid_argument naming the field
 };
 

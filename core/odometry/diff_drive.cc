@@ -36,6 +36,13 @@ Eigen::Matrix2d WheelTravelCovariance(const WheelTravel& travel, const WheelNois
   Eigen::Matrix2d u = Eigen::Matrix2d::Zero();
   u(kRightWheel, kRightWheel) = noise.k_right_m * std::abs(travel.right_m);
   u(kLeftWheel, kLeftWheel) = noise.k_left_m * std::abs(travel.left_m);
+  // Turn slip: d ~ N(0, k_turn |s_r - s_l|) as +d/2 on the right wheel, -d/2 on
+  // the left.
+  const double turn = 0.25 * noise.k_turn_m * std::abs(travel.right_m - travel.left_m);
+  u(kRightWheel, kRightWheel) += turn;
+  u(kLeftWheel, kLeftWheel) += turn;
+  u(kRightWheel, kLeftWheel) -= turn;
+  u(kLeftWheel, kRightWheel) -= turn;
   return u;
 }
 

@@ -32,9 +32,17 @@ inline constexpr int kLeftWheel = 1;
 
 // Wheel-space noise of eq. 2.9: the variance of a wheel's travel grows by
 // k·|s| per step, k in metres (thesis value k_L = k_R = 5e-6 m).
+//
+// Extension (not in the thesis): slip in turns. A differential slip d with
+// Var(d) = k_turn·|s_r − s_l| moves the wheels by +d/2 and −d/2, so the
+// heading's variance grows by k_turn·|Δθ|/b per step besides the k terms.
+// Wheels scrub when they turn the robot (in-place turns, tight curves); eq.
+// 2.9 alone, calibrated on straights and turns together, makes the odometry
+// several times too confident in turns (docs/calibration.md). 0 gives eq. 2.9.
 struct WheelNoise {
   double k_left_m = 0.0;   // >= 0
   double k_right_m = 0.0;  // >= 0
+  double k_turn_m = 0.0;   // >= 0
 };
 
 // Jacobians of f(x, u) (eq. 2.10) at the step's input.
@@ -46,7 +54,8 @@ struct DiffDriveJacobians {
 DiffDriveJacobians DiffDriveStepJacobians(const Pose2& pose, const WheelTravel& travel,
                                           double wheelbase_m);
 
-// U = Cov(u) = diag(k_R|s_r|, k_L|s_l|), eq. 2.9, in the [s_r, s_l] order.
+// U = Cov(u) = diag(k_R|s_r|, k_L|s_l|), eq. 2.9, in the [s_r, s_l] order, plus
+// the turn-slip term k_turn·|s_r − s_l|/4·[1 −1; −1 1] (see WheelNoise).
 Eigen::Matrix2d WheelTravelCovariance(const WheelTravel& travel, const WheelNoise& noise);
 
 // A pose with its 3×3 covariance P = Cov([x, y, θ]ᵀ).

@@ -363,7 +363,8 @@ TEST(CliTest, ScriptedBodyDrivesStraight) {
   const std::vector<std::string> lines = Lines(ReadFile(out / "trajectories.csv"));
   ASSERT_GE(lines.size(), 3u);
   EXPECT_EQ(lines[0],
-            "time_s,id,true_x_m,true_y_m,true_theta_rad,odom_x_m,odom_y_m,odom_theta_rad");
+            "time_s,id,true_x_m,true_y_m,true_theta_rad,odom_x_m,odom_y_m,odom_theta_rad,est_x_m,"
+            "est_y_m,est_theta_rad,cov_xx,cov_xy,cov_xtheta,cov_yy,cov_ytheta,cov_thetatheta");
   struct Row {
     double t, x, y, theta;
   };

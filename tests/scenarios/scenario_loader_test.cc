@@ -307,6 +307,60 @@ TEST(ScenarioLoaderTest, ReportsBadRobotEntries) {
   }
 }
 
+// Localization and route entries: read with their defaults; a missing map file,
+// an unknown laser, a drive and a route on one robot are errors with lines.
+TEST(ScenarioLoaderTest, LoadsLocalizationAndRouteAndReportsTheirErrors) {
+  const std::string good = WithRobot(ScenarioText(),
+                                     "  - id: r1\n"
+                                     "    model: pygmalion\n"
+                                     "    pose: [1, 2, 0]\n"
+                                     "    localization:\n"
+                                     "      map: loc_map.yaml\n"
+                                     "      rate_hz: 4\n"
+                                     "      initial_offset: [0.3, 0, 0.05]\n"
+                                     "      lasers: [front]\n"
+                                     "    route:\n"
+                                     "      stops: [a, b]\n"
+                                     "      max_speed_mps: 0.4\n");
+  const std::string good_path = WriteScenario(good);
+  // The loader checks that the map exists; the run reads it.
+  WriteFile(fs::path(good_path).parent_path(), "loc_map.yaml", "kind: map\nname: m\n");
+  const Scenario s = LoadScenarioFile(good_path);
+  ASSERT_EQ(s.robots.size(), 1u);
+  const RobotEntry& r = s.robots[0];
+  EXPECT_TRUE(r.localization.enabled);
+  EXPECT_EQ(fs::path(r.localization.map_file).filename(), "loc_map.yaml");
+  EXPECT_EQ(r.localization.rate_hz, 4.0);
+  EXPECT_EQ(r.localization.initial_offset, (core::Pose2{0.3, 0.0, 0.05}));
+  EXPECT_EQ(r.localization.lasers, (std::vector<std::string>{"front"}));
+  ASSERT_TRUE(r.route.has_value());
+  EXPECT_EQ(r.route->stops, (std::vector<std::string>{"a", "b"}));
+  EXPECT_EQ(r.route->follower.max_speed_mps, 0.4);
+
+  const std::string bad = WithRobot(ScenarioText(),
+                                    "  - id: r1\n"
+                                    "    model: pygmalion\n"
+                                    "    pose: [1, 2, 0]\n"
+                                    "    drive:\n"
+                                    "      - {at_s: 0, left: 1, right: 1}\n"
+                                    "    localization:\n"
+                                    "      map: no_such_map.yaml\n"
+                                    "      lasers: [top]\n"
+                                    "    route:\n"
+                                    "      stops: [a]\n");
+  const std::string path = WriteScenario(bad);
+  std::vector<std::string> keys;
+  for (const Diagnostic& d : LoadErrors(path)) {
+    EXPECT_EQ(d.file, path);
+    EXPECT_GT(d.line, 0) << d.ToString();
+    keys.push_back(d.key_path);
+  }
+  for (const char* key : {"robots[0].localization.map", "robots[0].localization.lasers[0]",
+                          "robots[0].route.stops", "robots[0].route"}) {
+    EXPECT_NE(std::find(keys.begin(), keys.end(), key), keys.end()) << key;
+  }
+}
+
 // Confirms that a body material defined neither by the world nor the scenario is an error.
 TEST(ScenarioLoaderTest, ReportsUnknownBodyMaterial) {
   std::string text = ScenarioText();

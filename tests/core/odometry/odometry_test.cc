@@ -192,5 +192,24 @@ TEST(DiffDriveCovarianceTest, WithoutNoiseOnlyTransportsTheStartCovariance) {
   EXPECT_EQ(next.covariance, next.covariance.transpose());
 }
 
+// The turn-slip term (an extension of eq. 2.9): a differential slip of
+// variance k_turn |s_r - s_l| adds k_turn |s_r - s_l| / b^2 to the heading's
+// variance and nothing on a straight step.
+TEST(DiffDriveCovarianceTest, TurnSlipAddsHeadingVarianceInTurnsOnly) {
+  const double b = 0.4;
+  const WheelNoise turn_only{0.0, 0.0, 2e-5};
+  const WheelTravel spin{-0.1, 0.1};  // left, right: an in-place turn of 0.5 rad
+  const Eigen::Matrix2d u = WheelTravelCovariance(spin, turn_only);
+  EXPECT_NEAR(u(kRightWheel, kRightWheel), 0.25 * 2e-5 * 0.2, 1e-18);
+  EXPECT_NEAR(u(kRightWheel, kLeftWheel), -0.25 * 2e-5 * 0.2, 1e-18);
+  const PoseWithCovariance next = DiffDriveStepWithCovariance({}, spin, b, turn_only);
+  EXPECT_NEAR(next.covariance(2, 2), 2e-5 * 0.2 / (b * b), 1e-15);
+  const Eigen::Matrix2d position = next.covariance.topLeftCorner(2, 2);
+  EXPECT_NEAR(position.norm(), 0.0, 1e-18);  // in place
+  const PoseWithCovariance straight =
+      DiffDriveStepWithCovariance({}, WheelTravel{0.3, 0.3}, b, turn_only);
+  EXPECT_EQ(straight.covariance, Eigen::Matrix3d::Zero());
+}
+
 }  // namespace
 }  // namespace pavilion::core
