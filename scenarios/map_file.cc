@@ -37,26 +37,6 @@ bool IsName(const std::string& s, bool id) {
   return true;
 }
 
-std::string Index(const std::string& list, std::size_t i) {
-  return list + "[" + std::to_string(i) + "]";
-}
-
-template <typename Fn>
-void ForEachItem(YamlDocument* doc, MapReader& top, const std::string& key, Fn fn) {
-  YAML::Node list = top.Child(key);
-  if (!list.IsDefined() || list.IsNull()) return;
-  if (!list.IsSequence()) {
-    doc->Error(list, key, "expected a list");
-    return;
-  }
-  for (std::size_t i = 0; i < list.size(); ++i) {
-    MapReader r(doc, list[i], Index(key, i));
-    if (!r.valid()) continue;
-    fn(r);
-    r.Finish();
-  }
-}
-
 std::optional<std::string> Id(YamlDocument* doc, MapReader& r, std::set<std::string>* used,
                               const std::string& kind) {
   auto id = r.RequiredString("id");
@@ -176,7 +156,7 @@ void ReadFeature(YamlDocument* doc, MapReader& r, std::set<std::string>* ids, co
       } else {
         double last = -std::numeric_limits<double>::infinity();
         for (std::size_t i = 0; i < list.size(); ++i) {
-          MapReader s(doc, list[i], Index(r.PathOf("segments"), i));
+          MapReader s(doc, list[i], IndexPath(r.PathOf("segments"), i));
           if (!s.valid()) {
             ok = false;
             continue;
@@ -189,7 +169,7 @@ void ReadFeature(YamlDocument* doc, MapReader& r, std::set<std::string>* ids, co
           }
           const double from = Along(*line, ends->first.position_m);
           if (from < last - core::kMapEndpointToleranceM) {
-            doc->Error(list[i], Index(r.PathOf("segments"), i),
+            doc->Error(list[i], IndexPath(r.PathOf("segments"), i),
                        "segments must be listed in order along the line's direction "
                        "(-sin alpha, cos alpha) without overlapping");
             ok = false;
@@ -346,13 +326,16 @@ core::RobotMap ReadRobotMap(YamlDocument* doc) {
   map.description = top.String("description", "");
   map.beam_height_m = top.RequiredNumber("beam_height", 1e-3, 100.0).value_or(0.5);
   std::set<std::string> feature_ids;
-  ForEachItem(doc, top, "features", [&](MapReader& r) { ReadFeature(doc, r, &feature_ids, &map); });
+  ForEachMapping(doc, top, "features", false,
+                 [&](MapReader& r, std::size_t) { ReadFeature(doc, r, &feature_ids, &map); });
   std::set<std::string> node_ids;
-  ForEachItem(doc, top, "nodes", [&](MapReader& r) { ReadNode(doc, r, &node_ids, &map); });
+  ForEachMapping(doc, top, "nodes", false,
+                 [&](MapReader& r, std::size_t) { ReadNode(doc, r, &node_ids, &map); });
   std::set<std::pair<std::string, std::string>> edges;
-  ForEachItem(doc, top, "edges", [&](MapReader& r) { ReadEdge(doc, r, node_ids, &edges, &map); });
+  ForEachMapping(doc, top, "edges", false,
+                 [&](MapReader& r, std::size_t) { ReadEdge(doc, r, node_ids, &edges, &map); });
   std::set<std::string> ghost_ids;
-  ForEachItem(doc, top, "ghost_points", [&](MapReader& r) {
+  ForEachMapping(doc, top, "ghost_points", false, [&](MapReader& r, std::size_t) {
     const auto id = Id(doc, r, &ghost_ids, "ghost point");
     const auto p = Position(doc, r, "position");
     if (id && p) map.ghost_points.push_back({*id, *p});

@@ -43,27 +43,6 @@ std::string Fmt(double v) {
   return s.str();
 }
 
-std::string Index(const std::string& list, std::size_t i) {
-  return list + "[" + std::to_string(i) + "]";
-}
-
-// Calls fn(reader, index) for every mapping of an optional list.
-template <typename Fn>
-void ForEachItem(YamlDocument* doc, MapReader& top, const std::string& key, bool required, Fn fn) {
-  YAML::Node list = top.Child(key, required);
-  if (!list.IsDefined() || list.IsNull()) return;
-  if (!list.IsSequence()) {
-    doc->Error(list, key, "expected a list");
-    return;
-  }
-  for (std::size_t i = 0; i < list.size(); ++i) {
-    MapReader r(doc, list[i], Index(key, i));
-    if (!r.valid()) continue;
-    fn(r, i);
-    r.Finish();
-  }
-}
-
 // A name unique among `used`, made of [a-z0-9_].
 std::string UniqueName(YamlDocument* doc, MapReader& r, const std::string& key,
                        std::set<std::string>* used) {
@@ -151,7 +130,7 @@ class RobotReader {
       } else {
         for (std::size_t i = 0; i < casters.size(); ++i) {
           if (!casters[i].IsScalar() || casters[i].Scalar().empty()) {
-            doc_->Error(casters[i], Index("casters", i), "expected a URDF link name");
+            doc_->Error(casters[i], IndexPath("casters", i), "expected a URDF link name");
             n.complete = false;
             continue;
           }
@@ -211,7 +190,8 @@ class RobotReader {
           doc_->Error(n.chassis_link, "chassis.link", e.what());
           break;
         case Name::kCasterLink:
-          doc_->Error(n.casters.at(e.caster_index()), Index("casters", e.caster_index()), e.what());
+          doc_->Error(n.casters.at(e.caster_index()), IndexPath("casters", e.caster_index()),
+                      e.what());
           break;
         case Name::kNone:
           doc_->Error(n.urdf, "urdf", e.what());
@@ -255,10 +235,10 @@ class RobotReader {
     }
     core::Polygon2 poly;
     for (std::size_t i = 0; i < fp.size(); ++i) {
-      auto v = ReadNumbers(doc_, fp[i], Index(path, i), 2);
+      auto v = ReadNumbers(doc_, fp[i], IndexPath(path, i), 2);
       if (!v) return;
       if (std::abs((*v)[0]) > kMaxRobotSizeM || std::abs((*v)[1]) > kMaxRobotSizeM) {
-        doc_->Error(fp[i], Index(path, i), "beyond ±10 m of the base link; units are metres");
+        doc_->Error(fp[i], IndexPath(path, i), "beyond ±10 m of the base link; units are metres");
         return;
       }
       poly.emplace_back((*v)[0], (*v)[1]);
@@ -353,7 +333,7 @@ class RobotReader {
 
   void ReadLasers(MapReader& top, sim::RobotConfig& c) {
     std::set<std::string> ids;
-    ForEachItem(doc_, top, "lasers", false, [&](MapReader& r, std::size_t i) {
+    ForEachMapping(doc_, top, "lasers", false, [&](MapReader& r, std::size_t i) {
       sim::LaserMount laser;
       laser.id = UniqueName(doc_, r, "id", &ids);
       if (const sim::MountSpec* m = Mount(r, c.description)) {
@@ -371,7 +351,7 @@ class RobotReader {
           r.Choice("profile", {"sick_lms200", "acuity_accurange", "custom"}, "sick_lms200");
       laser.options = sim::LaserScannerOptions::Profile(profile);
       ReadLaserOverrides(r, &laser.options);
-      CheckValid(r.node(), Index("lasers", i), [&] { laser.options.Validate(); });
+      CheckValid(r.node(), IndexPath("lasers", i), [&] { laser.options.Validate(); });
       c.lasers.push_back(laser);
     });
   }
@@ -414,7 +394,7 @@ class RobotReader {
   void ReadBumpers(MapReader& top, std::vector<sim::BumperZone>* out) {
     std::set<std::string> names;
     YAML::Node list = top.Child("bumpers");
-    ForEachItem(doc_, top, "bumpers", false, [&](MapReader& r, std::size_t) {
+    ForEachMapping(doc_, top, "bumpers", false, [&](MapReader& r, std::size_t) {
       sim::BumperZone z;
       z.name = UniqueName(doc_, r, "name", &names);
       auto from = r.RequiredNumber("from_deg", -360.0, 360.0);
@@ -437,7 +417,7 @@ class RobotReader {
 
   void ReadMarkers(MapReader& top, sim::RobotDescription* d) {
     std::set<std::string> ids;
-    ForEachItem(doc_, top, "markers", false, [&](MapReader& r, std::size_t) {
+    ForEachMapping(doc_, top, "markers", false, [&](MapReader& r, std::size_t) {
       sim::MarkerSpec m;
       m.id = UniqueName(doc_, r, "id", &ids);
       if (r.Has("link") == r.Has("position")) {
@@ -478,7 +458,7 @@ class RobotReader {
 
   void ReadCameras(MapReader& top, sim::RobotConfig& c) {
     std::set<std::string> ids;
-    ForEachItem(doc_, top, "cameras", false, [&](MapReader& r, std::size_t) {
+    ForEachMapping(doc_, top, "cameras", false, [&](MapReader& r, std::size_t) {
       sim::CameraMount cam;
       cam.id = UniqueName(doc_, r, "id", &ids);
       if (const sim::MountSpec* m = Mount(r, c.description)) {

@@ -18,10 +18,6 @@ constexpr double kMaxMassKg = 1e5;
 constexpr double kMaxBodySizeM = 100.0;
 constexpr std::int64_t kMaxGroupCount = 100000;
 
-std::string Index(const std::string& list, std::size_t i) {
-  return list + "[" + std::to_string(i) + "]";
-}
-
 std::optional<sim::BodyShape> ReadShape(YamlDocument* doc, MapReader& parent) {
   MapReader r(doc, parent.Child("shape", true), parent.PathOf("shape"));
   if (!r.valid()) return std::nullopt;
@@ -75,7 +71,7 @@ MotionSpec ReadMotion(YamlDocument* doc, MapReader& parent) {
       doc->Error(segs, r.PathOf("segments"), "expected a non-empty list of segments");
     } else if (segs.IsDefined()) {
       for (std::size_t i = 0; i < segs.size(); ++i) {
-        MapReader s(doc, segs[i], Index(r.PathOf("segments"), i));
+        MapReader s(doc, segs[i], IndexPath(r.PathOf("segments"), i));
         sim::VelocitySegment seg;
         seg.duration_s = s.RequiredNumber("duration_s", 1e-6, kMaxDurationS).value_or(1.0);
         if (auto v = s.Numbers("velocity", 2, false)) seg.velocity_mps = {(*v)[0], (*v)[1]};
@@ -114,7 +110,7 @@ void ReadBodyCommon(YamlDocument* doc, MapReader& r, const sim::WorldDescription
     if (area.IsSequence()) {  // an inline polygon
       core::Polygon2 polygon;
       for (std::size_t i = 0; i < area.size(); ++i) {
-        if (auto p = ReadNumbers(doc, area[i], Index(r.PathOf("area"), i), 2)) {
+        if (auto p = ReadNumbers(doc, area[i], IndexPath(r.PathOf("area"), i), 2)) {
           polygon.emplace_back((*p)[0], (*p)[1]);
         }
       }
@@ -143,13 +139,13 @@ void ReadBodies(YamlDocument* doc, MapReader& top, const sim::WorldDescription& 
   if (list.IsDefined() && !list.IsNull()) {
     if (!list.IsSequence()) doc->Error(list, "bodies", "expected a list");
     for (std::size_t i = 0; list.IsSequence() && i < list.size(); ++i) {
-      MapReader r(doc, list[i], Index("bodies", i));
+      MapReader r(doc, list[i], IndexPath("bodies", i));
       if (!r.valid()) continue;
       BodyEntry entry;
       entry.spec.id = r.RequiredString("id").value_or("");
       ReadBodyCommon(doc, r, world, &entry);
       if (r.Has("pose") == r.Has("area")) {
-        doc->Error(list[i], Index("bodies", i), "give exactly one of pose or area");
+        doc->Error(list[i], IndexPath("bodies", i), "give exactly one of pose or area");
       } else if (r.Has("pose")) {
         if (auto p = r.Numbers("pose", 3, true)) entry.spec.pose = {(*p)[0], (*p)[1], (*p)[2]};
       }
@@ -161,14 +157,14 @@ void ReadBodies(YamlDocument* doc, MapReader& top, const sim::WorldDescription& 
   if (list.IsDefined() && !list.IsNull()) {
     if (!list.IsSequence()) doc->Error(list, "groups", "expected a list");
     for (std::size_t i = 0; list.IsSequence() && i < list.size(); ++i) {
-      MapReader r(doc, list[i], Index("groups", i));
+      MapReader r(doc, list[i], IndexPath("groups", i));
       if (!r.valid()) continue;
       BodyEntry entry;
       const std::string prefix = r.RequiredString("id").value_or("group");
       const std::int64_t count = r.Integer("count", 1, 0, kMaxGroupCount);
       ReadBodyCommon(doc, r, world, &entry);
       if (!r.Has("area"))
-        doc->Error(list[i], Index("groups", i) + ".area", "required key is missing");
+        doc->Error(list[i], IndexPath("groups", i) + ".area", "required key is missing");
       r.Finish();
       for (std::int64_t k = 0; k < count; ++k) {
         char suffix[32];
@@ -236,7 +232,7 @@ void ReadLocalization(YamlDocument* doc, MapReader& r, const std::string& base,
             std::any_of(robot->config.lasers.begin(), robot->config.lasers.end(),
                         [&](const sim::LaserMount& mount) { return mount.id == id; });
         if (!known) {
-          doc->Error(lasers[k], Index(m.PathOf("lasers"), k),
+          doc->Error(lasers[k], IndexPath(m.PathOf("lasers"), k),
                      "robot model '" + robot->model + "' has no laser '" + id + "'");
         }
         l.lasers.push_back(id);
@@ -278,7 +274,8 @@ void ReadRoute(YamlDocument* doc, MapReader& r, RobotEntry* robot) {
 }
 
 // robots: [{id, model, pose: [x, y, theta], drive: [{at_s, left, right} |
-// {at_s, speed_mps, turn_radps}], systematic: {...}, encoder_noise: bool}]
+// {at_s, speed_mps, turn_radps}], systematic: {...}, encoder_noise: bool,
+// laser_noise: bool}]
 void ReadRobots(YamlDocument* doc, MapReader& top, const std::string& base, Scenario* s) {
   YAML::Node list = top.Child("robots");
   if (!list.IsDefined() || list.IsNull()) return;
@@ -294,7 +291,7 @@ void ReadRobots(YamlDocument* doc, MapReader& top, const std::string& base, Scen
   for (const auto& d : s->world.doors) ids.insert(d.id);
   for (const auto& b : s->bodies) ids.insert(b.spec.id);
   for (std::size_t i = 0; i < list.size(); ++i) {
-    const std::string path = Index("robots", i);
+    const std::string path = IndexPath("robots", i);
     MapReader r(doc, list[i], path);
     if (!r.valid()) continue;
     RobotEntry robot;
@@ -326,12 +323,18 @@ void ReadRobots(YamlDocument* doc, MapReader& top, const std::string& base, Scen
       m.Finish();
     }
     robot.config.encoders.noise = r.Bool("encoder_noise", robot.config.encoders.noise);
+    // laser_noise: false turns every laser's range noise, outliers and dark
+    // dropouts off (sim::LaserScannerOptions::noise).
+    if (r.Has("laser_noise")) {
+      const bool laser_noise = r.Bool("laser_noise", true);
+      for (sim::LaserMount& mount : robot.config.lasers) mount.options.noise = laser_noise;
+    }
     YAML::Node drive = r.Child("drive");
     if (drive.IsDefined() && !drive.IsSequence()) {
       doc->Error(drive, r.PathOf("drive"), "expected a list of {at_s, left, right} steps");
     }
     for (std::size_t k = 0; drive.IsSequence() && k < drive.size(); ++k) {
-      const std::string step_path = Index(r.PathOf("drive"), k);
+      const std::string step_path = IndexPath(r.PathOf("drive"), k);
       MapReader d(doc, drive[k], step_path);
       if (!d.valid()) continue;
       DriveCommand c;
@@ -383,7 +386,7 @@ void ReadEvents(YamlDocument* doc, MapReader& top, Scenario* s) {
   std::set<std::string> doors;
   for (const auto& d : s->world.doors) doors.insert(d.id);
   for (std::size_t i = 0; i < list.size(); ++i) {
-    MapReader r(doc, list[i], Index("events", i));
+    MapReader r(doc, list[i], IndexPath("events", i));
     if (!r.valid()) continue;
     ScriptedEvent e;
     e.at_s = r.RequiredNumber("at_s", 0.0, kMaxDurationS).value_or(0.0);

@@ -39,10 +39,6 @@ bool IsName(const std::string& s, bool id) {
   return true;
 }
 
-std::string Index(const std::string& list, std::size_t i) {
-  return list + "[" + std::to_string(i) + "]";
-}
-
 bool InBounds(const std::vector<double>& v, double bound) {
   for (double x : v) {
     if (std::abs(x) > bound) return false;
@@ -103,7 +99,7 @@ std::optional<core::Polygon2> Polygon(YamlDocument* doc, const YAML::Node& n,
   }
   core::Polygon2 poly;
   for (std::size_t i = 0; i < n.size(); ++i) {
-    auto p = Point2(doc, n[i], Index(path, i));
+    auto p = Point2(doc, n[i], IndexPath(path, i));
     if (!p) return std::nullopt;
     poly.push_back(*p);
   }
@@ -132,22 +128,6 @@ void ReadFloor(YamlDocument* doc, MapReader& top, ElementContext& ctx, sim::Worl
   r.Finish();
 }
 
-template <typename Fn>
-void ForEachItem(YamlDocument* doc, MapReader& top, const std::string& key, Fn fn) {
-  YAML::Node list = top.Child(key);
-  if (!list.IsDefined() || list.IsNull()) return;
-  if (!list.IsSequence()) {
-    doc->Error(list, key, "expected a list");
-    return;
-  }
-  for (std::size_t i = 0; i < list.size(); ++i) {
-    MapReader r(doc, list[i], Index(key, i));
-    if (!r.valid()) continue;
-    fn(r);
-    r.Finish();
-  }
-}
-
 void ReadWall(YamlDocument* doc, MapReader& r, ElementContext& ctx, sim::WorldDescription* w) {
   sim::Wall wall;
   wall.id = ctx.Id(r);
@@ -157,7 +137,8 @@ void ReadWall(YamlDocument* doc, MapReader& r, ElementContext& ctx, sim::WorldDe
       doc->Error(pts, r.PathOf("points"), "expected a list of at least 2 [x, y] points");
     } else {
       for (std::size_t i = 0; i < pts.size(); ++i) {
-        if (auto p = Point2(doc, pts[i], Index(r.PathOf("points"), i))) wall.points_m.push_back(*p);
+        if (auto p = Point2(doc, pts[i], IndexPath(r.PathOf("points"), i)))
+          wall.points_m.push_back(*p);
       }
     }
   }
@@ -364,11 +345,16 @@ sim::WorldDescription ReadWorld(YamlDocument* doc) {
   }
   ElementContext ctx(doc, &w);
   ReadFloor(doc, top, ctx, &w);
-  ForEachItem(doc, top, "walls", [&](MapReader& r) { ReadWall(doc, r, ctx, &w); });
-  ForEachItem(doc, top, "boxes", [&](MapReader& r) { ReadBox(doc, r, ctx, &w); });
-  ForEachItem(doc, top, "cylinders", [&](MapReader& r) { ReadCylinder(doc, r, ctx, &w); });
-  ForEachItem(doc, top, "meshes", [&](MapReader& r) { ReadMesh(doc, r, ctx, &w); });
-  ForEachItem(doc, top, "doors", [&](MapReader& r) { ReadDoor(doc, r, ctx, &w); });
+  ForEachMapping(doc, top, "walls", false,
+                 [&](MapReader& r, std::size_t) { ReadWall(doc, r, ctx, &w); });
+  ForEachMapping(doc, top, "boxes", false,
+                 [&](MapReader& r, std::size_t) { ReadBox(doc, r, ctx, &w); });
+  ForEachMapping(doc, top, "cylinders", false,
+                 [&](MapReader& r, std::size_t) { ReadCylinder(doc, r, ctx, &w); });
+  ForEachMapping(doc, top, "meshes", false,
+                 [&](MapReader& r, std::size_t) { ReadMesh(doc, r, ctx, &w); });
+  ForEachMapping(doc, top, "doors", false,
+                 [&](MapReader& r, std::size_t) { ReadDoor(doc, r, ctx, &w); });
   ReadPlaces(doc, top, &w);
   top.Finish();
   return w;

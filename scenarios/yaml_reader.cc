@@ -289,4 +289,8 @@ void ApplyOverride(YAML::Node root, const std::string& assignment, bool allow_ne
   }
 }
 
+std::string IndexPath(const std::string& list, std::size_t i) {
+  return list + "[" + std::to_string(i) + "]";
+}
+
 }  // namespace pavilion::scenarios

@@ -81,6 +81,30 @@ class MapReader {
   std::set<std::string> read_;
 };
 
+// The key path of item i of a list: "list[i]".
+std::string IndexPath(const std::string& list, std::size_t i);
+
+// Calls fn(reader, i) for every item of the list under `key` of `parent` (absent
+// or null: none; an error unless `required`), each read as a mapping whose
+// unknown keys are reported after fn returns. A non-list is one error.
+template <typename Fn>
+void ForEachMapping(YamlDocument* doc, MapReader& parent, const std::string& key, bool required,
+                    Fn fn) {
+  YAML::Node list = parent.Child(key, required);
+  if (!list.IsDefined() || list.IsNull()) return;
+  const std::string path = parent.PathOf(key);
+  if (!list.IsSequence()) {
+    doc->Error(list, path, "expected a list");
+    return;
+  }
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    MapReader r(doc, list[i], IndexPath(path, i));
+    if (!r.valid()) continue;
+    fn(r, i);
+    r.Finish();
+  }
+}
+
 // A finite number from a scalar node; reports an error and returns nullopt otherwise.
 std::optional<double> ReadNumber(YamlDocument* doc, const YAML::Node& node,
                                  const std::string& path);

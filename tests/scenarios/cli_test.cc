@@ -13,59 +13,19 @@
 #include <string>
 #include <vector>
 
+#include "tests/support/run_pavilion.h"
 #include "tests/support/test_files.h"
 
 namespace {
 
 namespace fs = std::filesystem;
 using pavilion::testing::Contains;
+using pavilion::testing::RunPavilion;
+using Result = pavilion::testing::PavilionResult;
+const auto& ReadFile = pavilion::testing::ReadTextFile;
+const auto& Lines = pavilion::testing::SplitLines;
 using pavilion::testing::TestDir;
 using pavilion::testing::WriteFile;
-
-std::string ReadFile(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-std::vector<std::string> Lines(const std::string& text) {
-  std::vector<std::string> lines;
-  std::stringstream in(text);
-  for (std::string line; std::getline(in, line);) lines.push_back(line);
-  return lines;
-}
-
-// `s` quoted for /bin/sh.
-std::string Quote(const std::string& s) {
-  std::string out = "'";
-  for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return out + "'";
-}
-
-struct Result {
-  int exit_code = -1;
-  std::string out;
-  std::string err;
-};
-
-// Runs `pavilion args...` with stdout and stderr captured in files of `dir`.
-Result RunPavilion(const std::vector<std::string>& args, const fs::path& dir) {
-  const fs::path out = dir / "stdout.txt";
-  const fs::path err = dir / "stderr.txt";
-  // Appended piece by piece: GCC 12 warns falsely (-Wrestrict) on chained `+`.
-  std::string command = Quote(PAVILION_BINARY);
-  for (const std::string& a : args) command.append(" ").append(Quote(a));
-  command.append(" >").append(Quote(out.string()));
-  command.append(" 2>").append(Quote(err.string()));
-  command.append(" </dev/null");
-  const int status = std::system(command.c_str());
-  Result r;
-  r.exit_code = status != -1 && WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.out = ReadFile(out);
-  r.err = ReadFile(err);
-  return r;
-}
 
 // A 12 m square room of four walls with three crates and a spawn pen.
 const std::string kWorld =

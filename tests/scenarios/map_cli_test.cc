@@ -11,52 +11,18 @@
 #include <string>
 #include <vector>
 
+#include "tests/support/run_pavilion.h"
 #include "tests/support/test_files.h"
 
 namespace {
 
 namespace fs = std::filesystem;
 using pavilion::testing::Contains;
+using pavilion::testing::RunPavilion;
+using Result = pavilion::testing::PavilionResult;
+const auto& ReadFile = pavilion::testing::ReadTextFile;
 using pavilion::testing::TestDir;
 using pavilion::testing::WriteFile;
-
-std::string ReadFile(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-// `s` quoted for /bin/sh.
-std::string Quote(const std::string& s) {
-  std::string out = "'";
-  for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return out + "'";
-}
-
-struct Result {
-  int exit_code = -1;
-  std::string out;
-  std::string err;
-};
-
-// Runs `pavilion args...` with stdout and stderr captured in files of `dir`.
-Result RunPavilion(const std::vector<std::string>& args, const fs::path& dir) {
-  const fs::path out = dir / "stdout.txt";
-  const fs::path err = dir / "stderr.txt";
-  // Appended piece by piece: GCC 12 warns falsely (-Wrestrict) on chained `+`.
-  std::string command = Quote(PAVILION_BINARY);
-  for (const std::string& a : args) command.append(" ").append(Quote(a));
-  command.append(" >").append(Quote(out.string()));
-  command.append(" 2>").append(Quote(err.string()));
-  command.append(" </dev/null");
-  const int status = std::system(command.c_str());
-  Result r;
-  r.exit_code = status != -1 && WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.out = ReadFile(out);
-  r.err = ReadFile(err);
-  return r;
-}
 
 bool IsPng(const fs::path& path) {
   const std::string bytes = ReadFile(path);
@@ -102,6 +68,27 @@ TEST(MapCliTest, DeriveOptions) {
       RunPavilion({"map", "derive", "small_lab", "--out", noisy, "--seed", "7"}, dir).exit_code, 0);
   EXPECT_NE(ReadFile(exact), ReadFile(noisy));
   EXPECT_TRUE(Contains(ReadFile(exact), "from: [-1.9, 2.16]"));  // corner B, exact
+}
+
+// --keep-direction keeps only the lines along it: fewer segments, a valid map
+// whose description records the filter.
+TEST(MapCliTest, DeriveKeepDirection) {
+  const fs::path dir = TestDir();
+  const std::string along_x = (dir / "along_x.yaml").string();
+  const Result r = RunPavilion({"map", "derive", "small_lab", "--out", along_x, "--keep-direction",
+                                "0", "--tolerance-deg", "5"},
+                               dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_FALSE(Contains(r.out, "17 segments"));
+  EXPECT_TRUE(Contains(r.out, "0 points, 0 beacons"));
+  EXPECT_TRUE(
+      Contains(ReadFile(along_x), "Kept only the lines within 5 deg of the direction 0 deg"));
+  EXPECT_EQ(RunPavilion({"validate", along_x}, dir).exit_code, 0);
+  EXPECT_EQ(RunPavilion({"map", "derive", "small_lab", "--out", along_x, "--keep-direction", "0",
+                         "--tolerance-deg", "0"},
+                        dir)
+                .exit_code,
+            2);
 }
 
 // A bad map: exit 1 and a single line naming file, line and key.
