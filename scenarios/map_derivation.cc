@@ -14,6 +14,7 @@
 #include <utility>
 
 #include "core/random/random_stream.h"
+#include "core/types/pose2.h"
 
 namespace pavilion::scenarios {
 namespace {
@@ -1155,6 +1156,36 @@ core::RobotMap DeriveRobotMap(const sim::World& world, const MapDerivationOption
   options.Validate();
   std::vector<std::string> ignored;
   return MapDeriver(world, options, warnings != nullptr ? warnings : &ignored).Derive();
+}
+
+core::RobotMap KeepLinesAlongDirection(const core::RobotMap& map, double direction_rad,
+                                       double tolerance_rad) {
+  if (!std::isfinite(direction_rad)) {
+    throw std::invalid_argument("direction_rad must be finite");
+  }
+  if (!(tolerance_rad > 0.0 && tolerance_rad <= 0.5 * std::numbers::pi)) {
+    throw std::invalid_argument("tolerance_rad must be in (0, pi/2]");
+  }
+  // Angle between the line's direction and `direction_rad`, as undirected lines: [0, pi/2].
+  const auto along = [&](const core::Line& line) {
+    const double d =
+        std::abs(core::NormalizeAngle(line.alpha_rad + 0.5 * std::numbers::pi - direction_rad));
+    return std::min(d, std::numbers::pi - d) <= tolerance_rad;
+  };
+  core::RobotMap kept = map;
+  std::erase_if(kept.lines, [&](const core::MapLine& l) { return !along(l.line); });
+  std::erase_if(kept.segments, [&](const core::MapSegment& s) { return !along(s.line); });
+  std::erase_if(kept.multi_segment_lines,
+                [&](const core::MapMultiSegmentLine& m) { return !along(m.line); });
+  kept.points.clear();
+  kept.beacons.clear();
+  char buf[160];
+  std::snprintf(buf, sizeof buf,
+                " Kept only the lines within %g deg of the direction %g deg "
+                "(--keep-direction); points and beacons dropped.",
+                tolerance_rad * 180.0 / std::numbers::pi, direction_rad * 180.0 / std::numbers::pi);
+  kept.description += buf;
+  return kept;
 }
 
 }  // namespace pavilion::scenarios

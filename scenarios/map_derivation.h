@@ -45,6 +45,17 @@ struct MapDerivationOptions {
 core::RobotMap DeriveRobotMap(const sim::World& world, const MapDerivationOptions& options,
                               std::vector<std::string>* warnings = nullptr);
 
+// Keeps only the map lines whose direction lies within `tolerance_rad` of
+// `direction_rad` (modulo pi; a line (alpha, r) runs along alpha + pi/2): lines,
+// segments and multi-segment lines; drops every point and beacon; keeps the
+// topology and ghost points. For experiments in which the map constrains the
+// robot in one direction only (thesis Table 4.1, Fig. 4.4: a corridor whose map
+// has only the walls parallel to it). The description records the filter.
+// Throws std::invalid_argument for a non-finite direction or a tolerance
+// outside (0, pi/2].
+core::RobotMap KeepLinesAlongDirection(const core::RobotMap& map, double direction_rad,
+                                       double tolerance_rad);
+
 // The obstacles a robot must keep clear of at the given heights: every static
 // section primitive (laser-visible or not) at the beam and the low height, as
 // segments and circles. Used for edge checks and by tests.

@@ -37,7 +37,8 @@ void Row(std::ostringstream& html, const std::string& name, const std::string& v
 }  // namespace
 
 std::string RenderReportHtml(const Scenario& scenario, const nlohmann::ordered_json& metrics,
-                             const std::vector<std::uint8_t>& topdown_png) {
+                             const std::vector<std::uint8_t>& topdown_png,
+                             const std::vector<LocalizationPlot>& localization_plots) {
   std::ostringstream html;
   html
       << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n"
@@ -91,8 +92,17 @@ std::string RenderReportHtml(const Scenario& scenario, const nlohmann::ordered_j
           "green: named places.</p>\n"
        << "<img alt=\"top-down view\" src=\"data:image/png;base64," << Base64(topdown_png)
        << "\">\n";
+  for (const LocalizationPlot& plot : localization_plots) {
+    html << "<h2>Localization of " << Escape(plot.robot_id) << ": 2 sigma over time</h2>\n"
+         << "<p class=\"note\">Two standard deviations of the estimate in the robot's frontal "
+            "(blue) and lateral (red) direction, per localization cycle (localization.csv; "
+            "thesis Fig. 4.4).</p>\n"
+         << "<img alt=\"2 sigma of " << Escape(plot.robot_id) << "\" src=\"data:image/png;base64,"
+         << Base64(plot.png) << "\">\n";
+  }
   html << "<p class=\"note\">Files: metrics.json, performance.json (wall-clock figures), "
-          "events.jsonl, trajectories.csv, scans.bin (robots' laser scans with ground truth), "
+          "events.jsonl, trajectories.csv, localization.csv, scans.bin (robots' laser scans with "
+          "ground truth), "
           "snapshots/.</p>\n</body></html>\n";
   return html.str();
 }

@@ -14,6 +14,7 @@
 #include "nav/path_follower.h"
 #include "nav/route_planner.h"
 #include "scenarios/input_error.h"
+#include "scenarios/localization_plot.h"
 #include "scenarios/localization_run.h"
 #include "scenarios/map_file.h"
 #include "scenarios/output_files.h"
@@ -698,7 +699,16 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   const std::vector<std::uint8_t> png = EncodePng(image);
   WriteFileAtomically((out / "snapshots" / "topdown_final.png").string(),
                       std::string(png.begin(), png.end()));
-  WriteFileAtomically((out / "report.html").string(), RenderReportHtml(scenario, metrics, png));
+  std::vector<LocalizationPlot> localization_plots;
+  for (const RobotRun& r : robots) {
+    if (!r.localization) continue;
+    LocalizationPlot plot{r.entry->id, EncodePng(PlotTwoSigmaOverTime(r.localization->cycles()))};
+    WriteFileAtomically((out / "snapshots" / ("two_sigma_" + r.entry->id + ".png")).string(),
+                        std::string(plot.png.begin(), plot.png.end()));
+    localization_plots.push_back(std::move(plot));
+  }
+  WriteFileAtomically((out / "report.html").string(),
+                      RenderReportHtml(scenario, metrics, png, localization_plots));
 
   RunSummary summary;
   summary.sim_duration_s = sim_s;

@@ -4,6 +4,7 @@
 
 #include <cstdio>
 #include <memory>
+#include <numbers>
 #include <vector>
 
 #include "scenarios/data_paths.h"
@@ -14,6 +15,11 @@
 #include "scenarios/world_loader.h"
 
 namespace pavilion::cli {
+namespace {
+
+constexpr double kRadPerDeg = std::numbers::pi / 180.0;
+
+}  // namespace
 
 CLI::App* AddMapCommand(CLI::App* app, MapArgs* args) {
   auto* map = app->add_subcommand("map", "Derive and draw robot maps (docs/map_format.md)");
@@ -47,9 +53,21 @@ CLI::App* AddMapCommand(CLI::App* app, MapArgs* args) {
   derive->add_option("--via-spacing", args->via_spacing_m, "Grid pitch of the via nodes (m)")
       ->check(CLI::Range(0.5, 20.0))
       ->capture_default_str();
+  derive
+      ->add_option("--keep-direction", args->keep_direction_deg,
+                   "Keep only the lines along this direction (deg, world frame); drop points and "
+                   "beacons")
+      ->check(CLI::Range(-360.0, 360.0));
+  derive
+      ->add_option("--tolerance-deg", args->keep_tolerance_deg,
+                   "Largest angle between a kept line and --keep-direction (deg)")
+      ->check(CLI::Range(0.001, 90.0))
+      ->capture_default_str();
   derive->footer(
       "Example:\n  pavilion map derive expo_hall --out worlds/expo_hall/map.yaml\n"
-      "  pavilion map derive small_lab --out exact.yaml --noise-cm 0");
+      "  pavilion map derive small_lab --out exact.yaml --noise-cm 0\n"
+      "  pavilion map derive office_floor --out worlds/office_floor/map_corridor_parallel.yaml "
+      "--keep-direction 0 --tolerance-deg 5");
   args->derive = derive;
 
   auto* render = map->add_subcommand("render", "Draw a robot map from above into a PNG");
@@ -76,7 +94,11 @@ int RunMapCommand(const MapArgs& args) {
     options.robot_radius_m = args.robot_radius_m;
     options.via_spacing_m = args.via_spacing_m;
     std::vector<std::string> warnings;
-    const core::RobotMap map = scenarios::DeriveRobotMap(world, options, &warnings);
+    core::RobotMap map = scenarios::DeriveRobotMap(world, options, &warnings);
+    if (args.derive->count("--keep-direction") > 0) {
+      map = scenarios::KeepLinesAlongDirection(map, args.keep_direction_deg * kRadPerDeg,
+                                               args.keep_tolerance_deg * kRadPerDeg);
+    }
     for (const std::string& w : warnings) spdlog::warn("{}", w);
     scenarios::WriteMapFile(args.out, map);
     int stations = 0;

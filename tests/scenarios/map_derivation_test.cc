@@ -11,7 +11,9 @@
 #include <cmath>
 #include <deque>
 #include <map>
+#include <numbers>
 #include <set>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -432,6 +434,62 @@ void ExpectNear(const core::Line& a, const core::Line& b) {
   EXPECT_TRUE(a.covariance.isApprox(b.covariance, 1e-5));
 }
 
+// A map file equals a fresh map: ids, geometry to the file's precision, topology.
+void ExpectSameMap(const core::RobotMap& shipped, const core::RobotMap& fresh) {
+  EXPECT_EQ(shipped.description, fresh.description);
+  EXPECT_EQ(shipped.beam_height_m, fresh.beam_height_m);
+  ASSERT_EQ(shipped.segments.size(), fresh.segments.size());
+  for (std::size_t i = 0; i < fresh.segments.size(); ++i) {
+    EXPECT_EQ(shipped.segments[i].id, fresh.segments[i].id);
+    ExpectNear(shipped.segments[i].line, fresh.segments[i].line);
+    ExpectNear(shipped.segments[i].first_endpoint, fresh.segments[i].first_endpoint);
+    ExpectNear(shipped.segments[i].second_endpoint, fresh.segments[i].second_endpoint);
+  }
+  ASSERT_EQ(shipped.multi_segment_lines.size(), fresh.multi_segment_lines.size());
+  for (std::size_t i = 0; i < fresh.multi_segment_lines.size(); ++i) {
+    const auto& s = shipped.multi_segment_lines[i];
+    const auto& f = fresh.multi_segment_lines[i];
+    EXPECT_EQ(s.id, f.id);
+    ExpectNear(s.line, f.line);
+    ASSERT_EQ(s.segments.size(), f.segments.size());
+    for (std::size_t k = 0; k < f.segments.size(); ++k) {
+      ExpectNear(s.segments[k].first, f.segments[k].first);
+      ExpectNear(s.segments[k].second, f.segments[k].second);
+    }
+  }
+  EXPECT_TRUE(shipped.lines.empty());
+  ASSERT_EQ(shipped.points.size(), fresh.points.size());
+  for (std::size_t i = 0; i < fresh.points.size(); ++i) {
+    EXPECT_EQ(shipped.points[i].id, fresh.points[i].id);
+    ExpectNear(shipped.points[i].point, fresh.points[i].point);
+    EXPECT_NEAR(shipped.points[i].radius_m, fresh.points[i].radius_m, 1e-9);
+  }
+  ASSERT_EQ(shipped.beacons.size(), fresh.beacons.size());
+  for (std::size_t i = 0; i < fresh.beacons.size(); ++i) {
+    EXPECT_EQ(shipped.beacons[i].id, fresh.beacons[i].id);
+    ExpectNear(shipped.beacons[i].point, fresh.beacons[i].point);
+  }
+  ASSERT_EQ(shipped.nodes.size(), fresh.nodes.size());
+  for (std::size_t i = 0; i < fresh.nodes.size(); ++i) {
+    EXPECT_EQ(shipped.nodes[i].id, fresh.nodes[i].id);
+    EXPECT_EQ(shipped.nodes[i].station, fresh.nodes[i].station);
+    EXPECT_LT((shipped.nodes[i].pose.translation() - fresh.nodes[i].pose.translation()).norm(),
+              2e-6);
+    EXPECT_NEAR(shipped.nodes[i].pose.theta_rad, fresh.nodes[i].pose.theta_rad, 1e-9);
+  }
+  ASSERT_EQ(shipped.edges.size(), fresh.edges.size());
+  for (std::size_t i = 0; i < fresh.edges.size(); ++i) {
+    EXPECT_EQ(shipped.edges[i].from, fresh.edges[i].from);
+    EXPECT_EQ(shipped.edges[i].to, fresh.edges[i].to);
+    EXPECT_NEAR(shipped.edges[i].weight, fresh.edges[i].weight, 2e-6);
+  }
+  ASSERT_EQ(shipped.ghost_points.size(), fresh.ghost_points.size());
+  for (std::size_t i = 0; i < fresh.ghost_points.size(); ++i) {
+    EXPECT_EQ(shipped.ghost_points[i].id, fresh.ghost_points[i].id);
+    EXPECT_LT((shipped.ghost_points[i].position_m - fresh.ghost_points[i].position_m).norm(), 2e-6);
+  }
+}
+
 // The shipped worlds/<name>/map.yaml files parse and equal what
 // `pavilion map derive <name>` gives with its defaults (seed 1, 5 mm noise):
 // regenerate them with that command when a world changes.
@@ -443,60 +501,60 @@ TEST(MapDerivationTest, ShippedMapsEqualAFreshDerivation) {
     const auto world = LoadWorld(name);
     const core::RobotMap fresh = DeriveRobotMap(*world, MapDerivationOptions{});
     EXPECT_EQ(shipped.name, name);
-    EXPECT_EQ(shipped.description, fresh.description);
-    EXPECT_EQ(shipped.beam_height_m, fresh.beam_height_m);
-    ASSERT_EQ(shipped.segments.size(), fresh.segments.size());
-    for (std::size_t i = 0; i < fresh.segments.size(); ++i) {
-      EXPECT_EQ(shipped.segments[i].id, fresh.segments[i].id);
-      ExpectNear(shipped.segments[i].line, fresh.segments[i].line);
-      ExpectNear(shipped.segments[i].first_endpoint, fresh.segments[i].first_endpoint);
-      ExpectNear(shipped.segments[i].second_endpoint, fresh.segments[i].second_endpoint);
-    }
-    ASSERT_EQ(shipped.multi_segment_lines.size(), fresh.multi_segment_lines.size());
-    for (std::size_t i = 0; i < fresh.multi_segment_lines.size(); ++i) {
-      const auto& s = shipped.multi_segment_lines[i];
-      const auto& f = fresh.multi_segment_lines[i];
-      EXPECT_EQ(s.id, f.id);
-      ExpectNear(s.line, f.line);
-      ASSERT_EQ(s.segments.size(), f.segments.size());
-      for (std::size_t k = 0; k < f.segments.size(); ++k) {
-        ExpectNear(s.segments[k].first, f.segments[k].first);
-        ExpectNear(s.segments[k].second, f.segments[k].second);
-      }
-    }
-    EXPECT_TRUE(shipped.lines.empty());
-    ASSERT_EQ(shipped.points.size(), fresh.points.size());
-    for (std::size_t i = 0; i < fresh.points.size(); ++i) {
-      EXPECT_EQ(shipped.points[i].id, fresh.points[i].id);
-      ExpectNear(shipped.points[i].point, fresh.points[i].point);
-      EXPECT_NEAR(shipped.points[i].radius_m, fresh.points[i].radius_m, 1e-9);
-    }
-    ASSERT_EQ(shipped.beacons.size(), fresh.beacons.size());
-    for (std::size_t i = 0; i < fresh.beacons.size(); ++i) {
-      EXPECT_EQ(shipped.beacons[i].id, fresh.beacons[i].id);
-      ExpectNear(shipped.beacons[i].point, fresh.beacons[i].point);
-    }
-    ASSERT_EQ(shipped.nodes.size(), fresh.nodes.size());
-    for (std::size_t i = 0; i < fresh.nodes.size(); ++i) {
-      EXPECT_EQ(shipped.nodes[i].id, fresh.nodes[i].id);
-      EXPECT_EQ(shipped.nodes[i].station, fresh.nodes[i].station);
-      EXPECT_LT((shipped.nodes[i].pose.translation() - fresh.nodes[i].pose.translation()).norm(),
-                2e-6);
-      EXPECT_NEAR(shipped.nodes[i].pose.theta_rad, fresh.nodes[i].pose.theta_rad, 1e-9);
-    }
-    ASSERT_EQ(shipped.edges.size(), fresh.edges.size());
-    for (std::size_t i = 0; i < fresh.edges.size(); ++i) {
-      EXPECT_EQ(shipped.edges[i].from, fresh.edges[i].from);
-      EXPECT_EQ(shipped.edges[i].to, fresh.edges[i].to);
-      EXPECT_NEAR(shipped.edges[i].weight, fresh.edges[i].weight, 2e-6);
-    }
-    ASSERT_EQ(shipped.ghost_points.size(), fresh.ghost_points.size());
-    for (std::size_t i = 0; i < fresh.ghost_points.size(); ++i) {
-      EXPECT_EQ(shipped.ghost_points[i].id, fresh.ghost_points[i].id);
-      EXPECT_LT((shipped.ghost_points[i].position_m - fresh.ghost_points[i].position_m).norm(),
-                2e-6);
-    }
+    ExpectSameMap(shipped, fresh);
   }
+}
+
+// worlds/office_floor/map_corridor_parallel.yaml equals `pavilion map derive
+// office_floor --keep-direction 0 --tolerance-deg 5` (docs/map_format.md).
+TEST(MapDerivationTest, ShippedCorridorMapEqualsAFreshDerivation) {
+  const core::RobotMap shipped =
+      LoadMapFile(DataRoot() + "/worlds/office_floor/map_corridor_parallel.yaml");
+  const auto world = LoadWorld("office_floor");
+  const core::RobotMap fresh = KeepLinesAlongDirection(
+      DeriveRobotMap(*world, MapDerivationOptions{}), 0.0, 5.0 * std::numbers::pi / 180.0);
+  ExpectSameMap(shipped, fresh);
+}
+
+// Only the lines along the direction (either way round) stay; points and
+// beacons go; topology stays; bad arguments throw.
+TEST(MapDerivationTest, KeepLinesAlongDirectionKeepsOnlyThoseLines) {
+  const auto world = LoadWorld("expo_hall");
+  const core::RobotMap full = DeriveRobotMap(*world, Exact());
+  ASSERT_FALSE(full.points.empty());
+  ASSERT_FALSE(full.beacons.empty());
+  constexpr double kToleranceRad = 0.1;
+  for (const double direction_rad : {0.0, 0.5 * std::numbers::pi, 2.0}) {
+    SCOPED_TRACE(direction_rad);
+    // The same filter a half turn round.
+    const core::RobotMap kept = KeepLinesAlongDirection(full, direction_rad, kToleranceRad);
+    const core::RobotMap flipped =
+        KeepLinesAlongDirection(full, direction_rad - std::numbers::pi, kToleranceRad);
+    EXPECT_EQ(kept.segments.size(), flipped.segments.size());
+    const auto off = [&](const core::Line& l) {
+      const double d =
+          std::abs(core::NormalizeAngle(l.alpha_rad + 0.5 * std::numbers::pi - direction_rad));
+      return std::min(d, std::numbers::pi - d);
+    };
+    std::size_t expected = 0;
+    for (const auto& s : full.segments) expected += off(s.line) <= kToleranceRad;
+    EXPECT_EQ(kept.segments.size(), expected);
+    for (const auto& s : kept.segments) EXPECT_LE(off(s.line), kToleranceRad) << s.id;
+    EXPECT_TRUE(kept.points.empty());
+    EXPECT_TRUE(kept.beacons.empty());
+    EXPECT_EQ(kept.nodes.size(), full.nodes.size());
+    EXPECT_EQ(kept.edges.size(), full.edges.size());
+    EXPECT_EQ(kept.ghost_points.size(), full.ghost_points.size());
+    EXPECT_NE(kept.description.find("Kept only the lines"), std::string::npos);
+    EXPECT_NO_THROW(core::ValidateRobotMap(kept));
+  }
+  // expo_hall's outline has walls along x and along y.
+  EXPECT_GT(KeepLinesAlongDirection(full, 0.0, kToleranceRad).segments.size(), 0u);
+  EXPECT_LT(KeepLinesAlongDirection(full, 0.0, kToleranceRad).segments.size(),
+            full.segments.size());
+  EXPECT_THROW(KeepLinesAlongDirection(full, 0.0, 0.0), std::invalid_argument);
+  EXPECT_THROW(KeepLinesAlongDirection(full, 0.0, 2.0), std::invalid_argument);
+  EXPECT_THROW(KeepLinesAlongDirection(full, std::nan(""), 0.1), std::invalid_argument);
 }
 
 // A room without places (every free cell counts as reachable, with a warning):

@@ -254,6 +254,7 @@ TEST(ScenarioLoaderTest, LoadsRobotsWithTheirDriveProfile) {
                                      "    model: pygmalion\n"
                                      "    pose: [1, 2, 0.5]\n"
                                      "    systematic: {wheelbase_factor: 1.02}\n"
+                                     "    laser_noise: false\n"
                                      "    drive:\n"
                                      "      - {at_s: 0, speed_mps: 0.3, turn_radps: 0.5}\n"
                                      "      - {at_s: 4, left: 1.5, right: -1.5}\n");
@@ -264,6 +265,9 @@ TEST(ScenarioLoaderTest, LoadsRobotsWithTheirDriveProfile) {
   EXPECT_EQ(r.config.description.model, "pygmalion");
   EXPECT_EQ(r.pose, (core::Pose2{1, 2, 0.5}));
   EXPECT_EQ(r.config.systematic.wheelbase_factor, 1.02);
+  ASSERT_FALSE(r.config.lasers.empty());
+  for (const sim::LaserMount& mount : r.config.lasers)
+    EXPECT_FALSE(mount.options.noise) << mount.id;
   ASSERT_EQ(r.drive.size(), 2u);
   const auto& o = r.config.odometry;
   EXPECT_NEAR(r.drive[0].left_radps * o.left_wheel_radius_m, 0.3 - 0.25 * o.wheelbase_m, 1e-12);
