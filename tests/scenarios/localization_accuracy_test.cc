@@ -146,18 +146,11 @@ TEST(LocalizationAccuracyTest, TracksWithinTwoMillimetresWithExactLaserAndMap) {
   EXPECT_TRUE(m["route"]["done"].get<bool>());
   EXPECT_GE(m["distance_m"].get<double>(), 19.0);
   EXPECT_GT(rows.size(), 50u);
-  // TODO(issue 6): the bounds are 2 mm and 0.1 deg; measured max 3.36 mm (cycle
-  // 72) and 0.33 deg (cycle 73), in the curve from the corridor towards office_06
-  // (x 20.2 m, 1 matched line); RMSE 1.78 mm, ANEES 82. Cause: the filter is
-  // over-confident (lateral 2 sigma 0.3 mm) while the simulated robot moves in
-  // ways the calibrated odometry model (k = 2.2e-7 m, no sideways term) does not
-  // hold: it slides sideways ~0.2 mm/s (the at-rest creep) and slips in curves.
-  // Walls whose innovation exceeds the tight gate are rejected, so the error is
-  // not corrected: at 0.15 m/s the same route ends up 21 mm / 0.40 deg off, the
-  // lateral error growing ~0.2 mm/s in the corridor while matched lines drop from
-  // ~9 to 1-3. Needs a physics fix of the creep or process noise for it in core.
-  EXPECT_LE(e.position_m, 0.0034);  // goal 0.002
-  EXPECT_LE(e.heading_deg, 0.33);   // goal 0.1
+  // Measured max 0.95 mm and 0.008 deg, RMSE 0.54 mm, ANEES 3.0 (with the
+  // friction pyramid of sim/world.cc; before it the robot crept sideways and the
+  // same route ended 3.4 mm / 0.33 deg off).
+  EXPECT_LE(e.position_m, 0.002);
+  EXPECT_LE(e.heading_deg, 0.1);
 }
 
 // Issue 6: "Starting with a 30 cm / 5 deg error, with at least three non-parallel

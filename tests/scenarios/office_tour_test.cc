@@ -50,16 +50,19 @@ TEST(OfficeTour, CompletesTheTourLocalizedToACentimetre) {
   EXPECT_GT(l["cycles"].get<int>(), 850);
   EXPECT_LT(l["cycles"].get<int>(), 1050);
   EXPECT_EQ(l["lost_situations"].get<int>(), 0);
-  EXPECT_LE(l["position_rmse_m"].get<double>(), 0.015);  // measured 8.3 mm
-  EXPECT_LE(l["heading_rmse_deg"].get<double>(), 0.5);   // measured 0.069 deg
+  EXPECT_LE(l["position_rmse_m"].get<double>(), 0.015);  // measured 2.7 mm
+  EXPECT_LE(l["heading_rmse_deg"].get<double>(), 0.5);   // measured 0.035 deg
   EXPECT_GT(l["matched_lines_per_cycle"].get<double>(), 2.0);
   // TODO(issue 6): the filter must be consistent (NEES averaged over five
-  // runs inside [1.25, 5.50] for >= 90% of cycles); measured ANEES 98 for one
-  // run: the covariance is ~10x too small in sigma. The simulated wheels slip
-  // in curves far more than the calibration's runs show (the tour's own
-  // odometry fits k_turn ~ 1e-4 m against the calibrated 1.3e-6 m) and the
-  // robot creeps 0.24 mm/s at rest; docs/benchmarks.md, office_tour.
-  EXPECT_LT(l["anees"].get<double>(), 150.0);
+  // runs inside [1.25, 5.50] for >= 90% of cycles); measured ANEES 27 for one
+  // run with the shipped map, whose 5 mm tape-measure errors are the same at
+  // every sighting of a wall while the filter takes them as independent per
+  // observation. With an exact map (pavilion map derive office_floor
+  // --noise-cm 0) the same run gives ANEES 3.3 and 90% of cycles below the
+  // chi^2(3) 95% bound: odometry and extraction are consistent. Held at the
+  // measured value until map errors are modelled (map features in the state or
+  // a consider filter).
+  EXPECT_LT(l["anees"].get<double>(), 35.0);
 }
 
 }  // namespace

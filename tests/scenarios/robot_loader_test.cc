@@ -166,7 +166,10 @@ TEST(RobotLoaderTest, ShippedOdometryIsCalibratedNearTheNominalModel) {
     const sim::RobotDescription& d = c.description;
     EXPECT_NEAR(c.odometry.left_wheel_radius_m / d.left_wheel.radius_m, 1.0, 0.005) << name;
     EXPECT_NEAR(c.odometry.right_wheel_radius_m / d.right_wheel.radius_m, 1.0, 0.005) << name;
-    EXPECT_NEAR(c.odometry.wheelbase_m / d.wheelbase_m(), 1.0, 0.005) << name;
+    // Robox's 110 kg chassis over-turns ~11 mrad in each braked 90 deg corner of
+    // the UMBmark squares, which the calibration reads as a 0.8 % longer
+    // wheelbase (docs/calibration.md).
+    EXPECT_NEAR(c.odometry.wheelbase_m / d.wheelbase_m(), 1.0, 0.01) << name;
     EXPECT_GT(c.odometry.k_left_m, 0.0) << name;
     EXPECT_LT(c.odometry.k_left_m, 1e-4) << name;
     EXPECT_DOUBLE_EQ(c.odometry.k_left_m, c.odometry.k_right_m) << name;
