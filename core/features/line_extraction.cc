@@ -1,17 +1,17 @@
 #include "core/features/line_extraction.h"
 
-#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <iterator>
 #include <limits>
 #include <numbers>
+#include <numeric>
 #include <optional>
-#include <set>
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "core/features/line_fit.h"
 #include "core/features/segment_builder.h"
@@ -33,6 +33,18 @@ double NormalQuantile(double p) {
   return z;
 }
 
+// NormalQuantile(p), remembered per thread for the last p: every scan of a
+// sensor asks for the same consistency_significance.
+double CachedNormalQuantile(double p) {
+  thread_local double last_p = std::numeric_limits<double>::quiet_NaN();
+  thread_local double last_z = 0.0;
+  if (p != last_p) {  // exact: a cache, never an approximation
+    last_z = NormalQuantile(p);
+    last_p = p;
+  }
+  return last_z;
+}
+
 // The chi^2(dof) quantile whose normal quantile is z, by the Wilson-Hilferty
 // cube approximation.
 double WilsonHilferty(int dof, double z) {
@@ -42,13 +54,21 @@ double WilsonHilferty(int dof, double z) {
   return k * c * c * c;
 }
 
-// A segment candidate or cluster: indices into the valid readings (sorted) and
-// the line re-fitted to them.
+// A segment candidate or cluster: indices into the valid readings (sorted), the
+// line re-fitted to them and their weighted residual sum of squares about it
+// (the minimum of eqs. 3.4-3.5's objective).
 struct Cluster {
   std::vector<int> points;
   Line line;
-  int id = 0;  // unique per extraction; a fusion makes a new cluster
+  double residual_sum = 0.0;
 };
+
+// A cluster of `points`, not yet fitted.
+Cluster Unfitted(std::vector<int> points) {
+  Cluster c;
+  c.points = std::move(points);
+  return c;
+}
 
 void Require(bool ok, const char* field, const std::string& expected) {
   if (!ok) {
@@ -57,14 +77,15 @@ void Require(bool ok, const char* field, const std::string& expected) {
   }
 }
 
-// (alpha, r) of `line` with alpha taken relative to `reference_alpha_rad`, so
-// that differences of parameter vectors never wrap.
-Eigen::Vector2d ParamsNear(const Line& line, double reference_alpha_rad) {
-  return {reference_alpha_rad + NormalizeAngle(line.alpha_rad - reference_alpha_rad), line.r_m};
+// NormalizeAngle with its common case, an angle already in (-pi, pi] (the
+// difference of two nearby lines' angles), inline; the same result.
+double WrapAngle(double angle_rad) {
+  if (angle_rad > -std::numbers::pi && angle_rad <= std::numbers::pi) return angle_rad;
+  return NormalizeAngle(angle_rad);
 }
 
 // A symmetric 2x2 matrix [a b; b c] of (alpha, r) with the closed-form algebra
-// the fidelity test needs for every window.
+// the fidelity and collinearity tests need.
 struct Sym2 {
   double a = 0.0, b = 0.0, c = 0.0;
 
@@ -75,12 +96,9 @@ struct Sym2 {
     return {c * inv, -b * inv, a * inv};
   }
   Sym2 operator+(const Sym2& o) const { return {a + o.a, b + o.b, c + o.c}; }
-  Eigen::Vector2d operator*(const Eigen::Vector2d& v) const {
-    return {a * v.x() + b * v.y(), b * v.x() + c * v.y()};
-  }
-  // v^T M^-1 v without forming the inverse.
-  double InverseQuadratic(const Eigen::Vector2d& v) const {
-    return (c * v.x() * v.x() - 2.0 * b * v.x() * v.y() + a * v.y() * v.y()) / Determinant();
+  // v^T M^-1 v for v = (x, y), without forming the inverse.
+  double InverseQuadratic(double x, double y) const {
+    return (c * x * x - 2.0 * b * x * y + a * y * y) / Determinant();
   }
 };
 
@@ -92,42 +110,105 @@ struct WindowFit {
   Sym2 information;  // covariance^-1
 };
 
-// Model fidelity distance of eq. 3.12 for the model points (the window fits at
-// i - 1, i, i + 1), with their information-filter mean (eqs. 3.13-3.14).
-double FidelityDistance(const WindowFit* windows) {
+// The model fidelity test d_i <= d_m (eq. 3.15) with the distance d_i of eq.
+// 3.12 for the model points (the window fits at i - 1, i, i + 1) and their
+// information-filter mean (eqs. 3.13-3.14). Angles are taken relative to the
+// middle window's, so differences never wrap.
+bool FidelityPasses(const WindowFit* windows, double threshold) {
   const double ref = windows[1].alpha_rad;
-  Eigen::Vector2d params[3];
+  const double da[3] = {WrapAngle(windows[0].alpha_rad - ref), 0.0,
+                        WrapAngle(windows[2].alpha_rad - ref)};
   Sym2 info;
-  Eigen::Vector2d info_x = Eigen::Vector2d::Zero();
+  double info_x = 0.0;  // information times (alpha - ref, r), summed
+  double info_y = 0.0;
   for (int j = 0; j < 3; ++j) {
-    const WindowFit& w = windows[j];
-    params[j] = {j == 1 ? ref : ref + NormalizeAngle(w.alpha_rad - ref), w.r_m};
-    info = info + w.information;
-    info_x += w.information * params[j];
+    const Sym2& i = windows[j].information;
+    info = info + i;
+    info_x += i.a * da[j] + i.b * windows[j].r_m;
+    info_y += i.b * da[j] + i.c * windows[j].r_m;
   }
-  const Sym2 cw = info.Inverse();          // eq. 3.14
-  const Eigen::Vector2d xw = cw * info_x;  // eq. 3.13
-  double d = 0.0;
+  const Sym2 cw = info.Inverse();                     // eq. 3.14
+  const double xw_a = cw.a * info_x + cw.b * info_y;  // eq. 3.13
+  const double xw_r = cw.b * info_x + cw.c * info_y;
+  // Eq. 3.12, sum_j e_j^T (C_j + C_w)^-1 e_j = sum_j q_j / det_j with q_j the
+  // quadratic form of the adjugate, as one fraction. Its denominator is
+  // positive for positive-definite covariances, and then the test needs no
+  // division.
+  double numerator = 0.0;
+  double denominator = 1.0;
   for (int j = 0; j < 3; ++j) {
-    d += (windows[j].covariance + cw).InverseQuadratic(params[j] - xw);  // eq. 3.12
+    const Sym2 s = windows[j].covariance + cw;
+    const double x = da[j] - xw_a;
+    const double y = windows[j].r_m - xw_r;
+    const double det = s.Determinant();
+    numerator = numerator * det + (s.c * x * x - 2.0 * s.b * x * y + s.a * y * y) * denominator;
+    denominator *= det;
   }
-  return d;
+  if (denominator > 0.0) return numerator <= threshold * denominator;
+  return numerator / denominator <= threshold;
 }
 
-// Squared Mahalanobis distance of two lines, eq. 3.16.
+// Squared Mahalanobis distance of two lines, eq. 3.16 (alpha relative to a's).
 double CollinearityDistance(const Line& a, const Line& b) {
-  const Eigen::Vector2d e = ParamsNear(a, a.alpha_rad) - ParamsNear(b, a.alpha_rad);
-  const Eigen::Matrix2d s = a.covariance + b.covariance;
-  if (!(s.determinant() > 0.0)) return std::numeric_limits<double>::infinity();
-  return e.dot(s.inverse() * e);
+  const double ea = -WrapAngle(b.alpha_rad - a.alpha_rad);
+  const double er = a.r_m - b.r_m;
+  const Sym2 s = Sym2::Of(a.covariance) + Sym2::Of(b.covariance);
+  if (!(s.Determinant() > 0.0)) return std::numeric_limits<double>::infinity();
+  return s.InverseQuadratic(ea, er);
 }
+
+// Whether two sorted index lists have an element in common.
+bool SharePoints(const std::vector<int>& a, const std::vector<int>& b) {
+  if (a.empty() || b.empty() || a.back() < b.front() || b.back() < a.front()) return false;
+  auto ia = a.begin();
+  auto ib = b.begin();
+  while (ia != a.end() && ib != b.end()) {
+    if (*ia == *ib) return true;
+    if (*ia < *ib) {
+      ++ia;
+    } else {
+      ++ib;
+    }
+  }
+  return false;
+}
+
+// What Agglomerate knows of a pair of clusters.
+struct PairState {
+  static constexpr char kUnknown = 2;
+  double distance = 0.0;   // eq. 3.16, alpha relative to the first cluster's, once measured
+  char measured = 0;       // 1: distance is set
+  char refused = 0;        // 1: their union is no line (fit consistency, likelihood ratio)
+  char shares = kUnknown;  // whether they share points; kUnknown until asked
+};
+
+// Buffers of one extraction, kept per thread so that a scan allocates little.
+struct Scratch {
+  std::vector<PolarPoint> points;
+  std::vector<FitPoint> prepared;
+  std::vector<int> reading_index;
+  std::vector<WindowFit> windows;
+  std::vector<char> usable, inlier;
+  std::vector<int> rest;         // Extractor::OneLine
+  std::vector<PairState> pairs;  // Extractor::Agglomerate
+  std::vector<int> slot;         // Extractor::Agglomerate
+};
 
 class Extractor {
  public:
-  Extractor(const LaserScan& scan, const LineExtractionOptions& options)
-      : scan_(scan), options_(options) {
+  Extractor(const LaserScan& scan, const LineExtractionOptions& options, Scratch& scratch)
+      : scan_(scan),
+        options_(options),
+        scratch_(scratch),
+        points_(scratch.points),
+        prepared_(scratch.prepared),
+        reading_index_(scratch.reading_index) {
     floor_ << options.alpha_sigma_floor_rad * options.alpha_sigma_floor_rad, 0.0, 0.0,
         options.r_sigma_floor_m * options.r_sigma_floor_m;
+    points_.clear();
+    prepared_.clear();
+    reading_index_.clear();
+    const double weight = 1.0 / (options.range_sigma_m * options.range_sigma_m);  // eq. 3.11
     points_.reserve(scan.readings.size());
     prepared_.reserve(scan.readings.size());
     reading_index_.reserve(scan.readings.size());
@@ -141,8 +222,7 @@ class Extractor {
       if (!(options.range_sigma_m > 0.0)) continue;
       const auto [cos_bearing, sin_bearing] = CosSin(i, reading.bearing_rad);
       points_.push_back(point);
-      prepared_.push_back({reading.range_m, cos_bearing, sin_bearing,
-                           1.0 / (options.range_sigma_m * options.range_sigma_m)});  // eq. 3.11
+      prepared_.push_back({reading.range_m, cos_bearing, sin_bearing, weight});
       reading_index_.push_back(i);
     }
   }
@@ -174,11 +254,18 @@ class Extractor {
 
  private:
   // Eqs. 3.4-3.10 over the readings `indices` (ascending), from the prefix
-  // moment sums, plus the covariance floor.
-  std::optional<Line> Fit(const std::vector<int>& indices) const {
-    std::optional<Line> line = prefix_->FitMembers(indices);
+  // moment sums, plus the covariance floor; `residual_sum` as FitMembers.
+  std::optional<Line> Fit(std::span<const int> indices, double* residual_sum = nullptr) const {
+    std::optional<Line> line = prefix_->FitMembers(indices, residual_sum);
     if (line) line->covariance += floor_;
     return line;
+  }
+
+  // Fits `cluster.points`, setting its line and residual sum; false when degenerate.
+  bool Refit(Cluster& cluster) const {
+    const std::optional<Line> line = Fit(cluster.points, &cluster.residual_sum);
+    if (line) cluster.line = *line;
+    return line.has_value();
   }
 
   // §3.2.2: windows of n_f points, model fidelity (3.12) and threshold (3.15);
@@ -191,9 +278,10 @@ class Extractor {
     if (n < nf + 2) return candidates;
     // O(1) per window from prefix moment sums (eqs. 3.4-3.10, line_fit.h).
     const PrefixLineFits& prefix = *prefix_;
-    thread_local std::vector<WindowFit> windows;
-    thread_local std::vector<char> usable, inlier;
-    windows.assign(n, WindowFit{});
+    std::vector<WindowFit>& windows = scratch_.windows;
+    std::vector<char>& usable = scratch_.usable;
+    std::vector<char>& inlier = scratch_.inlier;
+    windows.resize(n);
     usable.assign(n, 0);
     inlier.assign(n, 0);
     for (int c = h; c + h < n; ++c) {
@@ -213,7 +301,7 @@ class Extractor {
     }
     for (int c = h + 1; c + h + 1 < n; ++c) {
       if (!usable[c - 1] || !usable[c] || !usable[c + 1]) continue;
-      inlier[c] = FidelityDistance(&windows[c - 1]) <= options_.fidelity_threshold;
+      inlier[c] = FidelityPasses(&windows[c - 1], options_.fidelity_threshold);
     }
     for (int c = 0; c < n;) {
       if (!inlier[c]) {
@@ -223,45 +311,32 @@ class Extractor {
       int last = c;
       while (last + 1 < n && inlier[last + 1]) ++last;
       Cluster cluster;
-      for (int k = c - h; k <= last + h; ++k) cluster.points.push_back(k);
-      if (std::optional<Line> line = Fit(cluster.points)) {
-        cluster.line = *line;
-        cluster.id = next_id_++;
-        candidates.push_back(std::move(cluster));
-      }
+      cluster.points.resize(last - c + nf);  // readings c - h .. last + h
+      std::iota(cluster.points.begin(), cluster.points.end(), c - h);
+      if (Refit(cluster)) candidates.push_back(std::move(cluster));
       c = last + 1;
     }
     return candidates;
   }
 
-  // Weighted residual sum of squares of the readings `members` about `line`,
-  // sum w_i (rho_i cos(theta_i - alpha) - r)^2: what eqs. 3.4-3.5 minimize.
-  double ResidualSum(const std::vector<int>& members, const Line& line) const {
-    const double ca = std::cos(line.alpha_rad);
-    const double sa = std::sin(line.alpha_rad);
-    double sum = 0.0;
-    for (int k : members) {
-      const FitPoint& p = prepared_[k];
-      const double d = p.range_m * (p.cos_bearing * ca + p.sin_bearing * sa) - line.r_m;
-      sum += p.weight * d * d;
-    }
-    return sum;
-  }
-
-  // The fit consistency test (options: fit_consistency): residuals of n
-  // independent readings about their fitted line follow chi^2(n - 2).
-  bool Consistent(const std::vector<int>& members, const Line& line) const {
-    const int n = static_cast<int>(members.size());
+  // The fit consistency test (options: fit_consistency): the residual sum of
+  // squares of n independent readings about their fitted line follows
+  // chi^2(n - 2).
+  bool Consistent(std::size_t n, double residual_sum) const {
     if (!options_.fit_consistency || n <= 2) return true;
-    return ResidualSum(members, line) <= WilsonHilferty(n - 2, consistency_z_);
+    return residual_sum <= WilsonHilferty(static_cast<int>(n) - 2, consistency_z_);
   }
+  bool Consistent(const Cluster& c) const { return Consistent(c.points.size(), c.residual_sum); }
 
   // Candidates failing the fit consistency test are cut where the two fitted
   // lines leave the smallest residual sum, recursively; pieces with fewer than
   // n_f readings (the minimal segment, §3.2.2) are dropped. An outlier at an
-  // end (a mixed pixel) is cut off alone; a bend splits at its vertex.
+  // end (a mixed pixel) is cut off alone; a bend splits at its vertex. The
+  // result is in scan order with strictly increasing first readings (candidates
+  // overlap by at most n_f - 1 readings, and every piece has n_f or more).
   std::vector<Cluster> SplitInconsistent(std::vector<Cluster> candidates) {
     std::vector<Cluster> result;
+    result.reserve(candidates.size());
     std::vector<Cluster> pending;
     for (auto it = candidates.rbegin(); it != candidates.rend(); ++it) {
       pending.push_back(std::move(*it));
@@ -269,19 +344,17 @@ class Extractor {
     while (!pending.empty()) {
       Cluster c = std::move(pending.back());
       pending.pop_back();
-      if (Consistent(c.points, c.line)) {
+      if (Consistent(c)) {
         result.push_back(std::move(c));
         continue;
       }
       const int cut = BestCut(c.points);
       // Right piece first on the stack bottom: pieces come out in scan order.
-      std::vector<int> parts[2] = {{c.points.begin(), c.points.begin() + cut},
-                                   {c.points.begin() + cut, c.points.end()}};
+      Cluster parts[2] = {Unfitted({c.points.begin(), c.points.begin() + cut}),
+                          Unfitted({c.points.begin() + cut, c.points.end()})};
       for (int side : {1, 0}) {
-        if (static_cast<int>(parts[side].size()) < options_.window_size) continue;
-        if (std::optional<Line> line = Fit(parts[side])) {
-          pending.push_back({std::move(parts[side]), *line, next_id_++});
-        }
+        if (static_cast<int>(parts[side].points.size()) < options_.window_size) continue;
+        if (Refit(parts[side])) pending.push_back(std::move(parts[side]));
       }
     }
     return result;
@@ -333,53 +406,66 @@ class Extractor {
     return best;
   }
 
-  static bool SharePoints(const Cluster& a, const Cluster& b) {
-    auto ia = a.points.begin();
-    auto ib = b.points.begin();
-    while (ia != a.points.end() && ib != b.points.end()) {
-      if (*ia == *ib) return true;
-      if (*ia < *ib) {
-        ++ia;
-      } else {
-        ++ib;
-      }
-    }
-    return false;
+  static std::vector<int> Union(const Cluster& a, const Cluster& b) {
+    std::vector<int> joined;
+    joined.reserve(a.points.size() + b.points.size());
+    std::set_union(a.points.begin(), a.points.end(), b.points.begin(), b.points.end(),
+                   std::back_inserter(joined));
+    return joined;
   }
 
   // §3.2.3: agglomerative clustering with the chi^2 test on eq. 3.16. Among the
   // pairs passing the test, overlapping neighbours are fused first, then
   // neighbours, then any collinear pair; within a level the nearest pair goes
-  // first. Fusion re-fits the joined points. Clusters stay sorted by first point,
-  // so "neighbours" are consecutive clusters in scan order.
+  // first. Fusion re-fits the joined points. Clusters stay in scan order (by
+  // first point) by construction: the fusion of positions i < j takes position
+  // i and keeps its first point, and first points are distinct (see
+  // SplitInconsistent), so "neighbours" are consecutive clusters. A cluster
+  // changes only when it is fused, so what is known of a pair is kept in a
+  // table by slot (a cluster's input position, taken over by the fusion it is
+  // first in) and renewed for the fused cluster's pairs only.
   void Agglomerate(std::vector<Cluster>& clusters) {
     const double gate = ChiSquare2Quantile(options_.significance);
     enum Level { kOverlap, kAdjacency, kCollinearity };
-    std::set<std::pair<int, int>> refused;  // cluster id pairs whose union is no line
-    const auto union_of = [&](int i, int j) {
-      Cluster fused;
-      std::set_union(clusters[i].points.begin(), clusters[i].points.end(),
-                     clusters[j].points.begin(), clusters[j].points.end(),
-                     std::back_inserter(fused.points));
-      return fused;
+    const int stride = static_cast<int>(clusters.size());
+    std::vector<PairState>& pairs = scratch_.pairs;  // [a * stride + b] for slots a < b
+    std::vector<int>& slot = scratch_.slot;          // slot of the cluster at each position
+    pairs.assign(stride * stride, PairState{});
+    slot.resize(stride);
+    std::iota(slot.begin(), slot.end(), 0);
+    // Slots increase with positions, so the pair of positions i < j is:
+    const auto pair = [&](int i, int j) -> PairState& { return pairs[slot[i] * stride + slot[j]]; };
+    // Measured when first needed: the collinearity level, which needs all
+    // pairs, is mostly reached when few clusters are left.
+    const auto distance = [&](int i, int j) {
+      PairState& ij = pair(i, j);
+      if (!ij.measured) {
+        ij.distance = CollinearityDistance(clusters[i].line, clusters[j].line);
+        ij.measured = 1;
+      }
+      return ij.distance;
+    };
+    const auto share = [&](int i, int j) {
+      char& s = pair(i, j).shares;
+      if (s == PairState::kUnknown) s = SharePoints(clusters[i].points, clusters[j].points);
+      return s != 0;
     };
     while (clusters.size() > 1) {
       int best_i = -1;
       int best_j = -1;
       std::optional<Cluster> fused;  // set when the union was already fitted
+      const int m = static_cast<int>(clusters.size());
       for (Level level : {kOverlap, kAdjacency, kCollinearity}) {
         double best_d = gate;
-        const int m = static_cast<int>(clusters.size());
         for (int i = 0; i < m; ++i) {
           for (int j = i + 1; j < m; ++j) {
             if (level != kCollinearity && j != i + 1) break;
-            if (level == kOverlap && !SharePoints(clusters[i], clusters[j])) continue;
-            const double d = CollinearityDistance(clusters[i].line, clusters[j].line);
-            if (d <= best_d && !refused.contains({clusters[i].id, clusters[j].id})) {
-              best_d = d;
-              best_i = i;
-              best_j = j;
-            }
+            const double d = distance(i, j);
+            if (d > best_d || pair(i, j).refused) continue;
+            if (level == kOverlap && !share(i, j)) continue;
+            best_d = d;
+            best_i = i;
+            best_j = j;
           }
         }
         if (best_i >= 0) break;
@@ -396,13 +482,13 @@ class Extractor {
         double best_union_d = std::numeric_limits<double>::infinity();
         for (int i = 0; i + 1 < m; ++i) {
           const int j = i + 1;
-          if (level == kOverlap && !SharePoints(clusters[i], clusters[j])) continue;
-          if (refused.contains({clusters[i].id, clusters[j].id})) continue;
-          const double d = CollinearityDistance(clusters[i].line, clusters[j].line);
+          if (pair(i, j).refused) continue;
+          if (level == kOverlap && !share(i, j)) continue;
+          const double d = distance(i, j);
           if (d >= best_union_d) continue;
-          Cluster candidate = union_of(i, j);
+          Cluster candidate = Unfitted(Union(clusters[i], clusters[j]));
           if (!OneLine(clusters[i], &candidate, gate)) {
-            refused.insert({clusters[i].id, clusters[j].id});
+            pair(i, j).refused = 1;
             continue;
           }
           best_union_d = d;
@@ -414,43 +500,45 @@ class Extractor {
       }
       if (best_i < 0) return;
       if (!fused) {
-        fused = union_of(best_i, best_j);
-        const std::optional<Line> line = Fit(fused->points);
-        if (!line) return;  // cannot happen for two non-degenerate sets; stop merging
-        if (!Consistent(fused->points, *line)) {
-          refused.insert({clusters[best_i].id, clusters[best_j].id});
+        fused = Unfitted(Union(clusters[best_i], clusters[best_j]));
+        if (!Refit(*fused)) return;  // cannot happen for two non-degenerate sets; stop merging
+        if (!Consistent(*fused)) {
+          pair(best_i, best_j).refused = 1;
           continue;
         }
-        fused->line = *line;
       }
-      fused->id = next_id_++;
-      clusters.erase(clusters.begin() + best_j);
       clusters[best_i] = std::move(*fused);
-      std::sort(clusters.begin(), clusters.end(), [](const Cluster& a, const Cluster& b) {
-        return a.points.front() < b.points.front();
-      });
+      clusters.erase(clusters.begin() + best_j);
+      slot.erase(slot.begin() + best_j);
+      // The fused cluster's pairs are new.
+      for (int q = 0; q + 1 < m; ++q) {
+        if (q != best_i) pair(std::min(q, best_i), std::max(q, best_i)) = PairState{};
+      }
     }
   }
 
   // The likelihood-ratio test of Agglomerate for `a` and the union `joined`
-  // (points set, line fitted here when it passes): the residual sum about the
-  // joint line minus those of a's readings and of the rest about their own
-  // lines is at most the chi^2(2) quantile `gate`, and the union passes the
-  // fit consistency test.
+  // (points set, fitted here when it passes): the residual sum about the joint
+  // line minus those of a's readings and of the rest about their own lines is
+  // at most the chi^2(2) quantile `gate`, and the union passes the fit
+  // consistency test.
   bool OneLine(const Cluster& a, Cluster* joined, double gate) const {
-    const std::optional<Line> line = Fit(joined->points);
-    if (!line || !Consistent(joined->points, *line)) return false;
-    std::vector<int> rest;
+    double joined_residual = 0.0;
+    const std::optional<Line> line = Fit(joined->points, &joined_residual);
+    if (!line || !Consistent(joined->points.size(), joined_residual)) return false;
+    std::vector<int>& rest = scratch_.rest;
+    rest.clear();
     std::set_difference(joined->points.begin(), joined->points.end(), a.points.begin(),
                         a.points.end(), std::back_inserter(rest));
-    double separate = ResidualSum(a.points, a.line);
+    double separate = a.residual_sum;
     if (rest.size() >= 2) {
-      const std::optional<Line> rest_line = Fit(rest);
-      if (!rest_line) return false;
-      separate += ResidualSum(rest, *rest_line);
+      double rest_residual = 0.0;
+      if (!Fit(rest, &rest_residual)) return false;
+      separate += rest_residual;
     }
-    if (ResidualSum(joined->points, *line) - separate > gate) return false;
+    if (joined_residual - separate > gate) return false;
     joined->line = *line;
+    joined->residual_sum = joined_residual;
     return true;
   }
 
@@ -468,7 +556,7 @@ class Extractor {
         if (i == j || clusters[i].points.empty() || clusters[j].points.empty()) continue;
         Cluster& a = clusters[i];
         Cluster& b = clusters[j];
-        if (a.points.front() > b.points.front() || !SharePoints(a, b)) continue;
+        if (a.points.front() > b.points.front() || !SharePoints(a.points, b.points)) continue;
         std::vector<int> shared;
         std::set_intersection(a.points.begin(), a.points.end(), b.points.begin(), b.points.end(),
                               std::back_inserter(shared));
@@ -482,12 +570,14 @@ class Extractor {
         }
         // a ends where b begins: shared[0, cut) stay with a, the rest go to b.
         const int m = static_cast<int>(shared.size());
+        const Eigen::Vector2d normal_a = a.line.normal();
+        const Eigen::Vector2d normal_b = b.line.normal();
         std::vector<double> to_a(m);
         std::vector<double> to_b(m);
         for (int k = 0; k < m; ++k) {
           const Eigen::Vector2d p = Cartesian(shared[k]);
-          to_a[k] = std::pow(a.line.SignedDistance(p), 2);
-          to_b[k] = std::pow(b.line.SignedDistance(p), 2);
+          to_a[k] = std::pow(normal_a.dot(p) - a.line.r_m, 2);  // Line::SignedDistance
+          to_b[k] = std::pow(normal_b.dot(p) - b.line.r_m, 2);
         }
         double cost = 0.0;
         for (double v : to_b) cost += v;
@@ -500,8 +590,8 @@ class Extractor {
             best_cut = cut;
           }
         }
-        RemovePoints(a, std::vector<int>(shared.begin() + best_cut, shared.end()));
-        RemovePoints(b, std::vector<int>(shared.begin(), shared.begin() + best_cut));
+        RemovePoints(a, std::span<const int>(shared).subspan(best_cut));
+        RemovePoints(b, std::span<const int>(shared).first(best_cut));
       }
     }
     const std::size_t min_points = static_cast<std::size_t>(options_.window_size);
@@ -509,13 +599,14 @@ class Extractor {
   }
 
   Eigen::Vector2d Cartesian(int k) const {
-    return points_[k].range_m *
-           Eigen::Vector2d(std::cos(points_[k].bearing_rad), std::sin(points_[k].bearing_rad));
+    const FitPoint& p = prepared_[k];
+    return p.range_m * Eigen::Vector2d(p.cos_bearing, p.sin_bearing);
   }
 
-  void RemovePoints(Cluster& cluster, const std::vector<int>& removed) const {
+  void RemovePoints(Cluster& cluster, std::span<const int> removed) const {
     if (removed.empty()) return;
     std::vector<int> kept;
+    kept.reserve(cluster.points.size());
     std::set_difference(cluster.points.begin(), cluster.points.end(), removed.begin(),
                         removed.end(), std::back_inserter(kept));
     cluster.points = std::move(kept);
@@ -523,11 +614,7 @@ class Extractor {
       cluster.points.clear();
       return;
     }
-    if (std::optional<Line> line = Fit(cluster.points)) {
-      cluster.line = *line;
-    } else {
-      cluster.points.clear();
-    }
+    if (!Refit(cluster)) cluster.points.clear();
   }
 
   std::vector<Segment> ToSegments(const std::vector<Cluster>& clusters) const {
@@ -536,13 +623,14 @@ class Extractor {
     const SegmentFilter piece_filter{options_.min_points, 0.0};
     std::vector<Segment> segments;
     int line_id = 0;
+    std::vector<std::span<const int>> pieces;
     for (const Cluster& c : clusters) {
       std::optional<Segment> whole =
           BuildSegment(c.line, c.points, points_, reading_index_, bearing_sigma, filter);
       if (!whole) continue;
       // Pieces: runs of members not interrupted by min_gap_readings or more
       // valid readings of something else.
-      std::vector<std::span<const int>> pieces;
+      pieces.clear();
       std::size_t begin = 0;
       for (std::size_t k = 1; k <= c.points.size(); ++k) {
         if (k < c.points.size() && c.points[k] - c.points[k - 1] - 1 < options_.min_gap_readings) {
@@ -572,14 +660,14 @@ class Extractor {
 
   const LaserScan& scan_;
   const LineExtractionOptions& options_;
-  int next_id_ = 0;  // cluster ids
+  Scratch& scratch_;
   // Normal quantile at consistency_significance (Wilson-Hilferty, per fit).
-  double consistency_z_ = NormalQuantile(options_.consistency_significance);
+  double consistency_z_ = CachedNormalQuantile(options_.consistency_significance);
   Eigen::Matrix2d floor_;
-  std::vector<PolarPoint> points_;
-  std::vector<FitPoint> prepared_;        // points_ prepared for fits (no trigonometry per fit)
+  std::vector<PolarPoint>& points_;
+  std::vector<FitPoint>& prepared_;  // points_ prepared for fits (no trigonometry per fit)
+  std::vector<int>& reading_index_;
   std::optional<PrefixLineFits> prefix_;  // moment sums of prepared_, for every fit
-  std::vector<int> reading_index_;
 };
 
 }  // namespace
@@ -640,7 +728,8 @@ LineExtractionOptions LineExtractionOptions::SickLms200() { return LineExtractio
 
 std::vector<Segment> ExtractLines(const LaserScan& scan, const LineExtractionOptions& options) {
   options.Validate();
-  return Extractor(scan, options).Run();
+  thread_local Scratch scratch;
+  return Extractor(scan, options, scratch).Run();
 }
 
 }  // namespace pavilion::core

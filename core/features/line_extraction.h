@@ -84,8 +84,10 @@ struct LineExtractionOptions {
 // order of their first reading; their lines have r >= 0. Segments shorter than
 // min_length_m, or whose longest run of consecutive readings is (legs fused
 // across a gap), are rejected. A fused line seen in pieces (occlusions, doors)
-// gives one Segment per piece with the same line and line_id (eq. 5.17). Cost: O(n n_f) for the
-// segmentation, O(n_s^2) chi^2 distances per fusion of the n_s candidates.
+// gives one Segment per piece with the same line and line_id (eq. 5.17). Cost:
+// O(n) for the segmentation (window fits from prefix moment sums; the thesis'
+// direct fits are O(n n_f)), and each of the O(n_s^2) chi^2 distances between
+// the n_s candidates computed once, as are the fits of fused clusters (O(runs)).
 std::vector<Segment> ExtractLines(const LaserScan& scan, const LineExtractionOptions& options);
 
 }  // namespace pavilion::core

@@ -1,6 +1,8 @@
 #include "core/features/line_fit.h"
 
+#include <algorithm>
 #include <cmath>
+#include <memory>
 #include <numbers>
 #include <vector>
 
@@ -26,7 +28,8 @@ bool Degenerate(const FitCore& c) {
          !(nd2 > kIsotropicRelativeScatter * c.scatter * c.scatter);
 }
 
-Line Finish(double alpha, double r, double s_aa, double s_rr, double s_ar) {
+// Sets `line` (the caller's, so the result is written in place, not copied).
+void Finish(double alpha, double r, double s_aa, double s_rr, double s_ar, Line& line) {
   // r >= 0 convention (eq. B.4, the line is visible from the sensor): flipping
   // (alpha, r) -> (alpha + pi, -r) negates the r row and column of the covariance.
   if (r < 0.0) {
@@ -34,11 +37,11 @@ Line Finish(double alpha, double r, double s_aa, double s_rr, double s_ar) {
     alpha += std::numbers::pi;
     s_ar = -s_ar;
   }
-  Line line;
-  line.alpha_rad = NormalizeAngle(alpha);
+  // alpha is in (-pi/2, 3pi/2] here: NormalizeAngle's subtraction of 2 pi,
+  // inline (exact for alpha > pi, Sterbenz).
+  line.alpha_rad = alpha > std::numbers::pi ? alpha - 2.0 * std::numbers::pi : alpha;
   line.r_m = r;
   line.covariance << s_aa, s_ar, s_ar, s_rr;
-  return line;
 }
 
 // atan2 to within 1e-7 rad (Abramowitz & Stegun 4.4.49: a degree-15 odd
@@ -49,16 +52,14 @@ double FastAtan2(double y, double x) {
   if (ax == 0.0 && ay == 0.0) return std::atan2(y, x);  // signed zeros as std::atan2
   const bool swap = ay > ax;
   const double t = swap ? ax / ay : ay / ax;
+  // Estrin's scheme in t^2: four independent pairs, then two levels.
   const double t2 = t * t;
-  double a = -0.0040540580;
-  a = a * t2 + 0.0218612288;
-  a = a * t2 - 0.0559098861;
-  a = a * t2 + 0.0964200441;
-  a = a * t2 - 0.1390853351;
-  a = a * t2 + 0.1994653599;
-  a = a * t2 - 0.3332985605;
-  a = a * t2 + 0.9999993329;
-  a *= t;
+  const double t4 = t2 * t2;
+  const double p01 = 0.9999993329 - 0.3332985605 * t2;
+  const double p23 = 0.1994653599 - 0.1390853351 * t2;
+  const double p45 = 0.0964200441 - 0.0559098861 * t2;
+  const double p67 = 0.0218612288 - 0.0040540580 * t2;
+  double a = t * ((p01 + p23 * t4) + (p45 + p67 * t4) * (t4 * t4));
   if (swap) a = 0.5 * std::numbers::pi - a;
   if (x < 0.0) a = std::numbers::pi - a;
   return std::copysign(a, y);
@@ -109,7 +110,8 @@ std::optional<Line> FitLinePrepared(std::span<const FitPoint> points) {
     c.den += p.weight * (dy * dy - dx * dx);
     c.scatter += p.weight * (dx * dx + dy * dy);
   }
-  if (Degenerate(c)) return std::nullopt;
+  std::optional<Line> fit;
+  if (Degenerate(c)) return fit;
   const double nd2 = c.num * c.num + c.den * c.den;
   // Eq. 3.4 (atan2 selects the minimum of the perpendicular errors), eq. 3.5.
   const double alpha = 0.5 * std::atan2(c.num, c.den);
@@ -142,27 +144,48 @@ std::optional<Line> FitLinePrepared(std::span<const FitPoint> points) {
     s_rr += dr * dr * var;  // eq. 3.9
     s_ar += da * dr * var;  // eq. 3.10
   }
-  return Finish(alpha, r, s_aa, s_rr, s_ar);
+  Finish(alpha, r, s_aa, s_rr, s_ar, fit.emplace());
+  return fit;
 }
 
-PrefixLineFits::PrefixLineFits(std::span<const FitPoint> points) {
-  prefix_.resize(points.size() + 1);
+PrefixLineFits::PrefixLineFits(std::span<const FitPoint> points)
+    : prefix_(std::make_unique_for_overwrite<Moments[]>(points.size() + 1)) {
+  // Two passes, each point's moments and then the running sums: one pass
+  // keeping the sums in a temporary array stalls on store forwarding.
   prefix_[0].fill(0.0);
   for (std::size_t i = 0; i < points.size(); ++i) {
     const FitPoint& p = points[i];
     const double w = p.weight;
     const double x = p.range_m * p.cos_bearing;
     const double y = p.range_m * p.sin_bearing;
-    const double g[4] = {
-        p.sin_bearing, p.cos_bearing, p.range_m * 2.0 * p.sin_bearing * p.cos_bearing,
-        p.range_m * (p.cos_bearing * p.cos_bearing - p.sin_bearing * p.sin_bearing)};
-    std::array<double, kMoments> m = {
-        w, w * x, w * y, w * x * x, w * y * y, w * x * y, w * p.range_m * p.range_m};
-    int k = 7;
-    for (int a = 0; a < 4; ++a) {
-      for (int b = a; b < 4; ++b) m[k++] = w * g[a] * g[b];
-    }
-    for (int j = 0; j < kMoments; ++j) prefix_[i + 1][j] = prefix_[i][j] + m[j];
+    // g = (st, ct, rho s2t, rho c2t), as scalars: an array here is spilled with
+    // scalar stores and read back in pairs, which stalls on store forwarding.
+    const double g0 = p.sin_bearing;
+    const double g1 = p.cos_bearing;
+    const double g2 = p.range_m * 2.0 * p.sin_bearing * p.cos_bearing;
+    const double g3 = p.range_m * (p.cos_bearing * p.cos_bearing - p.sin_bearing * p.sin_bearing);
+    Moments& m = prefix_[i + 1];
+    m[0] = w;
+    m[1] = w * x;
+    m[2] = w * y;
+    m[3] = w * x * x;
+    m[4] = w * y * y;
+    m[5] = w * x * y;
+    m[6] = w * p.range_m * p.range_m;
+    m[7] = w * g0 * g0;
+    m[8] = w * g0 * g1;
+    m[9] = w * g0 * g2;
+    m[10] = w * g0 * g3;
+    m[11] = w * g1 * g1;
+    m[12] = w * g1 * g2;
+    m[13] = w * g1 * g3;
+    m[14] = w * g2 * g2;
+    m[15] = w * g2 * g3;
+    m[16] = w * g3 * g3;
+  }
+  Moments sums = prefix_[0];  // running sums, kept in registers
+  for (std::size_t i = 1; i <= points.size(); ++i) {
+    for (int j = 0; j < kMoments; ++j) prefix_[i][j] = sums[j] += prefix_[i][j];
   }
 }
 
@@ -173,26 +196,47 @@ std::optional<Line> PrefixLineFits::Fit(int begin, int end, Precision precision)
   return FitMoments(s, precision);
 }
 
-std::optional<Line> PrefixLineFits::FitMembers(std::span<const int> members) const {
+std::optional<Line> PrefixLineFits::FitMembers(std::span<const int> members,
+                                               double* residual_sum) const {
   if (members.size() < 2) return std::nullopt;
   Moments s;
   s.fill(0.0);
-  std::size_t begin = 0;
-  for (std::size_t k = 1; k <= members.size(); ++k) {
-    if (k < members.size() && members[k] == members[k - 1] + 1) continue;
-    const auto& hi = prefix_[members[k - 1] + 1];
-    const auto& lo = prefix_[members[begin]];
+  const std::size_t n = members.size();
+  for (std::size_t begin = 0; begin < n;) {
+    // members[k] - k is non-decreasing (ascending indices, no repeats) and
+    // constant exactly on a run of consecutive indices: the run starting at
+    // `begin` ends at the first k where it grows, found by bisection.
+    const auto offset = [&](std::size_t k) {
+      return static_cast<long>(members[k]) - static_cast<long>(k);
+    };
+    std::size_t end = begin + 1;
+    std::size_t past = n;  // the run ends in [end, past]
+    while (end < past) {
+      const std::size_t mid = end + (past - end) / 2;
+      if (offset(mid) == offset(begin)) {
+        end = mid + 1;
+      } else {
+        past = mid;
+      }
+    }
+    const Moments& hi = prefix_[members[end - 1] + 1];
+    const Moments& lo = prefix_[members[begin]];
     for (int j = 0; j < kMoments; ++j) s[j] += hi[j] - lo[j];
-    begin = k;
+    begin = end;
   }
-  return FitMoments(s, Precision::kExact);
+  return FitMoments(s, Precision::kExact, residual_sum);
 }
 
-std::optional<Line> PrefixLineFits::FitMoments(const Moments& s, Precision precision) {
+std::optional<Line> PrefixLineFits::FitMoments(const Moments& s, Precision precision,
+                                               double* residual_sum) {
+  // Divisions by sum w and by N^2 + D^2 as multiplications by their
+  // reciprocals (a few per fit instead of a dozen; differences of 1 ulp).
+  std::optional<Line> fit;  // returned by name: written in place (NRVO), not copied
   FitCore c;
   c.sum_w = s[0];
-  c.xw = s[1] / c.sum_w;
-  c.yw = s[2] / c.sum_w;
+  const double inv_w = 1.0 / c.sum_w;
+  c.xw = s[1] * inv_w;
+  c.yw = s[2] * inv_w;
   c.sum_wrho2 = s[6];
   // Second moments about the weighted mean.
   const double cxx = s[3] - c.sum_w * c.xw * c.xw;
@@ -201,15 +245,20 @@ std::optional<Line> PrefixLineFits::FitMoments(const Moments& s, Precision preci
   c.num = -2.0 * cxy;  // eq. 3.4, N
   c.den = cyy - cxx;   // eq. 3.4, D
   c.scatter = cxx + cyy;
-  if (Degenerate(c)) return std::nullopt;
+  if (Degenerate(c)) return fit;
   const double nd2 = c.num * c.num + c.den * c.den;
+  const double inv_nd2 = 1.0 / nd2;
+  if (residual_sum != nullptr) {
+    // The smaller eigenvalue of the scatter matrix [cxx cxy; cxy cyy].
+    *residual_sum = std::max(0.0, 0.5 * (c.scatter - std::sqrt(nd2)));
+  }
   const double alpha =
       0.5 * (precision == Precision::kExact ? std::atan2(c.num, c.den) : FastAtan2(c.num, c.den));
   // cos and sin of alpha from those of 2 alpha = atan2(N, D) by the half-angle
   // formulas (alpha in (-pi/2, pi/2], so cos alpha >= 0), without trigonometry.
-  const double norm = std::sqrt(nd2);
-  const double c2 = c.den / norm;
-  const double s2 = c.num / norm;
+  const double inv_norm = std::sqrt(inv_nd2);
+  const double c2 = c.den * inv_norm;
+  const double s2 = c.num * inv_norm;
   double ca, sa;
   if (c2 >= 0.0) {
     ca = std::sqrt(0.5 * (1.0 + c2));
@@ -221,24 +270,28 @@ std::optional<Line> PrefixLineFits::FitMoments(const Moments& s, Precision preci
   const double r = c.xw * ca + c.yw * sa;
   // d alpha/d rho_i = w_i a.g_i and d r/d rho_i = w_i b.g_i (see the header), so
   // with var_i = 1/w_i the sums of eqs. 3.8-3.10 are a^T M a, b^T M b, a^T M b.
-  const double a[4] = {(c.den * c.xw + c.num * c.yw) / nd2, (c.den * c.yw - c.num * c.xw) / nd2,
-                       -c.den / nd2, c.num / nd2};
+  // b = k a + u with u = (sin alpha, cos alpha, 0, 0) / sum w (eq. 3.9), so
+  // a^T M b = k a^T M a + u^T M a and b^T M b = k^2 a^T M a + 2 k u^T M a + u^T M u.
+  const double a[4] = {(c.den * c.xw + c.num * c.yw) * inv_nd2,
+                       (c.den * c.yw - c.num * c.xw) * inv_nd2, -c.den * inv_nd2, c.num * inv_nd2};
   const double k = c.yw * ca - c.xw * sa;
-  const double b[4] = {sa / c.sum_w + k * a[0], ca / c.sum_w + k * a[1], k * a[2], k * a[3]};
-  double m[4][4];
-  int idx = 7;
-  for (int i = 0; i < 4; ++i) {
-    for (int j = i; j < 4; ++j) m[i][j] = m[j][i] = s[idx++];
-  }
-  double ma[4], mb[4];
-  for (int i = 0; i < 4; ++i) {
-    ma[i] = m[i][0] * a[0] + m[i][1] * a[1] + m[i][2] * a[2] + m[i][3] * a[3];
-    mb[i] = m[i][0] * b[0] + m[i][1] * b[1] + m[i][2] * b[2] + m[i][3] * b[3];
-  }
-  const double s_aa = a[0] * ma[0] + a[1] * ma[1] + a[2] * ma[2] + a[3] * ma[3];
-  const double s_rr = b[0] * mb[0] + b[1] * mb[1] + b[2] * mb[2] + b[3] * mb[3];
-  const double s_ar = b[0] * ma[0] + b[1] * ma[1] + b[2] * ma[2] + b[3] * ma[3];
-  return Finish(alpha, r, s_aa, s_rr, s_ar);
+  const double u0 = sa * inv_w;
+  const double u1 = ca * inv_w;
+  // M from its upper triangle s[7..16], row by row.
+  const double m00 = s[7], m01 = s[8], m02 = s[9], m03 = s[10];
+  const double m11 = s[11], m12 = s[12], m13 = s[13];
+  const double m22 = s[14], m23 = s[15], m33 = s[16];
+  const double ma0 = m00 * a[0] + m01 * a[1] + m02 * a[2] + m03 * a[3];
+  const double ma1 = m01 * a[0] + m11 * a[1] + m12 * a[2] + m13 * a[3];
+  const double ma2 = m02 * a[0] + m12 * a[1] + m22 * a[2] + m23 * a[3];
+  const double ma3 = m03 * a[0] + m13 * a[1] + m23 * a[2] + m33 * a[3];
+  const double s_aa = a[0] * ma0 + a[1] * ma1 + a[2] * ma2 + a[3] * ma3;
+  const double uma = u0 * ma0 + u1 * ma1;
+  const double umu = u0 * (m00 * u0 + m01 * u1) + u1 * (m01 * u0 + m11 * u1);
+  const double s_ar = k * s_aa + uma;
+  const double s_rr = k * (k * s_aa + 2.0 * uma) + umu;
+  Finish(alpha, r, s_aa, s_rr, s_ar, fit.emplace());
+  return fit;
 }
 
 }  // namespace pavilion::core

@@ -1,9 +1,9 @@
 #pragma once
 
 #include <array>
+#include <memory>
 #include <optional>
 #include <span>
-#include <vector>
 
 #include "core/features/uncertain_geometry.h"
 
@@ -48,7 +48,8 @@ std::optional<Line> FitLinePrepared(std::span<const FitPoint> points);
 // coefficients common to the run, and var_i = 1/w_i. For the sliding windows of
 // the extraction (§3.2.2) and its clusters (unions of runs). The differences of
 // prefix sums lose ~1e-16 of the scan's total moments: for ranges <= 80 m and
-// sigma >= 1 mm the fitted alpha agrees with FitLinePrepared to ~1e-12.
+// sigma >= 1 mm the fitted alpha agrees with FitLinePrepared to ~1e-12, and a
+// residual sum (FitMembers) is exact to ~1e-16 of the scan's sum w rho^2.
 class PrefixLineFits {
  public:
   explicit PrefixLineFits(std::span<const FitPoint> points);
@@ -59,16 +60,23 @@ class PrefixLineFits {
   // The fit of points [begin, end); nullopt when degenerate.
   std::optional<Line> Fit(int begin, int end, Precision precision = Precision::kExact) const;
   // The fit of the points `members` (ascending indices, no repeats) in
-  // O(number of runs of consecutive indices).
-  std::optional<Line> FitMembers(std::span<const int> members) const;
+  // O(runs log n) for runs of consecutive indices. `residual_sum`, when given,
+  // receives the weighted residual sum of squares about the fit,
+  // sum w_i (rho_i cos(theta_i - alpha) - r)^2: the minimum of the objective of
+  // eqs. 3.4-3.5, the smaller eigenvalue (S - sqrt(N^2 + D^2)) / 2 of the
+  // weighted scatter matrix about the mean (S its trace, N and D of eq. 3.4).
+  std::optional<Line> FitMembers(std::span<const int> members,
+                                 double* residual_sum = nullptr) const;
 
  private:
   // Per prefix: w, wx, wy, wxx, wyy, wxy, w rho^2, and the 10 entries of
   // sum w g g^T with g = (st, ct, rho s2t, rho c2t).
   static constexpr int kMoments = 17;
   using Moments = std::array<double, kMoments>;
-  static std::optional<Line> FitMoments(const Moments& sums, Precision precision);
-  std::vector<Moments> prefix_;
+  static std::optional<Line> FitMoments(const Moments& sums, Precision precision,
+                                        double* residual_sum = nullptr);
+  // Row i: the sums over points [0, i); n + 1 rows.
+  std::unique_ptr<Moments[]> prefix_;
 };
 
 }  // namespace pavilion::core

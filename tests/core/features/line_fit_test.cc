@@ -163,5 +163,46 @@ TEST(PrefixLineFits, MemberFitsAndFastWindowsAgreeWithTheDirectFit) {
   }
 }
 
+// A member fit's residual sum is the weighted sum of squared residuals about its
+// line, sum w_i (rho_i cos(theta_i - alpha) - r)^2 (the minimum of the objective
+// of eqs. 3.4-3.5), for members with gaps, noisy ranges and unequal weights, and
+// vanishes on exact points. Prefix differences lose ~1e-16 of the scan's total
+// sum w rho^2, which bounds the tolerance.
+TEST(PrefixLineFits, MemberFitsReportTheirResidualSum) {
+  RandomStream rng(23, 3);
+  const double alpha = 0.4;
+  const double r = 3.0;
+  for (const double noise_scale : {1.0, 0.0}) {
+    std::vector<FitPoint> points;
+    double total_w_rho2 = 0.0;
+    for (int i = 0; i < 361; ++i) {
+      const double bearing = -0.6 + i * 1.6 / 360;
+      const double sigma = 0.005 + 0.01 * (i % 4);
+      const double range = r / std::cos(bearing - alpha) + noise_scale * rng.Normal(0.0, sigma);
+      points.push_back(*PrepareFitPoint({range, bearing, sigma}));
+      total_w_rho2 += points.back().weight * range * range;
+    }
+    const PrefixLineFits prefix(points);
+    std::vector<int> members;
+    for (int i = 30; i < 330; ++i) {
+      if (i % 50 >= 20) members.push_back(i);  // runs with gaps
+    }
+    double residual_sum = -1.0;
+    const std::optional<Line> line = prefix.FitMembers(members, &residual_sum);
+    ASSERT_TRUE(line);
+    double direct = 0.0;
+    for (int k : members) {
+      const FitPoint& p = points[k];
+      const double d = p.range_m * (p.cos_bearing * std::cos(line->alpha_rad) +
+                                    p.sin_bearing * std::sin(line->alpha_rad)) -
+                       line->r_m;
+      direct += p.weight * d * d;
+    }
+    SCOPED_TRACE(noise_scale);
+    EXPECT_NEAR(residual_sum, direct, 1e-14 * total_w_rho2 + 1e-9 * direct);
+    EXPECT_GE(residual_sum, 0.0);
+  }
+}
+
 }  // namespace
 }  // namespace pavilion::core
