@@ -21,10 +21,13 @@
 #include "scenarios/map_file.h"
 #include "scenarios/world_loader.h"
 #include "sim/world.h"
+#include "tests/support/robot_map_compare.h"
 #include "tests/support/test_files.h"
 
 namespace pavilion::scenarios {
 namespace {
+
+using pavilion::testing::ExpectSameMap;
 
 using Vec2 = Eigen::Vector2d;
 
@@ -423,73 +426,6 @@ TEST(MapDerivationTest, CovariancesMatchTheNoise) {
   EXPECT_NEAR(point_mean, 2.0, 0.67);  // 3 standard errors of 80 draws
 }
 
-void ExpectNear(const core::Point2Uncertain& a, const core::Point2Uncertain& b) {
-  EXPECT_LT((a.position_m - b.position_m).norm(), 2e-6);
-  EXPECT_TRUE(a.covariance.isApprox(b.covariance, 1e-5));
-}
-
-void ExpectNear(const core::Line& a, const core::Line& b) {
-  EXPECT_NEAR(a.alpha_rad, b.alpha_rad, 2e-9);
-  EXPECT_NEAR(a.r_m, b.r_m, 2e-6);
-  EXPECT_TRUE(a.covariance.isApprox(b.covariance, 1e-5));
-}
-
-// A map file equals a fresh map: ids, geometry to the file's precision, topology.
-void ExpectSameMap(const core::RobotMap& shipped, const core::RobotMap& fresh) {
-  EXPECT_EQ(shipped.description, fresh.description);
-  EXPECT_EQ(shipped.beam_height_m, fresh.beam_height_m);
-  ASSERT_EQ(shipped.segments.size(), fresh.segments.size());
-  for (std::size_t i = 0; i < fresh.segments.size(); ++i) {
-    EXPECT_EQ(shipped.segments[i].id, fresh.segments[i].id);
-    ExpectNear(shipped.segments[i].line, fresh.segments[i].line);
-    ExpectNear(shipped.segments[i].first_endpoint, fresh.segments[i].first_endpoint);
-    ExpectNear(shipped.segments[i].second_endpoint, fresh.segments[i].second_endpoint);
-  }
-  ASSERT_EQ(shipped.multi_segment_lines.size(), fresh.multi_segment_lines.size());
-  for (std::size_t i = 0; i < fresh.multi_segment_lines.size(); ++i) {
-    const auto& s = shipped.multi_segment_lines[i];
-    const auto& f = fresh.multi_segment_lines[i];
-    EXPECT_EQ(s.id, f.id);
-    ExpectNear(s.line, f.line);
-    ASSERT_EQ(s.segments.size(), f.segments.size());
-    for (std::size_t k = 0; k < f.segments.size(); ++k) {
-      ExpectNear(s.segments[k].first, f.segments[k].first);
-      ExpectNear(s.segments[k].second, f.segments[k].second);
-    }
-  }
-  EXPECT_TRUE(shipped.lines.empty());
-  ASSERT_EQ(shipped.points.size(), fresh.points.size());
-  for (std::size_t i = 0; i < fresh.points.size(); ++i) {
-    EXPECT_EQ(shipped.points[i].id, fresh.points[i].id);
-    ExpectNear(shipped.points[i].point, fresh.points[i].point);
-    EXPECT_NEAR(shipped.points[i].radius_m, fresh.points[i].radius_m, 1e-9);
-  }
-  ASSERT_EQ(shipped.beacons.size(), fresh.beacons.size());
-  for (std::size_t i = 0; i < fresh.beacons.size(); ++i) {
-    EXPECT_EQ(shipped.beacons[i].id, fresh.beacons[i].id);
-    ExpectNear(shipped.beacons[i].point, fresh.beacons[i].point);
-  }
-  ASSERT_EQ(shipped.nodes.size(), fresh.nodes.size());
-  for (std::size_t i = 0; i < fresh.nodes.size(); ++i) {
-    EXPECT_EQ(shipped.nodes[i].id, fresh.nodes[i].id);
-    EXPECT_EQ(shipped.nodes[i].station, fresh.nodes[i].station);
-    EXPECT_LT((shipped.nodes[i].pose.translation() - fresh.nodes[i].pose.translation()).norm(),
-              2e-6);
-    EXPECT_NEAR(shipped.nodes[i].pose.theta_rad, fresh.nodes[i].pose.theta_rad, 1e-9);
-  }
-  ASSERT_EQ(shipped.edges.size(), fresh.edges.size());
-  for (std::size_t i = 0; i < fresh.edges.size(); ++i) {
-    EXPECT_EQ(shipped.edges[i].from, fresh.edges[i].from);
-    EXPECT_EQ(shipped.edges[i].to, fresh.edges[i].to);
-    EXPECT_NEAR(shipped.edges[i].weight, fresh.edges[i].weight, 2e-6);
-  }
-  ASSERT_EQ(shipped.ghost_points.size(), fresh.ghost_points.size());
-  for (std::size_t i = 0; i < fresh.ghost_points.size(); ++i) {
-    EXPECT_EQ(shipped.ghost_points[i].id, fresh.ghost_points[i].id);
-    EXPECT_LT((shipped.ghost_points[i].position_m - fresh.ghost_points[i].position_m).norm(), 2e-6);
-  }
-}
-
 // The shipped worlds/<name>/map.yaml files parse and equal what
 // `pavilion map derive <name>` gives with its defaults (seed 1, 5 mm noise):
 // regenerate them with that command when a world changes.
@@ -501,7 +437,7 @@ TEST(MapDerivationTest, ShippedMapsEqualAFreshDerivation) {
     const auto world = LoadWorld(name);
     const core::RobotMap fresh = DeriveRobotMap(*world, MapDerivationOptions{});
     EXPECT_EQ(shipped.name, name);
-    ExpectSameMap(shipped, fresh);
+    ExpectSameMap(shipped, fresh, pavilion::testing::kMapFilePrecision);
   }
 }
 
@@ -513,7 +449,7 @@ TEST(MapDerivationTest, ShippedCorridorMapEqualsAFreshDerivation) {
   const auto world = LoadWorld("office_floor");
   const core::RobotMap fresh = KeepLinesAlongDirection(
       DeriveRobotMap(*world, MapDerivationOptions{}), 0.0, 5.0 * std::numbers::pi / 180.0);
-  ExpectSameMap(shipped, fresh);
+  ExpectSameMap(shipped, fresh, pavilion::testing::kMapFilePrecision);
 }
 
 // Only the lines along the direction (either way round) stay; points and

@@ -14,10 +14,13 @@
 
 #include "scenarios/input_error.h"
 #include "scenarios/validate.h"
+#include "tests/support/robot_map_compare.h"
 #include "tests/support/test_files.h"
 
 namespace pavilion::scenarios {
 namespace {
+
+using pavilion::testing::ExpectSameMap;
 
 using pavilion::testing::Contains;
 using pavilion::testing::LineOf;
@@ -60,75 +63,6 @@ core::RobotMap SampleMap() {
   m.ghost_points.push_back({"g1", {-2.5, -1.2}});
   m.ghost_points.push_back({"g2", {-2.5, -1.45}});
   return m;
-}
-
-void ExpectSamePoint(const core::Point2Uncertain& a, const core::Point2Uncertain& b) {
-  EXPECT_EQ(a.position_m, b.position_m);
-  EXPECT_EQ(a.covariance, b.covariance);
-}
-
-void ExpectSameLine(const core::Line& a, const core::Line& b) {
-  EXPECT_EQ(a.alpha_rad, b.alpha_rad);
-  EXPECT_EQ(a.r_m, b.r_m);
-  EXPECT_EQ(a.covariance, b.covariance);
-}
-
-void ExpectSameMap(const core::RobotMap& a, const core::RobotMap& b) {
-  EXPECT_EQ(a.name, b.name);
-  EXPECT_EQ(a.description, b.description);
-  EXPECT_EQ(a.beam_height_m, b.beam_height_m);
-  ASSERT_EQ(a.lines.size(), b.lines.size());
-  for (std::size_t i = 0; i < a.lines.size(); ++i) {
-    EXPECT_EQ(a.lines[i].id, b.lines[i].id);
-    ExpectSameLine(a.lines[i].line, b.lines[i].line);
-  }
-  ASSERT_EQ(a.segments.size(), b.segments.size());
-  for (std::size_t i = 0; i < a.segments.size(); ++i) {
-    EXPECT_EQ(a.segments[i].id, b.segments[i].id);
-    ExpectSameLine(a.segments[i].line, b.segments[i].line);
-    ExpectSamePoint(a.segments[i].first_endpoint, b.segments[i].first_endpoint);
-    ExpectSamePoint(a.segments[i].second_endpoint, b.segments[i].second_endpoint);
-  }
-  ASSERT_EQ(a.multi_segment_lines.size(), b.multi_segment_lines.size());
-  for (std::size_t i = 0; i < a.multi_segment_lines.size(); ++i) {
-    const auto& x = a.multi_segment_lines[i];
-    const auto& y = b.multi_segment_lines[i];
-    EXPECT_EQ(x.id, y.id);
-    ExpectSameLine(x.line, y.line);
-    ASSERT_EQ(x.segments.size(), y.segments.size());
-    for (std::size_t k = 0; k < x.segments.size(); ++k) {
-      ExpectSamePoint(x.segments[k].first, y.segments[k].first);
-      ExpectSamePoint(x.segments[k].second, y.segments[k].second);
-    }
-  }
-  ASSERT_EQ(a.points.size(), b.points.size());
-  for (std::size_t i = 0; i < a.points.size(); ++i) {
-    EXPECT_EQ(a.points[i].id, b.points[i].id);
-    ExpectSamePoint(a.points[i].point, b.points[i].point);
-    EXPECT_EQ(a.points[i].radius_m, b.points[i].radius_m);
-  }
-  ASSERT_EQ(a.beacons.size(), b.beacons.size());
-  for (std::size_t i = 0; i < a.beacons.size(); ++i) {
-    EXPECT_EQ(a.beacons[i].id, b.beacons[i].id);
-    ExpectSamePoint(a.beacons[i].point, b.beacons[i].point);
-  }
-  ASSERT_EQ(a.nodes.size(), b.nodes.size());
-  for (std::size_t i = 0; i < a.nodes.size(); ++i) {
-    EXPECT_EQ(a.nodes[i].id, b.nodes[i].id);
-    EXPECT_EQ(a.nodes[i].pose, b.nodes[i].pose);
-    EXPECT_EQ(a.nodes[i].station, b.nodes[i].station);
-  }
-  ASSERT_EQ(a.edges.size(), b.edges.size());
-  for (std::size_t i = 0; i < a.edges.size(); ++i) {
-    EXPECT_EQ(a.edges[i].from, b.edges[i].from);
-    EXPECT_EQ(a.edges[i].to, b.edges[i].to);
-    EXPECT_EQ(a.edges[i].weight, b.edges[i].weight);
-  }
-  ASSERT_EQ(a.ghost_points.size(), b.ghost_points.size());
-  for (std::size_t i = 0; i < a.ghost_points.size(); ++i) {
-    EXPECT_EQ(a.ghost_points[i].id, b.ghost_points[i].id);
-    EXPECT_EQ(a.ghost_points[i].position_m, b.ghost_points[i].position_m);
-  }
 }
 
 // Write -> read gives the same map bit for bit (numbers are printed in their
