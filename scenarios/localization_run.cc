@@ -3,10 +3,12 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <numbers>
 #include <stdexcept>
 
 #include "scenarios/input_error.h"
+#include "scenarios/map_derivation.h"
 #include "scenarios/map_file.h"
 
 namespace pavilion::scenarios {
@@ -23,6 +25,14 @@ core::LocalizerOptions OptionsFor(const RobotEntry& robot) {
   o.odometry.k_left_m = c.k_left_m;
   o.odometry.k_right_m = c.k_right_m;
   o.odometry.k_turn_m = c.k_turn_m;
+  // The calibration measured the physics' own error with encoder noise off;
+  // injected encoder noise is independent of it, so the variances add (§2.3:
+  // Var = k|s| per wheel, hence the k add).
+  const sim::EncoderOptions& encoders = robot.config.encoders;
+  if (encoders.noise) {
+    o.odometry.k_left_m += encoders.k_left_m;
+    o.odometry.k_right_m += encoders.k_right_m;
+  }
   o.significance = robot.localization.significance;
   for (const sim::LaserMount& mount : robot.config.lasers) {
     core::LaserSensorOptions laser;
@@ -41,17 +51,31 @@ double Median(std::vector<double> v) {
 
 }  // namespace
 
-LocalizationRun::LocalizationRun(const RobotEntry& robot, const std::string& scenario_file)
-    : entry_(robot.localization) {
-  core::RobotMap map;
+core::RobotMap LoadRobotMap(const RobotEntry& robot, const Scenario& scenario,
+                            const sim::World& world) {
+  const LocalizationEntry& entry = robot.localization;
   try {
-    map = LoadMapFile(entry_.map_file);
+    if (entry.derive_map_noise_m) {
+      MapDerivationOptions options;
+      options.noise_sigma_m = *entry.derive_map_noise_m;
+      options.seed = scenario.seed;
+      return DeriveRobotMap(world, options);
+    }
+    std::string file = entry.map_file;
+    if (file.empty()) {
+      file = (std::filesystem::path(scenario.world_file).parent_path() / "map.yaml").string();
+    }
+    return LoadMapFile(file);
   } catch (const InputError&) {
     throw;
   } catch (const std::exception& e) {
     throw InputError(
-        Diagnostic{scenario_file, 0, "robots." + robot.id + ".localization.map", e.what()});
+        Diagnostic{scenario.source_file, 0, "robots." + robot.id + ".localization.map", e.what()});
   }
+}
+
+LocalizationRun::LocalizationRun(const RobotEntry& robot, core::RobotMap map)
+    : entry_(robot.localization) {
   localizer_ = std::make_unique<core::Localizer>(std::move(map), OptionsFor(robot));
   for (const sim::LaserMount& mount : robot.config.lasers) {
     if (entry_.lasers.empty() ||

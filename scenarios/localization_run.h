@@ -62,12 +62,20 @@ inline constexpr double kLostHeadingErrorRad = 10.0 * 3.14159265358979323846 / 1
 // One-sided 95% bound of chi^2(3).
 inline constexpr double kNees95Bound3 = 7.814727903251178;
 
+// The map a robot localizes and plans with: its map file (default: the
+// world's map.yaml), or for `map: derive` a map derived from `world` (static
+// geometry only: call before bodies and robots are added) with the entry's
+// tape-measure noise drawn from the scenario's seed. Throws InputError naming
+// the scenario key for a bad map.
+core::RobotMap LoadRobotMap(const RobotEntry& robot, const Scenario& scenario,
+                            const sim::World& world);
+
 class LocalizationRun {
  public:
-  // Loads the map (throws InputError for a bad map), sets the localizer up from
-  // the robot's calibrated odometry and lasers, and initializes it at the true
-  // start pose plus the entry's offset.
-  LocalizationRun(const RobotEntry& robot, const std::string& scenario_file);
+  // Takes `map` (the robot's map file, loaded by LoadRobotMap), sets the
+  // localizer up from the robot's calibrated odometry and lasers, and
+  // initializes it at the true start pose plus the entry's offset.
+  LocalizationRun(const RobotEntry& robot, core::RobotMap map);
 
   // The tick's sensor outputs in time order; `truth` is the robot's true pose
   // at the end of the tick (time `now_s`). Returns true when a localization

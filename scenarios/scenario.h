@@ -42,6 +42,11 @@ struct DriveCommand {
 struct LocalizationEntry {
   bool enabled = false;
   std::string map_file;  // the robot's map.yaml (default: the world's)
+  // `map: derive`: instead of a file, the map is derived from the world at
+  // start-up (pavilion map derive) with tape-measure noise of this sigma drawn
+  // from the scenario's seed: a fresh survey per seed, so that runs over
+  // several seeds sample the map's error as well (consistency checks, NEES).
+  std::optional<double> derive_map_noise_m;
   // Localization cycles per second: each laser's scans are integrated at most
   // this often (the thesis: 2 Hz, §4.5.2).
   double rate_hz = 2.0;

@@ -5,6 +5,7 @@
 #include <set>
 
 #include "scenarios/data_paths.h"
+#include "scenarios/map_derivation.h"
 #include "scenarios/robot_loader.h"
 #include "scenarios/scenario.h"
 #include "scenarios/world_loader.h"
@@ -200,12 +201,18 @@ void ReadLocalization(YamlDocument* doc, MapReader& r, const std::string& base,
   LocalizationEntry& l = robot->localization;
   l.enabled = m.Bool("enabled", true);
   const std::string map = m.String("map", "");
+  if (map == "derive") {
+    l.derive_map_noise_m = m.Number("map_noise_m", MapDerivationOptions{}.noise_sigma_m, 0.0, 0.1);
+  } else if (m.Has("map_noise_m")) {
+    doc->Error(m.Child("map_noise_m"), m.PathOf("map_noise_m"),
+               "map_noise_m applies only with 'map: derive'");
+  }
   if (map.empty()) {
     l.map_file = (std::filesystem::path(scenario.world_file).parent_path() / "map.yaml").string();
-  } else {
+  } else if (map != "derive") {
     l.map_file = (std::filesystem::path(base) / map).string();
   }
-  if (!std::filesystem::exists(l.map_file)) {
+  if (!l.derive_map_noise_m && !std::filesystem::exists(l.map_file)) {
     doc->Error(m.Has("map") ? m.Child("map") : node, m.PathOf("map"),
                "no map file '" + l.map_file + "' (derive one: pavilion map derive)");
   }

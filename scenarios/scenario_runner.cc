@@ -213,15 +213,10 @@ struct RobotRun {
 
 // The path of a robot's route over its map's topology; errors name the
 // scenario key.
-std::vector<Eigen::Vector2d> RoutePath(const RobotEntry& entry, const Scenario& scenario,
-                                       std::size_t index) {
+std::vector<Eigen::Vector2d> RoutePath(const RobotEntry& entry, const core::RobotMap& map,
+                                       const Scenario& scenario, std::size_t index) {
   const std::string key = "robots[" + std::to_string(index) + "].route.stops";
-  std::string map_file = entry.localization.map_file;
-  if (map_file.empty()) {
-    map_file = (std::filesystem::path(scenario.world_file).parent_path() / "map.yaml").string();
-  }
   try {
-    const core::RobotMap map = LoadMapFile(map_file);
     std::vector<Eigen::Vector2d> path = nav::TourPath(map, entry.route->stops);
     // From the robot's start to the first stop.
     path.insert(path.begin(), entry.pose.translation());
@@ -271,6 +266,15 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
     robot_setups.push_back(MakeSimRobotSetup(r.id, r.config, r.pose, &description));
   }
   sim::World world(std::move(description), scenario.physics);
+  // Maps before any body enters the world (a derived map is a survey of the
+  // static geometry).
+  std::vector<std::optional<core::RobotMap>> robot_maps(scenario.robots.size());
+  for (std::size_t k = 0; k < scenario.robots.size(); ++k) {
+    const RobotEntry& entry = scenario.robots[k];
+    if (entry.localization.enabled || entry.route) {
+      robot_maps[k] = LoadRobotMap(entry, scenario, world);
+    }
+  }
   core::RandomStream spawn_stream(scenario.seed, kSpawnStream);
   std::vector<std::unique_ptr<sim::BodyMotion>> motions;
   for (const BodyEntry& entry : scenario.bodies) {
@@ -296,11 +300,11 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
     robot_index[entry.id] = static_cast<int>(k);
     RobotRun& run = robots.back();
     if (entry.localization.enabled) {
-      run.localization = std::make_unique<LocalizationRun>(entry, scenario.source_file);
+      run.localization = std::make_unique<LocalizationRun>(entry, *robot_maps[k]);
     }
     if (entry.route) {
-      run.follower =
-          std::make_unique<nav::PathFollower>(RoutePath(entry, scenario, k), entry.route->follower);
+      run.follower = std::make_unique<nav::PathFollower>(
+          RoutePath(entry, *robot_maps[k], scenario, k), entry.route->follower);
       run.control_period_ticks = std::max<std::int64_t>(
           1, std::llround(scenario.physics.physics_rate_hz / entry.route->control_rate_hz));
     }

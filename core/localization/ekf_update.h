@@ -4,6 +4,7 @@
 
 #include <Eigen/Core>
 
+#include "core/localization/map_cross_covariance.h"
 #include "core/odometry/diff_drive.h"
 
 namespace pavilion::core {
@@ -30,5 +31,29 @@ namespace pavilion::core {
 // Returns false, leaving the state unchanged, when S is not positive definite.
 bool UpdatePoseEstimate(const Eigen::Vector2d& innovation, const Eigen::Matrix<double, 2, 3>& H,
                         const Eigen::Matrix2d& N, int dimension, PoseWithCovariance* state);
+
+// The map feature of a pairing, for the update with map correlations.
+struct PairedMapFeature {
+  MapFeatureRef feature;
+  Eigen::Matrix2d J_z_map = Eigen::Matrix2d::Zero();         // grad h_g (rows as H)
+  Eigen::Matrix2d map_covariance = Eigen::Matrix2d::Zero();  // M
+};
+
+// The same estimation step when the map feature's error m is correlated with
+// the pose error e (C = Cov(e, m), kept in `correlations`; see
+// map_cross_covariance.h): a Schmidt-Kalman update, the map a "consider"
+// state that is never changed. With v = n - H e - G m (G = grad h_g, n the
+// observation and mounting noise, N = G M G^T + Cov(n) as above):
+//   S = H P H^T + H C G^T + G C^T H^T + N
+//   W = (P H^T + C G^T) S^-1,  x <- x + W v,  A = I - W H
+//   P <- A P A^T + W N W^T - A C G^T W^T - W G C^T A^T   (Joseph form)
+//   C_k <- A C_k for every other feature k in use,  C <- A C - W G M
+// The map features' errors are independent of each other. With C = 0 for
+// every feature this is UpdatePoseEstimate, except that it starts recording
+// the pairing's correlation. Returns false, changing nothing, when S is not
+// positive definite.
+bool UpdatePoseEstimate(const Eigen::Vector2d& innovation, const Eigen::Matrix<double, 2, 3>& H,
+                        const Eigen::Matrix2d& N, int dimension, const PairedMapFeature& map,
+                        PoseWithCovariance* state, PoseMapCrossCovariance* correlations);
 
 }  // namespace pavilion::core

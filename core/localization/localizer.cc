@@ -1,5 +1,6 @@
 #include "core/localization/localizer.h"
 
+#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -94,8 +95,8 @@ Localizer::Localizer(RobotMap map, const LocalizerOptions& options)
       predictor_(map_,
                  PredictionOptions{options_.significance, options_.use_map_line_angle_variance}),
       matcher_(MatchingOptions{options_.significance, options_.use_extension_constraint}),
-      buffer_(options_.odometry.wheelbase_m, options_.odometry.noise(),
-              options_.odometry_buffer_s) {}
+      buffer_(options_.odometry.wheelbase_m, options_.odometry.noise(), options_.odometry_buffer_s),
+      correlations_(map_) {}
 
 void Localizer::Initialize(const Pose2& world_from_robot, const Eigen::Matrix3d& covariance) {
   Initialize(world_from_robot, covariance, buffer_.empty() ? 0.0 : buffer_.latest_stamp_s());
@@ -120,6 +121,7 @@ void Localizer::Initialize(const Pose2& world_from_robot, const Eigen::Matrix3d&
     buffer_.CorrectAt(buffer_.SplitAt(stamp_s), state);
   }
   pending_.clear();
+  correlations_.Clear();  // the new prior is independent of the map
   last_integrated_s_ = stamp_s;
   status_ = LocalizerStatus{};
   status_.state = LocalizationState::kTracking;
@@ -152,6 +154,9 @@ void Localizer::AddEncoders(const EncoderReading& reading) {
     // An Initialize() stamped after the previous reading moved the buffer's
     // latest time forward; that step then ends at the later of the two.
     buffer_.Append(std::max(reading.stamp_s, buffer_.latest_stamp_s()), travel);
+    if (options_.map_correlations && !correlations_.features().empty()) {
+      correlations_.Transform(buffer_.Transition(buffer_.size() - 2, buffer_.size() - 1));
+    }
   }
   ProcessPending();
   if (status_.state == LocalizationState::kTracking) CheckLost(buffer_.latest_stamp_s());
@@ -339,9 +344,22 @@ ObservationStatus Localizer::Integrate(const ObservationBatch& batch) {
   // The state predicted at the observation's time stamp T (§4.4.3), matched
   // and estimated there, then carried forward to the present.
   const std::size_t at = buffer_.SplitAt(batch.stamp_s);
+  const std::size_t now = buffer_.size() - 1;
   PoseWithCovariance state = buffer_.node(at).state;
-  MatchingResult result = matcher_.MatchAndUpdate(predictor_, batch, &state);
-  if (!result.matches.empty()) buffer_.CorrectAt(at, state);
+  MatchingResult result;
+  if (options_.map_correlations) {
+    // The cross-covariances live at the latest node: back to T through the
+    // inverse transition (determinant 1, eq. 2.11), updated with the state,
+    // and forward again along the corrected, re-linearized steps.
+    const Eigen::Matrix3d back = buffer_.Transition(at, now).inverse();
+    if (!correlations_.features().empty()) correlations_.Transform(back);
+    result = matcher_.MatchAndUpdate(predictor_, batch, &state, &correlations_);
+    if (!result.matches.empty()) buffer_.CorrectAt(at, state);
+    if (!correlations_.features().empty()) correlations_.Transform(buffer_.Transition(at, now));
+  } else {
+    result = matcher_.MatchAndUpdate(predictor_, batch, &state);
+    if (!result.matches.empty()) buffer_.CorrectAt(at, state);
+  }
   last_integrated_s_ = batch.stamp_s;
 
   last_cycle_.sensor_id = batch.sensor_id;

@@ -12,6 +12,7 @@
 #include "core/features/beacon_extraction.h"
 #include "core/features/line_extraction.h"
 #include "core/localization/encoder_odometry.h"
+#include "core/localization/map_cross_covariance.h"
 #include "core/localization/matching.h"
 #include "core/localization/measurement_prediction.h"
 #include "core/localization/observation.h"
@@ -49,8 +50,17 @@ struct LocalizerOptions {
   double significance = 0.95;
   // Extension constraint for map segments and MS-lines (§5.3.2.3).
   bool use_extension_constraint = true;
-  // See PredictionOptions::use_map_line_angle_variance (thesis §4.3: false).
-  bool use_map_line_angle_variance = false;
+  // See PredictionOptions::use_map_line_angle_variance. The thesis (§4.3)
+  // neglects it; here true by default: a map line's angle error is as real as
+  // its offset error, and with the full (alpha, r) covariance eq. B.16
+  // transforms it correctly to first order. Neglecting it made the office
+  // tour's heading overconfident.
+  bool use_map_line_angle_variance = true;
+  // Keep the pose-map cross-covariance of every used map feature (a
+  // Schmidt-Kalman filter, map_cross_covariance.h): the map's error is one
+  // draw, shared by all cycles, instead of independent per cycle as in eq.
+  // 4.9. false: the thesis' filter.
+  bool map_correlations = true;
   // How far back odometry is kept: the oldest observation time stamp that can
   // still be integrated, relative to the latest encoder reading, s; > 0.
   double odometry_buffer_s = 2.0;
@@ -192,6 +202,8 @@ class Localizer {
   MeasurementPredictor predictor_;
   IterativeMatcher matcher_;
   OdometryBuffer buffer_;
+  // At the latest odometry node; used when options_.map_correlations.
+  PoseMapCrossCovariance correlations_;
   std::optional<EncoderReading> last_encoders_;
   Pose2 dead_reckoning_;  // uncorrected odometry pose
   double last_integrated_s_ = 0.0;

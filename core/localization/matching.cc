@@ -78,7 +78,8 @@ IterativeMatcher::IterativeMatcher(const MatchingOptions& options) : options_(op
 
 MatchingResult IterativeMatcher::MatchAndUpdate(const MeasurementPredictor& predictor,
                                                 const ObservationBatch& batch,
-                                                PoseWithCovariance* state) {
+                                                PoseWithCovariance* state,
+                                                PoseMapCrossCovariance* correlations) {
   MatchingResult result;
   result.observations = static_cast<int>(batch.observations.size());
   observation_used_.assign(batch.observations.size(), 0);
@@ -88,16 +89,16 @@ MatchingResult IterativeMatcher::MatchAndUpdate(const MeasurementPredictor& pred
             ? std::any_of(batch.observations.begin(), batch.observations.end(),
                           [type](const Observation& o) { return o.type == type; })
             : std::find(batch.types.begin(), batch.types.end(), type) != batch.types.end();
-    if (delivered) IntegrateType(type, predictor, batch, state, &result);
+    if (delivered) IntegrateType(type, predictor, batch, state, correlations, &result);
   }
   return result;
 }
 
 void IterativeMatcher::IntegrateType(ObservationType type, const MeasurementPredictor& predictor,
                                      const ObservationBatch& batch, PoseWithCovariance* state,
-                                     MatchingResult* result) {
+                                     PoseMapCrossCovariance* correlations, MatchingResult* result) {
   predictions_.clear();
-  predictor.PredictVisible(type, *state, batch.view, &predictions_);
+  predictor.PredictVisible(type, *state, batch.view, &predictions_, correlations);
   result->predictions += static_cast<int>(predictions_.size());
   observations_.clear();
   for (int j = 0; j < static_cast<int>(batch.observations.size()); ++j) {
@@ -118,7 +119,8 @@ void IterativeMatcher::IntegrateType(ObservationType type, const MeasurementPred
     if (!fresh) {  // (iii) re-prediction of the features not associated so far
       for (std::size_t i = 0; i < predictions_.size(); ++i) {
         if (!prediction_used_[i]) {
-          predictions_[i] = predictor.Predict(predictions_[i].feature, type, *state, batch.view);
+          predictions_[i] =
+              predictor.Predict(predictions_[i].feature, type, *state, batch.view, correlations);
         }
       }
     }
@@ -134,9 +136,10 @@ void IterativeMatcher::IntegrateType(ObservationType type, const MeasurementPred
     const Eigen::Matrix2d N = p.feature_covariance + (best.innovation.S - p.covariance);
     observation_used_[best.observation] = 1;
     prediction_used_[best.prediction] = 1;
-    if (!UpdatePoseEstimate(best.innovation.v, p.J_z_pose, N, best.innovation.dimension,
-                            state)) {  // (ii) estimation
-      continue;                        // S not positive definite: the pairing is dropped
+    const PairedMapFeature map{p.feature, p.J_z_map, p.map_covariance};
+    if (!UpdatePoseEstimate(best.innovation.v, p.J_z_pose, N, best.innovation.dimension, map, state,
+                            correlations)) {  // (ii) estimation
+      continue;                               // S not positive definite: the pairing is dropped
     }
     result->matches.push_back({p.feature, best.observation, type, best.innovation});
   }

@@ -93,8 +93,12 @@ class IterativeMatcher {
  public:
   explicit IterativeMatcher(const MatchingOptions& options = {});  // validates the options
 
+  // With `correlations` (see map_cross_covariance.h; at the batch's time
+  // stamp) predictions and updates account for the pose-map correlation, and
+  // the correlations are updated with the state; without, the thesis' filter.
   MatchingResult MatchAndUpdate(const MeasurementPredictor& predictor,
-                                const ObservationBatch& batch, PoseWithCovariance* state);
+                                const ObservationBatch& batch, PoseWithCovariance* state,
+                                PoseMapCrossCovariance* correlations = nullptr);
 
   const MatchingOptions& options() const { return options_; }
 
@@ -107,7 +111,7 @@ class IterativeMatcher {
   // Integrates the observations of one type; appends to `result`.
   void IntegrateType(ObservationType type, const MeasurementPredictor& predictor,
                      const ObservationBatch& batch, PoseWithCovariance* state,
-                     MatchingResult* result);
+                     PoseMapCrossCovariance* correlations, MatchingResult* result);
   bool FindLinePairing(const MeasurementPredictor& predictor, const ObservationBatch& batch,
                        const PoseWithCovariance& state, Candidate* best);
   bool FindPointPairing(const ObservationBatch& batch, Candidate* best) const;

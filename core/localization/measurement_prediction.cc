@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/localization/map_cross_covariance.h"
 #include "core/math/chi_square.h"
 
 namespace pavilion::core {
@@ -198,9 +199,9 @@ MeasurementPredictor::MeasurementPredictor(const RobotMap& map, const Prediction
   equality_gate_ = ChiSquareQuantile(options_.significance, 1);
 }
 
-PredictedMeasurement MeasurementPredictor::Predict(MapFeatureRef feature, ObservationType type,
-                                                   const PoseWithCovariance& world_from_robot,
-                                                   const SensorView& view) const {
+PredictedMeasurement MeasurementPredictor::Predict(
+    MapFeatureRef feature, ObservationType type, const PoseWithCovariance& world_from_robot,
+    const SensorView& view, const PoseMapCrossCovariance* correlations) const {
   if (!CanPair(type, feature.type)) {
     throw std::invalid_argument("Predict: observation type cannot be paired with feature " +
                                 FeatureId(map_, feature));
@@ -221,8 +222,10 @@ PredictedMeasurement MeasurementPredictor::Predict(MapFeatureRef feature, Observ
       M(0, 1) = 0.0;
       M(1, 0) = 0.0;
     }
-    J_z_sensor = J.J_line_pose;                                              // eqs. B.14-B.15
-    out.feature_covariance = J.J_line_line * M * J.J_line_line.transpose();  // eqs. B.12-B.13
+    J_z_sensor = J.J_line_pose;   // eqs. B.14-B.15
+    out.J_z_map = J.J_line_line;  // eqs. B.12-B.13
+    out.map_covariance = M;
+    out.feature_covariance = J.J_line_line * M * J.J_line_line.transpose();
   } else {
     const Point2Uncertain& point = MapPointOf(map_, feature);
     const PointInSensor ps = TransformPoint(point.position_m, frame.world_from_sensor);  // B.28
@@ -232,19 +235,27 @@ PredictedMeasurement MeasurementPredictor::Predict(MapFeatureRef feature, Observ
       out.z = {std::atan2(ps.p.y(), ps.p.x()), 0.0};
       J_z_sensor.setZero();
       J_z_sensor.row(0) = g * ps.J_p_sensor;
+      out.J_z_map.row(0) = g * ps.J_p_point;
       out.feature_covariance.setZero();
       out.feature_covariance(0, 0) = g * M * g.transpose();
     } else {
       out.z = ps.p;
       J_z_sensor = ps.J_p_sensor;
+      out.J_z_map = ps.J_p_point;
       out.feature_covariance = M;
     }
+    out.map_covariance = point.covariance;
   }
   out.J_z_pose = J_z_sensor * frame.J_sensor_robot;                                 // grad h_x
   const Eigen::Matrix<double, 2, 3> J_z_mount = J_z_sensor * frame.J_sensor_mount;  // grad h_s
   out.feature_covariance += J_z_mount * view.robot_from_sensor_covariance * J_z_mount.transpose();
   out.covariance = out.J_z_pose * world_from_robot.covariance * out.J_z_pose.transpose() +
                    out.feature_covariance;  // eq. 4.9
+  if (correlations != nullptr) {
+    out.pose_map_cross = correlations->Get(feature);
+    const Eigen::Matrix2d cross = out.J_z_pose * out.pose_map_cross * out.J_z_map.transpose();
+    out.covariance += cross + cross.transpose();
+  }
   return out;
 }
 
@@ -329,12 +340,13 @@ bool MeasurementPredictor::IsVisible(const PredictedMeasurement& prediction,
 void MeasurementPredictor::PredictVisible(ObservationType type,
                                           const PoseWithCovariance& world_from_robot,
                                           const SensorView& view,
-                                          std::vector<PredictedMeasurement>* out) const {
+                                          std::vector<PredictedMeasurement>* out,
+                                          const PoseMapCrossCovariance* correlations) const {
   const auto consider = [&](MapFeatureType feature_type, std::size_t count) {
     if (!CanPair(type, feature_type)) return;
     for (std::size_t i = 0; i < count; ++i) {
       PredictedMeasurement p =
-          Predict({feature_type, static_cast<int>(i)}, type, world_from_robot, view);
+          Predict({feature_type, static_cast<int>(i)}, type, world_from_robot, view, correlations);
       if (IsVisible(p, world_from_robot, view)) out->push_back(p);
     }
   };

@@ -16,6 +16,8 @@
 
 namespace pavilion::core {
 
+class PoseMapCrossCovariance;
+
 // The map collection a feature comes from.
 enum class MapFeatureType { kLine, kSegment, kMultiSegmentLine, kPoint, kBeacon };
 
@@ -55,7 +57,18 @@ struct PredictedMeasurement {
   // grad h_g M grad h_g^T + grad h_s P_S grad h_s^T: the covariance terms of
   // eq. 4.9 that do not involve the robot pose (map feature, sensor mounting).
   Eigen::Matrix2d feature_covariance = Eigen::Matrix2d::Zero();
-  // S_M of eq. 4.9: J_z_pose P J_z_pose^T + feature_covariance.
+  // grad h_g: derivative of z with respect to the feature's map parameters
+  // (lines, segments, MS-lines: (alpha, r) of the supporting line; points and
+  // beacons: (x, y)). For a vertical edge only row 0.
+  Eigen::Matrix2d J_z_map = Eigen::Matrix2d::Zero();
+  // M: the covariance of those parameters as the prediction used it (the
+  // §4.3 option applied).
+  Eigen::Matrix2d map_covariance = Eigen::Matrix2d::Zero();
+  // C = Cov(pose error, map parameter error) at the prediction's state; zero
+  // unless the caller keeps map correlations (PoseMapCrossCovariance).
+  Eigen::Matrix<double, 3, 2> pose_map_cross = Eigen::Matrix<double, 3, 2>::Zero();
+  // S_M of eq. 4.9: J_z_pose P J_z_pose^T + feature_covariance, plus the
+  // cross terms J_z_pose C J_z_map^T + (...)^T when C is kept.
   Eigen::Matrix2d covariance = Eigen::Matrix2d::Zero();
 
   int dimension() const { return MeasurementDimension(type); }
@@ -87,10 +100,12 @@ class MeasurementPredictor {
   // without any visibility test: lines by eqs. B.22-B.23 with the Jacobians
   // B.12-B.15 (grad h_g = B.12-B.13; grad h_x, grad h_s through the compounding
   // of robot pose and mounting pose); points by eq. B.28 with eqs. B.29-B.32;
-  // vertical edges as the bearing of the point (§B.3).
+  // vertical edges as the bearing of the point (§B.3). With `correlations`,
+  // the pose-map cross-covariance of the feature enters S_M (see
+  // PredictedMeasurement::covariance).
   PredictedMeasurement Predict(MapFeatureRef feature, ObservationType type,
-                               const PoseWithCovariance& world_from_robot,
-                               const SensorView& view) const;
+                               const PoseWithCovariance& world_from_robot, const SensorView& view,
+                               const PoseMapCrossCovariance* correlations = nullptr) const;
 
   // The visibility constraint of Table 5.3 for a prediction from Predict:
   // lines r > 0 and r <= R_S (eq. 5.47); segments also phi >= Phi_S (eqs.
@@ -106,7 +121,8 @@ class MeasurementPredictor {
   // Appends the visible predictions of every map feature an observation of
   // `type` can be paired with.
   void PredictVisible(ObservationType type, const PoseWithCovariance& world_from_robot,
-                      const SensorView& view, std::vector<PredictedMeasurement>* out) const;
+                      const SensorView& view, std::vector<PredictedMeasurement>* out,
+                      const PoseMapCrossCovariance* correlations = nullptr) const;
 
   // The extension constraint (§5.3.2.3, Table 5.4): every observed segment must
   // be fully overlapped by the map segment (for an MS-line: by one of its

@@ -75,6 +75,19 @@ void OdometryBuffer::CorrectAt(std::size_t index, const PoseWithCovariance& corr
   }
 }
 
+Eigen::Matrix3d OdometryBuffer::Transition(std::size_t from, std::size_t to) const {
+  if (from > to || to >= nodes_.size()) {
+    throw std::out_of_range("OdometryBuffer::Transition: bad node range");
+  }
+  Eigen::Matrix3d phi = Eigen::Matrix3d::Identity();
+  for (std::size_t k = from + 1; k <= to; ++k) {
+    phi = DiffDriveStepJacobians(nodes_[k - 1].state.pose, nodes_[k].travel, wheelbase_m_)
+              .J_next_pose *
+          phi;
+  }
+  return phi;
+}
+
 std::optional<Pose2> OdometryBuffer::OdometryPoseAt(double stamp_s) const {
   if (!Covers(stamp_s)) return std::nullopt;
   const std::size_t after = UpperBound(stamp_s);

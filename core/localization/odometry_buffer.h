@@ -66,6 +66,12 @@ class OdometryBuffer {
   // T_l to t given the data in the buffer" of §4.4.3.
   void CorrectAt(std::size_t index, const PoseWithCovariance& corrected);
 
+  // The linearized state transition from node `from` to node `to` (from <=
+  // to < size()): the product of the steps' grad f_x (eq. 2.11), each taken
+  // at the recorded state and input. Error propagation x_to = Phi x_from + w,
+  // with w independent of anything before `from`.
+  Eigen::Matrix3d Transition(std::size_t from, std::size_t to) const;
+
   // The dead-reckoned pose at `stamp_s`, interpolated within its step;
   // nullopt outside [oldest_stamp_s(), latest_stamp_s()].
   std::optional<Pose2> OdometryPoseAt(double stamp_s) const;

@@ -6,8 +6,9 @@
 // covariance (seeded; one draw ends up outside the 95% gate once the other 7
 // are integrated), from a prior 5 cm / 1 deg off. Baseline in the same run:
 // prediction alone (the 10 lines with Jacobians, covariances, visibility).
-// BM_LocalizerCycle adds what the Localizer does around the cycle: the
-// odometry-buffer look-up at the observation's time stamp (a step split) and
+// BM_EkfCycleWithMapCorrelations is the same cycle as the Localizer runs it
+// by default (pose-map cross-covariances). BM_LocalizerCycle adds what the Localizer does around
+// the cycle: the odometry-buffer look-up at the observation's time stamp (a step split) and
 // carrying the correction forward over the 20 odometry steps (100 ms)
 // buffered since.
 #include <benchmark/benchmark.h>
@@ -106,6 +107,25 @@ void BM_EkfCycle(benchmark::State& state) {
   state.counters["matched"] = static_cast<double>(result.matches.size());
 }
 BENCHMARK(BM_EkfCycle)->Unit(benchmark::kMicrosecond);
+
+// The same cycle with the pose-map cross-covariances (the Localizer's
+// default, map_cross_covariance.h): cross terms in S, the Schmidt-Kalman
+// update, and (I - W H) applied to the correlations already kept.
+void BM_EkfCycleWithMapCorrelations(benchmark::State& state) {
+  const Scene& s = TheScene();
+  const core::MeasurementPredictor predictor(s.map, core::PredictionOptions{0.95, true});
+  core::IterativeMatcher matcher;
+  core::MatchingResult result;
+  core::PoseMapCrossCovariance correlations(s.map);
+  for (auto _ : state) {
+    core::PoseWithCovariance estimate = s.prior;
+    correlations.Clear();
+    result = matcher.MatchAndUpdate(predictor, s.batch, &estimate, &correlations);
+    benchmark::DoNotOptimize(estimate);
+  }
+  state.counters["matched"] = static_cast<double>(result.matches.size());
+}
+BENCHMARK(BM_EkfCycleWithMapCorrelations)->Unit(benchmark::kMicrosecond);
 
 void BM_LocalizerCycle(benchmark::State& state) {
   const Scene& s = TheScene();

@@ -363,6 +363,28 @@ TEST(ScenarioLoaderTest, LoadsLocalizationAndRouteAndReportsTheirErrors) {
                           "robots[0].route.stops", "robots[0].route"}) {
     EXPECT_NE(std::find(keys.begin(), keys.end(), key), keys.end()) << key;
   }
+
+  // `map: derive` takes a tape-measure sigma; map_noise_m without it is an error.
+  const std::string derive = WithRobot(ScenarioText(),
+                                       "  - id: r1\n"
+                                       "    model: pygmalion\n"
+                                       "    pose: [1, 2, 0]\n"
+                                       "    localization:\n"
+                                       "      map: derive\n"
+                                       "      map_noise_m: 0.002\n");
+  const Scenario d = LoadScenarioFile(WriteScenario(derive));
+  ASSERT_TRUE(d.robots[0].localization.derive_map_noise_m.has_value());
+  EXPECT_EQ(*d.robots[0].localization.derive_map_noise_m, 0.002);
+  const std::string stray = WithRobot(ScenarioText(),
+                                      "  - id: r1\n"
+                                      "    model: pygmalion\n"
+                                      "    pose: [1, 2, 0]\n"
+                                      "    localization:\n"
+                                      "      map_noise_m: 0.002\n");
+  const std::vector<Diagnostic> stray_errors = LoadErrors(WriteScenario(stray));
+  ASSERT_FALSE(stray_errors.empty());
+  EXPECT_EQ(stray_errors[0].key_path, "robots[0].localization.map_noise_m");
+  EXPECT_EQ(stray_errors[0].line, LineOf(stray, "map_noise_m: 0.002"));
 }
 
 // Confirms that a body material defined neither by the world nor the scenario is an error.

@@ -111,6 +111,78 @@ TEST(EkfUpdateTest, JosephFormEqualsThesisFormAndKeepsPositiveDefinite) {
 
 // A singular innovation covariance is refused and leaves the state as it was;
 // a bad dimension throws.
+// The update with map correlations (Schmidt-Kalman): with no correlation yet
+// it gives the plain update's state and starts recording C = -W G M; with a
+// correlation it equals the optimal-gain form P - W S W^T, where S carries the
+// cross terms, and carries the other features' C by (I - W H).
+TEST(EkfUpdateTest, CorrelatedUpdateCarriesTheCrossCovariance) {
+  RobotMap map;
+  map.lines.push_back(testing::MapLineThrough("wall", {3.0, -2.0}, {3.2, 2.0}, {0.0, 0.0}));
+  map.lines.push_back(testing::MapLineThrough("side", {-2.0, 2.5}, {2.0, 2.4}, {0.0, 0.0}));
+  const Eigen::Matrix2d M = testing::LineCovariance(0.004, 0.006);
+  for (MapLine& l : map.lines) l.line.covariance = M;
+  const MeasurementPredictor predictor(map, PredictionOptions{0.95, true});
+  PoseWithCovariance plain{{0.1, -0.2, 0.15}, Eigen::Vector3d(0.01, 0.02, 0.003).asDiagonal()};
+  plain.covariance(0, 2) = plain.covariance(2, 0) = 0.001;
+  PoseWithCovariance correlated = plain;
+  PoseMapCrossCovariance cross(map);
+  const Eigen::Matrix2d R = testing::LineCovariance(0.01, 0.02);
+  const Eigen::Vector2d v(0.003, -0.01);
+
+  const MapFeatureRef wall{MapFeatureType::kLine, 0};
+  const MapFeatureRef side{MapFeatureType::kLine, 1};
+  PredictedMeasurement p = predictor.Predict(wall, ObservationType::kLine, plain, SensorView{});
+  const Eigen::Matrix2d N = p.feature_covariance + R;
+  ASSERT_TRUE(UpdatePoseEstimate(v, p.J_z_pose, N, 2, &plain));
+  ASSERT_TRUE(UpdatePoseEstimate(v, p.J_z_pose, N, 2, {wall, p.J_z_map, p.map_covariance},
+                                 &correlated, &cross));
+  EXPECT_LT((plain.covariance - correlated.covariance).cwiseAbs().maxCoeff(), 1e-15);
+  EXPECT_NEAR(plain.pose.x_m, correlated.pose.x_m, 1e-15);
+  ASSERT_EQ(cross.features().size(), 1u);
+  const PoseMapCross C_wall = cross.Get(wall);
+  EXPECT_GT(C_wall.norm(), 1e-6);
+
+  // A second observation of the same wall: S has the cross terms, and the
+  // posterior is P - W S W^T with W = (P H^T + C G^T) S^-1.
+  const PoseWithCovariance prior = correlated;
+  p = predictor.Predict(wall, ObservationType::kLine, correlated, SensorView{}, &cross);
+  const Eigen::Matrix<double, 3, 2> PHt =
+      prior.covariance * p.J_z_pose.transpose() + C_wall * p.J_z_map.transpose();
+  const Eigen::Matrix2d S = p.covariance + R;
+  const Eigen::Matrix2d S_expected = p.J_z_pose * prior.covariance * p.J_z_pose.transpose() +
+                                     p.J_z_pose * C_wall * p.J_z_map.transpose() +
+                                     p.J_z_map * C_wall.transpose() * p.J_z_pose.transpose() +
+                                     p.J_z_map * M * p.J_z_map.transpose() + R;
+  EXPECT_LT((S - S_expected).cwiseAbs().maxCoeff(), 1e-15);
+  const Eigen::Matrix<double, 3, 2> gain = PHt * S.inverse();
+  const Eigen::Matrix3d expected = prior.covariance - gain * S * gain.transpose();
+  ASSERT_TRUE(UpdatePoseEstimate(v, p.J_z_pose, p.feature_covariance + R, 2,
+                                 {wall, p.J_z_map, p.map_covariance}, &correlated, &cross));
+  EXPECT_LT((correlated.covariance - expected).cwiseAbs().maxCoeff(), 1e-12);
+  const Eigen::Vector3d dx = gain * v;
+  EXPECT_NEAR(correlated.pose.x_m, prior.pose.x_m + dx.x(), 1e-14);
+  EXPECT_NEAR(correlated.pose.theta_rad, prior.pose.theta_rad + dx.z(), 1e-14);
+  const Eigen::Matrix3d A = Eigen::Matrix3d::Identity() - gain * p.J_z_pose;
+  EXPECT_LT((cross.Get(wall) - (A * C_wall - gain * p.J_z_map * M)).cwiseAbs().maxCoeff(), 1e-15);
+
+  // The other wall's correlation is carried by (I - W H) once it exists.
+  const PoseMapCross C_side = PoseMapCross::Constant(1e-4);
+  cross.Set(side, C_side);
+  const PoseWithCovariance before_side = correlated;
+  const PoseMapCross C_wall_before = cross.Get(wall);
+  p = predictor.Predict(wall, ObservationType::kLine, correlated, SensorView{}, &cross);
+  const Eigen::Matrix<double, 3, 2> gain2 =
+      (before_side.covariance * p.J_z_pose.transpose() + C_wall_before * p.J_z_map.transpose()) *
+      (p.covariance + R).inverse();
+  ASSERT_TRUE(UpdatePoseEstimate(v, p.J_z_pose, p.feature_covariance + R, 2,
+                                 {wall, p.J_z_map, p.map_covariance}, &correlated, &cross));
+  const Eigen::Matrix3d A2 = Eigen::Matrix3d::Identity() - gain2 * p.J_z_pose;
+  EXPECT_LT((cross.Get(side) - A2 * C_side).cwiseAbs().maxCoeff(), 1e-15);
+  cross.Clear();
+  EXPECT_TRUE(cross.features().empty());
+  EXPECT_TRUE(cross.Get(side).isZero(0.0));
+}
+
 TEST(EkfUpdateTest, RefusesSingularInnovationCovariance) {
   PoseWithCovariance state{{1.0, 2.0, 0.3}, Eigen::Matrix3d::Zero()};
   const PoseWithCovariance prior = state;

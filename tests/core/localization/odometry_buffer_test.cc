@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/LU>
 #include <stdexcept>
 
 #include "core/random/random_stream.h"
@@ -109,6 +110,31 @@ TEST(OdometryBufferTest, CorrectAtCarriesTheCorrectionForward) {
 
 // Interpolated odometry poses lie on the recorded steps; outside the buffer
 // there is none.
+// Transition(a, b) is the first-order map of a pose error at node a to node
+// b: perturbing node a's state and re-running the steps moves node b by
+// Phi times the perturbation (to second order), and Phi has determinant 1.
+TEST(OdometryBufferTest, TransitionPropagatesPoseErrors) {
+  RandomStream rng(83, 1);
+  OdometryBuffer buffer = Filled(rng, 40);
+  const Eigen::Matrix3d phi = buffer.Transition(10, 40);
+  EXPECT_NEAR(phi.determinant(), 1.0, 1e-12);
+  EXPECT_TRUE(buffer.Transition(7, 7).isIdentity(0.0));
+  const PoseWithCovariance at10 = buffer.node(10).state;
+  const Pose2 at40 = buffer.node(40).state.pose;
+  const Eigen::Vector3d delta(2e-4, -1e-4, 3e-4);
+  PoseWithCovariance moved = at10;
+  moved.pose = {at10.pose.x_m + delta.x(), at10.pose.y_m + delta.y(),
+                at10.pose.theta_rad + delta.z()};
+  buffer.CorrectAt(10, moved);
+  const Pose2 after = buffer.node(40).state.pose;
+  const Eigen::Vector3d change(after.x_m - at40.x_m, after.y_m - at40.y_m,
+                               NormalizeAngle(after.theta_rad - at40.theta_rad));
+  EXPECT_LT((change - phi * delta).norm(), 1e-7);
+  EXPECT_GT((phi * delta - delta).norm(), 1e-6);  // the heading error moved the position
+  EXPECT_THROW(buffer.Transition(20, 10), std::out_of_range);
+  EXPECT_THROW(buffer.Transition(0, buffer.size()), std::out_of_range);
+}
+
 TEST(OdometryBufferTest, OdometryPoseAtInterpolatesWithinSteps) {
   OdometryBuffer buffer(kWheelbaseM, kNoise, 100.0);
   buffer.Reset(1.0, {}, {0, 0, 0});
