@@ -7,6 +7,7 @@
 
 #include "nav/path_follower.h"
 #include "sim/body_motion.h"
+#include "sim/planar_caster.h"
 #include "sim/robot_config.h"
 #include "sim/world.h"
 #include "sim/world_description.h"
@@ -96,6 +97,11 @@ struct OutputOptions {
   bool scan_log = true;              // write scans.bin (every robot's scans with ground truth)
 };
 
+// Who finds the laser rays' hits: the planar caster (sim/planar_caster.h; falls
+// back to Bullet for tilted beam planes) or Bullet for every ray (the reference).
+enum class LaserBackend { kPlanar, kBullet };
+const char* ToString(LaserBackend backend);
+
 // A fully loaded, validated scenario.
 struct Scenario {
   std::string name;
@@ -107,6 +113,8 @@ struct Scenario {
   bool end_when_routes_done = false;
   std::string world_file;  // the world.yaml (its folder holds the default map.yaml)
   sim::WorldOptions physics;
+  LaserBackend laser_backend = LaserBackend::kPlanar;  // key laser_backend
+  sim::PlanarCasterOptions planar_laser;               // laser_max_tilt_deg
   sim::WorldDescription world;
   std::vector<BodyEntry> bodies;
   std::vector<RobotEntry> robots;

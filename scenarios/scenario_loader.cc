@@ -2,6 +2,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <numbers>
 #include <set>
 
 #include "scenarios/data_paths.h"
@@ -18,6 +19,9 @@ constexpr double kMaxDurationS = 1e7;
 constexpr double kMaxMassKg = 1e5;
 constexpr double kMaxBodySizeM = 100.0;
 constexpr std::int64_t kMaxGroupCount = 100000;
+// laser_max_tilt_deg: the planar caster's default (1°) and its limit.
+constexpr double kDefaultLaserMaxTiltDeg = 1.0;
+constexpr double kMaxLaserTiltDeg = 45.0;
 
 std::optional<sim::BodyShape> ReadShape(YamlDocument* doc, MapReader& parent) {
   MapReader r(doc, parent.Child("shape", true), parent.PathOf("shape"));
@@ -424,6 +428,10 @@ void ReadEvents(YamlDocument* doc, MapReader& top, Scenario* s) {
 
 }  // namespace
 
+const char* ToString(LaserBackend backend) {
+  return backend == LaserBackend::kBullet ? "bullet" : "planar";
+}
+
 Scenario LoadScenarioFile(const std::string& path, const ScenarioOverrides& overrides) {
   YamlDocument doc(path);
   doc.ThrowIfErrors();
@@ -442,6 +450,12 @@ Scenario LoadScenarioFile(const std::string& path, const ScenarioOverrides& over
   s.seed = static_cast<std::uint64_t>(top.Integer("seed", 1, 0, INT64_MAX));
   s.duration_s = top.RequiredNumber("duration_s", 1e-3, kMaxDurationS).value_or(1.0);
   s.end_when_routes_done = top.Bool("end_when_routes_done", false);
+  s.laser_backend = top.Choice("laser_backend", {"planar", "bullet"}, "planar") == "bullet"
+                        ? LaserBackend::kBullet
+                        : LaserBackend::kPlanar;
+  s.planar_laser.max_tilt_rad =
+      top.Number("laser_max_tilt_deg", kDefaultLaserMaxTiltDeg, 0.0, kMaxLaserTiltDeg) *
+      std::numbers::pi / 180.0;
   if (overrides.seed) s.seed = *overrides.seed;
   if (overrides.duration_s) s.duration_s = *overrides.duration_s;
 

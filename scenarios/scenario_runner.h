@@ -18,6 +18,7 @@ struct RunSummary {
   double real_time_factor = 0.0;
   std::int64_t ticks = 0;
   std::int64_t events = 0;
+  std::int64_t laser_fallback_scans = 0;  // planar backend: scans cast partly with Bullet
 };
 
 // Runs a scenario to its end and writes metrics.json, performance.json,

@@ -227,6 +227,12 @@ bool LaserScanner::SweepComplete() const { return in_sweep_ && sweep_.next == op
 
 void LaserScanner::Cast(const World& world, double t0_s, const core::Pose2& world_from_robot_t0,
                         double t1_s, const core::Pose2& world_from_robot_t1, int ignore_group) {
+  Cast(WorldHitFinder(world), t0_s, world_from_robot_t0, t1_s, world_from_robot_t1, ignore_group);
+}
+
+void LaserScanner::Cast(const LaserHitFinder& finder, double t0_s,
+                        const core::Pose2& world_from_robot_t0, double t1_s,
+                        const core::Pose2& world_from_robot_t1, int ignore_group) {
   if (!in_sweep_ || SweepComplete()) return;
   const double duration_s = t1_s - t0_s;
   while (sweep_.next < options_.beams) {
@@ -234,7 +240,7 @@ void LaserScanner::Cast(const World& world, double t0_s, const core::Pose2& worl
     const double t = sweep_.start_s + offsets_s_[i];
     if (!(t < t1_s)) break;
     const double s = duration_s > 0.0 ? std::clamp((t - t0_s) / duration_s, 0.0, 1.0) : 0.0;
-    CastReading(world, i, Interpolate(world_from_robot_t0, world_from_robot_t1, s), ignore_group,
+    CastReading(finder, i, Interpolate(world_from_robot_t0, world_from_robot_t1, s), ignore_group,
                 &sweep_);
     ++sweep_.next;
   }
@@ -248,8 +254,14 @@ void LaserScanner::Cast(const World& world, double t0_s, const core::Pose2& worl
 core::LaserScan LaserScanner::ScanFrom(const World& world, const core::Pose2& world_from_robot,
                                        double start_s, int ignore_group,
                                        core::LaserScanTruth* truth) {
+  return ScanFrom(WorldHitFinder(world), world_from_robot, start_s, ignore_group, truth);
+}
+
+core::LaserScan LaserScanner::ScanFrom(const LaserHitFinder& finder,
+                                       const core::Pose2& world_from_robot, double start_s,
+                                       int ignore_group, core::LaserScanTruth* truth) {
   Sweep sweep = NewSweep(start_s);
-  for (const int i : order_) CastReading(world, i, world_from_robot, ignore_group, &sweep);
+  for (const int i : order_) CastReading(finder, i, world_from_robot, ignore_group, &sweep);
   core::LaserScan scan = Finalize(sweep);
   if (truth != nullptr) *truth = std::move(sweep.truth);
   return scan;
@@ -270,13 +282,13 @@ Eigen::Vector3d LaserScanner::RayOrigin(const core::Pose2& world_from_sensor) co
   return {world_from_sensor.x_m, world_from_sensor.y_m, mount_height_m_};
 }
 
-LaserScanner::RaySample LaserScanner::CastBeam(const World& world,
+LaserScanner::RaySample LaserScanner::CastBeam(const LaserHitFinder& finder,
                                                const core::Pose2& world_from_sensor,
                                                double bearing_rad, int ignore_group) const {
   const Eigen::Vector3d from = RayOrigin(world_from_sensor);
   const Eigen::Vector3d dir = BeamDirection(world_from_sensor, bearing_rad);
-  // Transparent elements are skipped by the caster itself.
-  const RayHit hit = world.CastRay(from, from + options_.max_range_m * dir, ignore_group, false);
+  // Transparent elements are skipped by the finder itself.
+  const RayHit hit = finder.Cast(from, dir.head<2>(), options_.max_range_m, ignore_group);
   RaySample s;
   if (!hit.hit) return s;
   s.hit = true;
@@ -286,7 +298,7 @@ LaserScanner::RaySample LaserScanner::CastBeam(const World& world,
   // Incidence: the angle between the reversed ray and the surface normal.
   s.cos_incidence = std::clamp(-dir.dot(hit.normal), 0.0, 1.0);
   s.element = hit.element;
-  const auto& elements = world.elements();
+  const auto& elements = finder.elements();
   if (hit.element >= 0 && hit.element < static_cast<int>(elements.size())) {
     s.response = elements[hit.element].laser;
   }
@@ -308,11 +320,12 @@ bool LaserScanner::Explains(const RaySample& surface, const core::Pose2& world_f
   return std::abs(sample.range_m - predicted_m) <= options_.mixed_pixel_min_gap_m;
 }
 
-void LaserScanner::CastReading(const World& world, int i, const core::Pose2& world_from_robot,
-                               int ignore_group, Sweep* sweep) const {
+void LaserScanner::CastReading(const LaserHitFinder& finder, int i,
+                               const core::Pose2& world_from_robot, int ignore_group,
+                               Sweep* sweep) const {
   const core::Pose2 world_from_sensor = world_from_robot * robot_from_sensor_;
   ReadingGeometry& g = sweep->geometry[i];
-  g.centre = CastBeam(world, world_from_sensor, bearings_rad_[i], ignore_group);
+  g.centre = CastBeam(finder, world_from_sensor, bearings_rad_[i], ignore_group);
   sweep->truth.world_from_sensor[i] = world_from_sensor;
   if (g.centre.hit) {
     sweep->truth.true_range_m[i] = g.centre.range_m;
@@ -320,8 +333,8 @@ void LaserScanner::CastReading(const World& world, int i, const core::Pose2& wor
   }
   if (!check_edges_) return;
   if (check_every_edge_) {
-    CheckEdge(world, i, 0, ignore_group, sweep);
-    CheckEdge(world, i, 1, ignore_group, sweep);
+    CheckEdge(finder, i, 0, ignore_group, sweep);
+    CheckEdge(finder, i, 1, ignore_group, sweep);
     return;
   }
   // The previous reading of this turn was taken just before this one; a depth
@@ -329,24 +342,24 @@ void LaserScanner::CastReading(const World& world, int i, const core::Pose2& wor
   const int k = options_.interlaced_turns;
   const int previous = i - k;
   if (previous < 0) {
-    CheckEdge(world, i, 0, ignore_group, sweep);
+    CheckEdge(finder, i, 0, ignore_group, sweep);
   } else {
     const ReadingGeometry& p = sweep->geometry[previous];
     const core::Pose2& world_from_previous = sweep->truth.world_from_sensor[previous];
     if (!Explains(p.centre, world_from_sensor, bearings_rad_[i], g.centre) ||
         !Explains(g.centre, world_from_previous, bearings_rad_[previous], p.centre)) {
-      CheckEdge(world, previous, 1, ignore_group, sweep);
-      CheckEdge(world, i, 0, ignore_group, sweep);
+      CheckEdge(finder, previous, 1, ignore_group, sweep);
+      CheckEdge(finder, i, 0, ignore_group, sweep);
     }
   }
-  if (i + k >= options_.beams) CheckEdge(world, i, 1, ignore_group, sweep);
+  if (i + k >= options_.beams) CheckEdge(finder, i, 1, ignore_group, sweep);
 }
 
 // Casts the edge ray of reading i on one side (0: clockwise, 1: counter-
 // clockwise) from the pose the reading was taken at; where it meets another
 // surface than the central ray, locates the edge by bisection and records the
 // fraction of the footprint beyond it.
-void LaserScanner::CheckEdge(const World& world, int i, int side, int ignore_group,
+void LaserScanner::CheckEdge(const LaserHitFinder& finder, int i, int side, int ignore_group,
                              Sweep* sweep) const {
   ReadingGeometry& g = sweep->geometry[i];
   const core::Pose2& world_from_sensor = sweep->truth.world_from_sensor[i];
@@ -354,14 +367,14 @@ void LaserScanner::CheckEdge(const World& world, int i, int side, int ignore_gro
   const double sign = side == 0 ? -1.0 : 1.0;
   const double bearing = bearings_rad_[i];
   const RaySample edge =
-      CastBeam(world, world_from_sensor, bearing + sign * half_rad, ignore_group);
+      CastBeam(finder, world_from_sensor, bearing + sign * half_rad, ignore_group);
   if (Explains(g.centre, world_from_sensor, bearing + sign * half_rad, edge)) return;
   double explained_rad = 0.0;
   double unexplained_rad = half_rad;
   for (int step = 0; step < kEdgeBisections; ++step) {
     const double mid_rad = 0.5 * (explained_rad + unexplained_rad);
     const double b = bearing + sign * mid_rad;
-    const RaySample probe = CastBeam(world, world_from_sensor, b, ignore_group);
+    const RaySample probe = CastBeam(finder, world_from_sensor, b, ignore_group);
     if (Explains(g.centre, world_from_sensor, b, probe)) {
       explained_rad = mid_rad;
     } else {

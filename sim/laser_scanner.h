@@ -10,6 +10,7 @@
 #include "core/random/random_stream.h"
 #include "core/types/pose2.h"
 #include "core/types/sensor_data.h"
+#include "sim/laser_hit_finder.h"
 #include "sim/world.h"
 
 namespace pavilion::sim {
@@ -72,7 +73,9 @@ inline constexpr double kAmplitudeReferenceRangeM = 2.0;
 double LaserReflectivity(core::LaserResponse response);
 double RelativeAmplitude(double reflectivity, double range_m, double cos_incidence);
 
-// A laser scanner mounted on a robot, casting Bullet rays in its beam plane.
+// A laser scanner mounted on a robot, casting rays in its horizontal beam plane
+// through a LaserHitFinder (Bullet or the planar caster) and applying its error
+// models to the hits.
 // A sweep spans several physics ticks: the runner calls Cast() every tick
 // with the robot pose at the start and end of the tick, and each reading is
 // cast in the tick its time falls in, from the pose interpolated to its time
@@ -114,6 +117,10 @@ class LaserScanner {
   // linearly from world_from_robot_t0 to world_from_robot_t1 (readings due
   // before t0_s are cast from world_from_robot_t0). Rays ignore the elements of
   // `ignore_group` (the robot's own body). Does nothing without a sweep.
+  // `finder` gives the geometric hits (Bullet or the planar caster); the
+  // World overload casts with Bullet.
+  void Cast(const LaserHitFinder& finder, double t0_s, const core::Pose2& world_from_robot_t0,
+            double t1_s, const core::Pose2& world_from_robot_t1, int ignore_group);
   void Cast(const World& world, double t0_s, const core::Pose2& world_from_robot_t0, double t1_s,
             const core::Pose2& world_from_robot_t1, int ignore_group);
   // True when every reading of the current sweep has been cast.
@@ -126,8 +133,13 @@ class LaserScanner {
   // command); `start_s` is the time of the first reading, as for BeginSweep.
   // Leaves a sweep in progress untouched (though it draws from the same stream);
   // `truth` may be null.
+  core::LaserScan ScanFrom(const LaserHitFinder& finder, const core::Pose2& world_from_robot,
+                           double start_s, int ignore_group, core::LaserScanTruth* truth);
   core::LaserScan ScanFrom(const World& world, const core::Pose2& world_from_robot, double start_s,
                            int ignore_group, core::LaserScanTruth* truth);
+
+  double mount_height_m() const { return mount_height_m_; }
+  const core::Pose2& robot_from_sensor() const { return robot_from_sensor_; }
 
  private:
   // What one ray met.
@@ -156,14 +168,15 @@ class LaserScanner {
   };
 
   Sweep NewSweep(double start_s) const;
-  RaySample CastBeam(const World& world, const core::Pose2& world_from_sensor, double bearing_rad,
-                     int ignore_group) const;
+  RaySample CastBeam(const LaserHitFinder& finder, const core::Pose2& world_from_sensor,
+                     double bearing_rad, int ignore_group) const;
   Eigen::Vector3d RayOrigin(const core::Pose2& world_from_sensor) const;
   bool Explains(const RaySample& surface, const core::Pose2& world_from_sensor, double bearing_rad,
                 const RaySample& sample) const;
-  void CastReading(const World& world, int i, const core::Pose2& world_from_robot, int ignore_group,
-                   Sweep* sweep) const;
-  void CheckEdge(const World& world, int i, int side, int ignore_group, Sweep* sweep) const;
+  void CastReading(const LaserHitFinder& finder, int i, const core::Pose2& world_from_robot,
+                   int ignore_group, Sweep* sweep) const;
+  void CheckEdge(const LaserHitFinder& finder, int i, int side, int ignore_group,
+                 Sweep* sweep) const;
   double Amplitude(const RaySample& sample) const;
   core::LaserScan Finalize(const Sweep& sweep);
 

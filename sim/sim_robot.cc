@@ -1,5 +1,6 @@
 #include "sim/sim_robot.h"
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 #include <stdexcept>
@@ -35,6 +36,7 @@ SimRobot::SimRobot(World* world, SimRobotSetup setup, std::uint64_t seed)
                          StreamFor(seed, id, "laser/" + mount.id));
     next_sweep_s_.push_back(0.0);
     sweeping_.push_back(false);
+    fell_back_.push_back(false);
   }
   index_ = world->AddRobot(setup_.spec);
 }
@@ -59,17 +61,35 @@ SensorOutputs SimRobot::AfterStep(const RobotState& before, const RobotState& af
     pressed_ = pressed;
   }
   const int group = world.robot_group(index_);
+  const WorldHitFinder bullet(world);
   for (std::size_t k = 0; k < lasers_.size(); ++k) {
     LaserScanner& laser = lasers_[k];
     // Sweeps start every 1/scan_rate from t = 0; one may start inside the tick.
     if (!sweeping_[k] && next_sweep_s_[k] < t1) {
       laser.BeginSweep(next_sweep_s_[k]);
       sweeping_[k] = true;
+      fell_back_[k] = false;
     }
     if (!sweeping_[k]) continue;
-    laser.Cast(world, t0, before.pose, t1, after.pose, group);
+    const LaserHitFinder* finder = &bullet;
+    if (planar_ != nullptr) {
+      // Brings the slice to this tick (once per tick, and only in ticks with
+      // readings to cast).
+      const PlanarSlice& slice = planar_->SliceAt(laser.mount_height_m());
+      const bool level =
+          std::max(before.tilt_rad, after.tilt_rad) <= planar_->options().max_tilt_rad;
+      // Every reading of the tick starts between the sensor's two positions.
+      const Eigen::Vector2d from = (before.pose * laser.robot_from_sensor()).translation();
+      const Eigen::Vector2d to = (after.pose * laser.robot_from_sensor()).translation();
+      if (level && slice.Covers(to, laser.options().max_range_m + (to - from).norm(), group)) {
+        finder = &slice;
+      } else {
+        fell_back_[k] = true;
+      }
+    }
+    laser.Cast(*finder, t0, before.pose, t1, after.pose, group);
     if (laser.SweepComplete()) {
-      out.scans.push_back({laser.scan(), laser.truth()});
+      out.scans.push_back({laser.scan(), laser.truth(), fell_back_[k]});
       sweeping_[k] = false;
       next_sweep_s_[k] += 1.0 / laser.options().scan_rate_hz;
     }

@@ -7,6 +7,7 @@
 
 #include "core/types/sensor_data.h"
 #include "sim/laser_scanner.h"
+#include "sim/planar_caster.h"
 #include "sim/robot_sensors.h"
 #include "sim/world.h"
 
@@ -33,6 +34,9 @@ struct SimRobotSetup {
 struct ScanRecord {
   core::LaserScan scan;
   core::LaserScanTruth truth;
+  // Some readings were cast with Bullet instead of the planar caster (the beam
+  // plane tilted, or a body the plane does not cut exactly was in range).
+  bool fallback = false;
 };
 
 // What a robot's sensors produced during one tick, in the order they fired.
@@ -56,13 +60,21 @@ class SimRobot {
   const SimRobotSetup& setup() const { return setup_; }
   const std::vector<LaserScanner>& lasers() const { return lasers_; }
 
+  // Casts this robot's scans with `caster` (shared by the world's robots; it
+  // must outlive the robot) where the beam plane allows, Bullet elsewhere;
+  // null (the default): Bullet for every scan.
+  void UsePlanarCaster(PlanarCaster* caster) { planar_ = caster; }
+
   // Wheel-speed command (rad/s, positive forward), held until changed.
   void SetWheelSpeeds(double left_radps, double right_radps);
 
   // Samples the sensors for the tick that just ended: `before` and `after` are
   // the robot's true states at its start and end (times world.time_s() −
   // step and world.time_s()). Laser readings due in the tick are cast from
-  // poses interpolated between the two.
+  // poses interpolated between the two. With a planar caster, a sweep's
+  // readings of this tick fall back to Bullet when the robot's tilt at either
+  // end exceeds the caster's max_tilt_rad or a body the plane does not cut
+  // exactly is within range.
   SensorOutputs AfterStep(const RobotState& before, const RobotState& after);
 
  private:
@@ -73,6 +85,8 @@ class SimRobot {
   std::vector<LaserScanner> lasers_;
   std::vector<double> next_sweep_s_;  // start of each scanner's next sweep
   std::vector<bool> sweeping_;
+  std::vector<bool> fell_back_;  // this sweep used the Bullet fallback
+  PlanarCaster* planar_ = nullptr;
   std::int64_t encoder_period_ticks_ = 1;
   std::int64_t bumper_period_ticks_ = 1;
   std::uint32_t pressed_ = 0;

@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <numbers>
 #include <set>
@@ -54,6 +55,9 @@ constexpr double kHingeSign = -1.0;
 // straights (office tour). Two orthogonal friction rows per contact (a friction
 // pyramid) hold both tangents: creep < 0.003 mm/s, σ 0.09 / 0.04 mrad.
 constexpr int kSolverFrictionModes = SOLVER_USE_2_FRICTION_DIRECTIONS;
+// A shape whose z axis has a vertical component below this lies too flat for
+// its side edges to meet a horizontal plane at a usable angle (cos 89.4°).
+constexpr double kMinAxisZ = 0.01;
 
 btVector3 ToBt(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 
@@ -139,6 +143,110 @@ void AddPolygonSegments(const Quad& q, int element, core::PlanarSection* out) {
 
 bool SpansHeight(double base_z, double height, double z) {
   return z >= base_z && z < base_z + height;
+}
+
+// Cuts of dynamic shapes by the plane z = h (AppendDynamicSection). Shapes
+// are placed by Bullet transforms; `h` is in the world frame.
+
+void CutSphere(const btVector3& centre, double radius, double h, int element,
+               core::PlanarSection* out) {
+  const double dz = h - centre.z();
+  if (std::abs(dz) < radius) {
+    out->circles.push_back(
+        {{centre.x(), centre.y()}, std::sqrt(radius * radius - dz * dz), element});
+  }
+}
+
+// A bound of an element that could not be cut, for the planar caster's fallback
+// test: the horizontal distance of its points from the centre is at most the radius.
+void AddUncut(const btVector3& centre, double radius, int element,
+              std::vector<UncutElement>* uncut) {
+  uncut->push_back({element, {centre.x(), centre.y()}, radius});
+}
+
+// A vertical prism over a convex counter-clockwise polygon (shape frame), z
+// in [z0, z1), placed by `t`. While the plane crosses only its side faces the
+// cut is exact at any tilt: the points where the plane meets the side edges,
+// still counter-clockwise (the map from the polygon to its cut is affine with a
+// positive determinant while the axis points up). A plane through a cap gives
+// another polygon: listed in `uncut`, or with a null `uncut` added as the
+// upright extrusion at the prism's planar pose.
+void CutPrism(const btTransform& t, const std::vector<Eigen::Vector2d>& polygon, double z0,
+              double z1, double h, int element, core::PlanarSection* out,
+              std::vector<UncutElement>* uncut) {
+  const btVector3 axis = t.getBasis().getColumn(2);
+  std::vector<Eigen::Vector2d> cut;
+  cut.reserve(polygon.size());
+  std::size_t below = 0, above = 0;
+  double reach = 0.0;  // horizontal bound of the prism around its origin
+  for (const Eigen::Vector2d& p : polygon) {
+    const btVector3 foot = t * btVector3(p.x(), p.y(), 0.0);
+    // Shape-frame height at which this side edge meets the plane.
+    const double s = axis.z() > kMinAxisZ ? (h - foot.z()) / axis.z() : 0.0;
+    if (s < z0) ++below;
+    if (s >= z1) ++above;
+    cut.emplace_back(foot.x() + s * axis.x(), foot.y() + s * axis.y());
+    for (const double zz : {z0, z1}) {
+      const btVector3 v = t * btVector3(p.x(), p.y(), zz) - t.getOrigin();
+      reach = std::max(reach, std::hypot(v.x(), v.y()));
+    }
+  }
+  const std::size_t n = polygon.size();
+  if (axis.z() > kMinAxisZ && (below == n || above == n)) return;  // not cut
+  if (axis.z() > kMinAxisZ && below == 0 && above == 0) {
+    for (std::size_t i = 0; i < n; ++i)
+      out->segments.push_back({cut[i], cut[(i + 1) % n], element});
+    return;
+  }
+  if (uncut != nullptr) {
+    // Lying down or cut through a cap: only if the plane reaches the prism at all.
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (const Eigen::Vector2d& p : polygon) {
+      for (const double zz : {z0, z1}) {
+        const double vz = (t * btVector3(p.x(), p.y(), zz)).z();
+        lo = std::min(lo, vz);
+        hi = std::max(hi, vz);
+      }
+    }
+    if (h >= lo && h <= hi) AddUncut(t.getOrigin(), reach, element, uncut);
+    return;
+  }
+  // Upright extrusion at the planar pose (as the section did before tilts were cut).
+  const btVector3 o = t.getOrigin();
+  const double dz = h - o.z();
+  if (dz < z0 || dz >= z1) return;
+  const core::Pose2 pose{o.x(), o.y(), YawOf(t)};
+  for (std::size_t i = 0; i < n; ++i) {
+    out->segments.push_back({pose * polygon[i], pose * polygon[(i + 1) % n], element});
+  }
+}
+
+// A cylinder about its shape z axis, centred at its origin. Upright, its cut is
+// a circle; tilted by θ it is an ellipse with semi-axes r and r/cos θ about the
+// point where the axis meets the plane, taken as the circle of radius r there
+// while θ <= max_tilt_rad (error r(1/cos θ − 1): 7.6 µm for r = 5 cm at 1°).
+// Beyond that, or with the plane through a cap, it goes to `uncut` (or, with a
+// null `uncut`, is added as that circle anyway).
+void CutCylinder(const btTransform& t, double radius, double half_height, double h,
+                 double max_tilt_rad, int element, core::PlanarSection* out,
+                 std::vector<UncutElement>* uncut) {
+  const btVector3 axis = t.getBasis().getColumn(2);
+  const btVector3& c = t.getOrigin();
+  const double bound = std::hypot(radius, half_height);
+  if (std::abs(h - c.z()) >= bound) return;  // out of reach of the plane
+  if (axis.z() > kMinAxisZ) {
+    const double s = (h - c.z()) / axis.z();  // axial coordinate of the axis' crossing
+    const double spread = radius * std::sqrt(std::max(0.0, 1.0 - axis.z() * axis.z())) / axis.z();
+    if (s + spread < -half_height || s - spread >= half_height) return;  // not cut
+    const bool sides_only = s - spread >= -half_height && s + spread < half_height;
+    if ((sides_only && axis.z() >= std::cos(max_tilt_rad)) || uncut == nullptr) {
+      out->circles.push_back({{c.x() + s * axis.x(), c.y() + s * axis.y()}, radius, element});
+      return;
+    }
+  } else if (uncut == nullptr) {
+    return;  // lying flat: no meaningful circle for the picture
+  }
+  AddUncut(c, bound, element, uncut);
 }
 
 }  // namespace
@@ -244,6 +352,7 @@ struct World::Impl {
   std::vector<btCollisionObject*> ray_doors;  // parallel to description.doors; null if unseen
 
   std::map<const btCollisionShape*, RayPrism> prisms;
+  std::int64_t static_revision = 0;    // counts door moves
   mutable std::int64_t rays_cast = 0;  // CastRay is single-threaded per world (see world.h)
 
   std::vector<core::SectionElement> elements;
@@ -564,65 +673,58 @@ struct World::Impl {
     }
   }
 
-  void AppendBodySection(double z, core::PlanarSection* out) const {
-    for (std::size_t i = 0; i < bodies.size(); ++i) {
-      const Body& body = bodies[i];
+  // Cuts every body at height z into `out`; elements the plane does not cut
+  // into circles or convex polygons go to `uncut`, or, when it is null, are
+  // added as their upright extrusion (the top-down view and spawn checks).
+  void AppendBodySection(double z, double max_cylinder_tilt_rad, core::PlanarSection* out,
+                         std::vector<UncutElement>* uncut) const {
+    for (const Body& body : bodies) {
       const btTransform& t = body.rigid->getWorldTransform();
-      const double zc = t.getOrigin().z();
-      const Eigen::Vector2d centre(t.getOrigin().x(), t.getOrigin().y());
       const BodyShape& shape = body.spec.shape;
-      const double dz = z - zc;
-      if (std::abs(dz) > shape.HalfHeight()) continue;
-      // Bodies are taken as upright extrusions here; tilted bodies are the
-      // planar caster's fallback case (speed issue).
       switch (shape.type) {
-        case BodyShapeType::kCylinder:
-          out->circles.push_back({centre, shape.radius_m, body.element});
-          break;
         case BodyShapeType::kSphere:
-          out->circles.push_back(
-              {centre, std::sqrt(shape.radius_m * shape.radius_m - dz * dz), body.element});
+          CutSphere(t.getOrigin(), shape.radius_m, z, body.element, out);
+          break;
+        case BodyShapeType::kCylinder:
+          CutCylinder(t, shape.radius_m, 0.5 * shape.height_m, z, max_cylinder_tilt_rad,
+                      body.element, out, uncut);
           break;
         case BodyShapeType::kBox: {
-          Box box;
-          box.pose = {centre.x(), centre.y(), YawOf(t)};
-          box.size_m = shape.box_size_m;
-          AddPolygonSegments(BoxFootprint(box), body.element, out);
+          const Eigen::Vector3d half = 0.5 * shape.box_size_m;
+          const std::vector<Eigen::Vector2d> rectangle = {{-half.x(), -half.y()},
+                                                          {half.x(), -half.y()},
+                                                          {half.x(), half.y()},
+                                                          {-half.x(), half.y()}};
+          CutPrism(t, rectangle, -half.z(), half.z(), z, body.element, out, uncut);
           break;
         }
       }
     }
   }
 
-  void AppendRobotSection(double z, core::PlanarSection* out) const {
+  void AppendRobotSection(double z, double max_cylinder_tilt_rad, core::PlanarSection* out,
+                          std::vector<UncutElement>* uncut) const {
     for (const Robot& robot : robots) {
-      const btTransform world_from_base = WorldFromBase(robot);
-      const core::Pose2 base{world_from_base.getOrigin().x(), world_from_base.getOrigin().y(),
-                             YawOf(world_from_base)};
-      const double dz = z - world_from_base.getOrigin().z();
-      const RobotDescription& m = robot.spec.model;
-      if (SpansHeight(m.chassis_base_z_m, m.chassis_height_m, dz)) {
-        const auto& fp = m.footprint_m;
-        for (std::size_t i = 0; i < fp.size(); ++i) {
-          out->segments.push_back({base * fp[i], base * fp[(i + 1) % fp.size()], robot.element});
-        }
-      }
+      // The chassis compound (origin at the centre of mass): child 0 the
+      // footprint prism, child k >= 1 attachment k - 1.
+      const btRigidBody* chassis = robot.chassis();
+      const btTransform& t = chassis->getWorldTransform();
+      const auto* compound = static_cast<const btCompoundShape*>(chassis->getCollisionShape());
+      const RayPrism& prism = prisms.at(compound->getChildShape(0));
+      CutPrism(t * compound->getChildTransform(0), prism.polygon, prism.z0, prism.z1, z,
+               robot.element, out, uncut);
       for (std::size_t k = 0; k < robot.spec.attachments.size(); ++k) {
         const RobotAttachment& a = robot.spec.attachments[k];
-        if (SpansHeight(a.base_z_m, a.height_m, dz)) {
-          out->circles.push_back({base * a.position_m, a.radius_m,
-                                  robot.chassis()->getUserIndex2() + static_cast<int>(k)});
-        }
+        const int child = static_cast<int>(k) + 1;
+        CutCylinder(t * compound->getChildTransform(child), a.radius_m, 0.5 * a.height_m, z,
+                    max_cylinder_tilt_rad, chassis->getUserIndex2() + static_cast<int>(k), out,
+                    uncut);
       }
       for (std::size_t p = 1; p < robot.parts.size(); ++p) {
         const btRigidBody* rb = robot.parts[p].rigid;
         const auto* sphere = static_cast<const btSphereShape*>(rb->getCollisionShape());
-        const btVector3& c = rb->getWorldTransform().getOrigin();
-        const double r = sphere->getRadius();
-        const double h = z - c.z();
-        if (std::abs(h) < r) {
-          out->circles.push_back({{c.x(), c.y()}, std::sqrt(r * r - h * h), rb->getUserIndex()});
-        }
+        CutSphere(rb->getWorldTransform().getOrigin(), sphere->getRadius(), z, rb->getUserIndex(),
+                  out);
       }
     }
   }
@@ -1018,6 +1120,7 @@ void World::SetDoorOpen(const std::string& door_id, bool open) {
     Door& door = im.description.doors[i];
     if (door.id != door_id) continue;
     door.open = open;
+    ++im.static_revision;
     im.doors[i]->setWorldTransform(Impl::BoxTransform(door.AsBox()));
     // Static bodies are not re-inserted by Bullet: refresh the broadphase bounds.
     im.dynamics.updateSingleAabb(im.doors[i]);
@@ -1087,14 +1190,28 @@ double World::step_s() const { return 1.0 / impl_->options.physics_rate_hz; }
 double World::time_s() const { return static_cast<double>(impl_->tick) * step_s(); }
 
 core::PlanarSection World::SectionAt(double height_m) const {
+  core::PlanarSection section = StaticSectionAt(height_m);
+  // Tilted bodies as well as the plane allows (see AppendBodySection).
+  impl_->AppendBodySection(height_m, std::numbers::pi / 2, &section, nullptr);
+  impl_->AppendRobotSection(height_m, std::numbers::pi / 2, &section, nullptr);
+  return section;
+}
+
+core::PlanarSection World::StaticSectionAt(double height_m) const {
   core::PlanarSection section;
   section.height_m = height_m;
   section.elements = impl_->elements;
   impl_->AppendStaticSection(height_m, &section);
-  impl_->AppendBodySection(height_m, &section);
-  impl_->AppendRobotSection(height_m, &section);
   return section;
 }
+
+void World::AppendDynamicSection(double height_m, double max_cylinder_tilt_rad,
+                                 core::PlanarSection* out, std::vector<UncutElement>* uncut) const {
+  impl_->AppendBodySection(height_m, max_cylinder_tilt_rad, out, uncut);
+  impl_->AppendRobotSection(height_m, max_cylinder_tilt_rad, out, uncut);
+}
+
+std::int64_t World::static_revision() const { return impl_->static_revision; }
 
 namespace {
 

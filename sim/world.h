@@ -114,6 +114,16 @@ struct RayHit {
   int element = -1;                 // element index hit
 };
 
+// A dynamic element that a horizontal plane does not cut into circles or a
+// convex polygon (a cylinder tilted too far, a box or chassis cut through its
+// top or bottom face): the planar laser caster's fallback case. Every point of
+// the element lies within radius_m of center_m horizontally.
+struct UncutElement {
+  int element = -1;
+  Eigen::Vector2d center_m{0, 0};
+  double radius_m = 0.0;
+};
+
 // A change of contact between two elements (static elements or bodies); the
 // floor is not reported. `a` < `b` are element indices of PlanarSection order.
 struct ContactChange {
@@ -192,8 +202,22 @@ class World {
   double step_s() const;
 
   // The world cut at height z: static elements and the bodies at their current
-  // poses. Element indices as above.
+  // poses. Element indices as above. Bodies the plane does not cut exactly
+  // (see AppendDynamicSection) are approximated: tilted cylinders as circles,
+  // boxes cut through a cap as their upright extrusion.
   core::PlanarSection SectionAt(double height_m) const;
+  // The static elements alone (walls, boxes, cylinders, meshes, doors in their
+  // current state), with every element of the world listed.
+  core::PlanarSection StaticSectionAt(double height_m) const;
+  // Appends the cut of every body and robot part at its current pose: spheres
+  // as circles; boxes and robot chassis exactly, at any tilt, while the plane
+  // crosses only their sides; cylinders tilted up to max_cylinder_tilt_rad as
+  // circles about the point where their axis meets the plane. Other elements
+  // the plane reaches are listed in `uncut`.
+  void AppendDynamicSection(double height_m, double max_cylinder_tilt_rad, core::PlanarSection* out,
+                            std::vector<UncutElement>* uncut) const;
+  // Changes of the static geometry so far (door moves), from 0.
+  std::int64_t static_revision() const;
   // Casts a ray from `from_m` to `to_m` and returns the closest hit, ignoring
   // the elements of `ignore_group` (the casting robot's parts) and, unless
   // `hit_transparent`, elements whose material is laser-transparent. Not

@@ -61,6 +61,9 @@ int Run(const RunArgs& a) {
   const scenarios::RunSummary s = scenarios::RunScenario(scenario, options);
   spdlog::info("simulated {:.1f} s in {:.2f} s wall ({:.1f}x real time), {} events",
                s.sim_duration_s, s.wall_time_s, s.real_time_factor, s.events);
+  if (scenario.laser_backend == scenarios::LaserBackend::kPlanar && !scenario.robots.empty()) {
+    spdlog::info("laser: planar casting, {} scans fell back to Bullet", s.laser_fallback_scans);
+  }
   std::printf("report: %s\n",
               (std::filesystem::path(a.out) / "report.html").lexically_normal().c_str());
   return 0;

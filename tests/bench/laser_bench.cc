@@ -2,9 +2,13 @@
 // 361 readings) among 100 pedestrian-sized cylinders, and physics steps per
 // second of the same scene with the robots driving. The reference measured in
 // the same run is Bullet's rayTest against the world's primitive shapes
-// (WorldOptions::baked_static_rays = false).
+// (WorldOptions::baked_static_rays = false). The planar caster
+// (sim/planar_caster.h) is measured on the same hall with 100 legs
+// (r 0.06 m) against World::CastRay in the same run (issue 7: ≥ 3 M rays/s).
 #include <benchmark/benchmark.h>
+#include <time.h>
 
+#include <chrono>
 #include <cmath>
 #include <memory>
 #include <numbers>
@@ -16,6 +20,7 @@
 #include "scenarios/robot_setup.h"
 #include "scenarios/world_loader.h"
 #include "sim/body_motion.h"
+#include "sim/planar_caster.h"
 #include "sim/sim_robot.h"
 #include "sim/world.h"
 
@@ -25,6 +30,8 @@ using namespace pavilion;
 
 constexpr int kRobots = 10;
 constexpr int kWalkers = 100;
+constexpr double kPedestrianRadiusM = 0.22;
+constexpr double kLegRadiusM = 0.06;
 
 // The hall with kRobots robots and kWalkers walkers on free cells of a grid.
 struct HallScene {
@@ -32,7 +39,7 @@ struct HallScene {
   std::vector<std::unique_ptr<sim::SimRobot>> robots;
   std::vector<std::unique_ptr<sim::BodyMotion>> motions;
 
-  explicit HallScene(bool baked) {
+  explicit HallScene(bool baked, double walker_radius_m = kPedestrianRadiusM) {
     sim::WorldDescription d = scenarios::LoadWorldFile(scenarios::ResolveWorldPath("expo_hall"));
     const sim::RobotConfig robox = scenarios::LoadRobotFile(scenarios::ResolveRobotPath("robox"));
     sim::World probe(d, sim::WorldOptions{});
@@ -77,7 +84,7 @@ struct HallScene {
       if (used[c]) continue;
       sim::BodySpec s;
       s.id = "visitor_" + std::to_string(placed);
-      s.shape.radius_m = 0.22;
+      s.shape.radius_m = walker_radius_m;
       s.shape.height_m = 1.7;
       s.mass_kg = 70.0;
       s.pose = {cells[c].x(), cells[c].y(), 0.0};
@@ -108,6 +115,42 @@ struct HallScene {
       for (const sim::LaserScanner& laser : robot->lasers()) {
         sim::LaserScanner copy = laser;
         const core::LaserScan scan = copy.ScanFrom(*world, pose, world->time_s(),
+                                                   world->robot_group(robot->index()), nullptr);
+        readings += static_cast<std::int64_t>(scan.readings.size());
+      }
+    }
+    return readings;
+  }
+
+  // The bare geometric rays of those scans through a hit finder.
+  std::int64_t CastAll(const sim::LaserHitFinder& finder) {
+    std::int64_t rays = 0;
+    for (auto& robot : robots) {
+      const core::Pose2 pose = world->robot_state(robot->index()).pose;
+      const int group = world->robot_group(robot->index());
+      for (const sim::LaserMountSetup& mount : robot->setup().lasers) {
+        const core::Pose2 sensor = pose * mount.robot_from_sensor;
+        const auto& o = mount.options;
+        const Eigen::Vector3d from(sensor.x_m, sensor.y_m, mount.mount_height_m);
+        for (int i = 0; i < o.beams; ++i) {
+          const double a = sensor.theta_rad + o.first_bearing_rad + i * o.fov_rad / (o.beams - 1);
+          benchmark::DoNotOptimize(
+              finder.Cast(from, {std::cos(a), std::sin(a)}, o.max_range_m, group));
+          ++rays;
+        }
+      }
+    }
+    return rays;
+  }
+
+  // Whole scans (every error model) through a hit finder.
+  std::int64_t ScanAll(const sim::LaserHitFinder& finder) {
+    std::int64_t readings = 0;
+    for (auto& robot : robots) {
+      const core::Pose2 pose = world->robot_state(robot->index()).pose;
+      for (const sim::LaserScanner& laser : robot->lasers()) {
+        sim::LaserScanner copy = laser;
+        const core::LaserScan scan = copy.ScanFrom(finder, pose, world->time_s(),
                                                    world->robot_group(robot->index()), nullptr);
         readings += static_cast<std::int64_t>(scan.readings.size());
       }
@@ -175,6 +218,76 @@ BENCHMARK(BM_HallRays)
     ->Arg(1)
     ->Unit(benchmark::kMillisecond)
     ->MinTime(3.0);
+
+// Bullet's (World::CastRay's) rays per second on `scene`, timed over a few
+// passes: the baseline of the planar benchmarks, measured in the same run.
+// Thread CPU time, as Google Benchmark's rates (the machine may be shared).
+double ThreadCpuS() {
+  timespec t;
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+double BulletRaysPerS(HallScene& scene) {
+  const sim::WorldHitFinder bullet(*scene.world);
+  std::int64_t rays = 0;
+  const double start = ThreadCpuS();
+  double s = 0.0;
+  while (s < 2.0) {
+    rays += scene.CastAll(bullet);
+    s = ThreadCpuS() - start;
+  }
+  return static_cast<double>(rays) / s;
+}
+
+// Planar casting (sim/planar_caster.h) of the 20 scanners' 361-beam scans in
+// the hall with 10 robots and 100 legs, geometry only; `bullet_rays_per_s`
+// and `ratio_to_bullet` compare with World::CastRay on the same scene and rays.
+// Arg: the grid's cell size in cm.
+void BM_HallPlanarRays(benchmark::State& state) {
+  HallScene scene(true, kLegRadiusM);
+  sim::PlanarCasterOptions options;
+  options.cell_size_m = 0.01 * static_cast<double>(state.range(0));
+  sim::PlanarCaster caster(scene.world.get(), options);
+  const sim::PlanarSlice& slice =
+      caster.SliceAt(scene.robots.front()->setup().lasers.front().mount_height_m);
+  std::int64_t rays = 0;
+  for (auto _ : state) rays += scene.CastAll(slice);
+  Report(state, rays);
+  const double bullet = BulletRaysPerS(scene);
+  state.counters["bullet_rays_per_s"] = bullet;
+  state.counters["ratio_to_bullet"] =
+      benchmark::Counter(static_cast<double>(rays) / bullet, benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_HallPlanarRays)
+    ->ArgName("cell_cm")
+    ->Arg(25)
+    ->Arg(50)
+    ->Arg(100)
+    ->Arg(200)
+    ->Unit(benchmark::kMillisecond)
+    ->MinTime(3.0);
+
+// The same scene's whole scans with every error model, planar hits; the
+// per-tick refresh of the legs' and robots' cross-sections included (one
+// step and one refresh per iteration, as in a run at 10 Hz scans with 20 ticks).
+void BM_HallPlanarScans(benchmark::State& state) {
+  HallScene scene(true, kLegRadiusM);
+  sim::PlanarCaster caster(scene.world.get(), sim::PlanarCasterOptions{});
+  const double height = scene.robots.front()->setup().lasers.front().mount_height_m;
+  std::int64_t readings = 0;
+  for (auto _ : state) {
+    state.PauseTiming();
+    scene.Step();
+    state.ResumeTiming();
+    caster.Update();
+    readings += scene.ScanAll(caster.SliceAt(height));
+  }
+  Report(state, caster.rays_cast());
+  state.counters["readings_per_s"] =
+      benchmark::Counter(static_cast<double>(readings), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_HallPlanarScans)->Unit(benchmark::kMillisecond)->MinTime(3.0);
 
 // Physics: the 10 robots driving arcs among the 100 walkers, 200 Hz.
 void BM_HallPhysics10Robots100Walkers(benchmark::State& state) {

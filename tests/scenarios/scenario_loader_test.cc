@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -465,6 +466,36 @@ TEST(ScenarioLoaderTest, EveryShippedScenarioValidates) {
     for (const Diagnostic& d : ValidateFile(file.string())) ADD_FAILURE() << d.ToString();
     EXPECT_NO_THROW(LoadScenarioFile(file.string()));
   }
+}
+
+}  // namespace
+}  // namespace pavilion::scenarios
+
+namespace pavilion::scenarios {
+namespace {
+
+// Issue 7: laser_backend is planar by default, bullet on request, and a bad
+// value is one error naming the file, key and line; laser_max_tilt_deg sets
+// the planar caster's fallback angle.
+TEST(ScenarioLoaderTest, ReadsAndValidatesTheLaserBackend) {
+  const Scenario plain = LoadScenarioFile(WriteScenario(ScenarioText()));
+  EXPECT_EQ(plain.laser_backend, LaserBackend::kPlanar);
+  EXPECT_NEAR(plain.planar_laser.max_tilt_rad, std::numbers::pi / 180.0, 1e-15);
+  const Scenario bullet = LoadScenarioFile(
+      WriteScenario("laser_backend: bullet\nlaser_max_tilt_deg: 2.5\n" + ScenarioText()));
+  EXPECT_EQ(bullet.laser_backend, LaserBackend::kBullet);
+  EXPECT_NEAR(bullet.planar_laser.max_tilt_rad, 2.5 * std::numbers::pi / 180.0, 1e-15);
+  const std::string path = WriteScenario(ScenarioText() + "laser_backend: fast\n");
+  const std::vector<Diagnostic> errors = LoadErrors(path);
+  ASSERT_EQ(errors.size(), 1u);
+  EXPECT_EQ(errors[0].file, path);
+  EXPECT_EQ(errors[0].key_path, "laser_backend");
+  EXPECT_GT(errors[0].line, 0);
+  EXPECT_TRUE(Contains(errors[0].message, "planar, bullet")) << errors[0].message;
+  const std::vector<Diagnostic> tilt =
+      LoadErrors(WriteScenario(ScenarioText() + "laser_max_tilt_deg: 90\n"));
+  ASSERT_EQ(tilt.size(), 1u);
+  EXPECT_EQ(tilt[0].key_path, "laser_max_tilt_deg");
 }
 
 }  // namespace
