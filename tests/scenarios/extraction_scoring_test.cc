@@ -263,8 +263,8 @@ TEST(ExtractionScoringTest, OfficeFloorLms200WithVisitors) {
   EXPECT_EQ(f.scans, 900);
   EXPECT_GT(f.walls_in_view, 2000);
   EXPECT_GE(f.true_positive_rate, 0.95);   // measured 0.9719
-  EXPECT_LE(f.false_positive_rate, 0.03);  // measured 0.0175
-  EXPECT_GE(f.in_gate_fraction, 0.90);     // measured 0.9241
+  EXPECT_LE(f.false_positive_rate, 0.03);  // measured 0.0173
+  EXPECT_GE(f.in_gate_fraction, 0.90);     // measured 0.9638 (0.9241 without the floor)
 }
 
 TEST(ExtractionScoringTest, ExpoHallLms200WithVisitors) {
@@ -281,7 +281,7 @@ TEST(ExtractionScoringTest, ExpoHallLms200WithVisitors) {
   // seen by fewer than n_f readings.
   EXPECT_GE(f.true_positive_rate, 0.91);
   EXPECT_LE(f.false_positive_rate, 0.03);  // measured 0.0225
-  EXPECT_GE(f.in_gate_fraction, 0.90);     // measured 0.9156
+  EXPECT_GE(f.in_gate_fraction, 0.90);     // measured 0.9568 (0.9156 without the floor)
 }
 
 }  // namespace

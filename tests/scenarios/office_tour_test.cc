@@ -86,8 +86,8 @@ TEST(OfficeTour, FiveSeedsLocalizeToACentimetreAndTheFilterIsConsistent) {
     EXPECT_GT(l["cycles"].get<int>(), 850) << "seed " << seed;
     EXPECT_LT(l["cycles"].get<int>(), 1050) << "seed " << seed;
     EXPECT_EQ(l["lost_situations"].get<int>(), 0) << "seed " << seed;
-    EXPECT_LE(l["position_rmse_m"].get<double>(), 0.015) << "seed " << seed;  // measured 1.3-2.0 mm
-    EXPECT_LE(l["heading_rmse_deg"].get<double>(), 0.5) << "seed " << seed;   // 0.014-0.018 deg
+    EXPECT_LE(l["position_rmse_m"].get<double>(), 0.015) << "seed " << seed;  // measured 1.3-1.9 mm
+    EXPECT_LE(l["heading_rmse_deg"].get<double>(), 0.5) << "seed " << seed;   // 0.014-0.019 deg
     EXPECT_GT(l["matched_lines_per_cycle"].get<double>(), 2.0) << "seed " << seed;
     nees.push_back(ReadNees(dir / ("tour_" + std::to_string(seed)) / "localization.csv"));
     for (const double e : nees.back()) pooled_sum += e;
@@ -114,8 +114,10 @@ TEST(OfficeTour, FiveSeedsLocalizeToACentimetreAndTheFilterIsConsistent) {
       "0.92 deg, 2.73 lines per cycle\n",
       kBandLow, kBandHigh, 100.0 * inside_ratio, cycles,
       100.0 * static_cast<double>(above) / static_cast<double>(cycles), anees);
-  // Measured 92.0% inside, pooled ANEES 3.38: consistent since the map's
-  // error is modelled as one draw (core/localization/map_cross_covariance.h).
+  // Measured 96.6% inside, pooled ANEES 2.79: consistent since the map's
+  // error is modelled as one draw (core/localization/map_cross_covariance.h)
+  // and the extraction's covariance has its floor (LineExtractionOptions::
+  // SickLms200); without the floor 88.9% and 3.25.
   EXPECT_GE(inside_ratio, 0.90);
   EXPECT_GT(anees, kBandLow);
   EXPECT_LT(anees, kBandHigh);
