@@ -26,6 +26,7 @@
 #include "sim/schedule.h"
 #include "sim/sim_robot.h"
 #include "sim/top_down_view.h"
+#include "sim/worker_pool.h"
 
 namespace pavilion::scenarios {
 namespace {
@@ -415,6 +416,14 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
             {"robots", static_cast<int>(robots.size())}});
   record(0.0);
 
+  // What each robot's work of a tick produced (its own slot, see below).
+  struct TickWork {
+    sim::SensorOutputs outputs;
+    bool cycle = false;  // a localization cycle completed
+    double localization_s = 0.0;
+  };
+  std::vector<TickWork> work(robots.size());
+  sim::WorkerPool pool(options.threads > 0 ? options.threads : sim::WorkerPool::HardwareThreads());
   const auto t_loop = Clock::now();
   const double startup_s = Seconds(t_loop - t_start);
   double physics_s = 0.0;
@@ -527,15 +536,32 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
       distance_m[b] +=
           (next.bodies[b].pose.translation() - snapshot.bodies[b].pose.translation()).norm();
     }
-    // Robots' sensors sample the tick that just ended, in robot order.
+    // Robots' sensors and localization for the tick that just ended: per-robot
+    // work on the tick's snapshot, each robot writing only its own slot, spread
+    // over the worker pool; then merged in robot order (events, logs), so the
+    // outputs are the same for any thread count.
     const auto t_sensors = Clock::now();
+    if (planar) planar->Update();  // the slices are read-only until the next step
+    pool.ParallelFor(robots.size(), [&](std::size_t k) {
+      RobotRun& r = robots[k];
+      TickWork& w = work[k];
+      w.outputs = r.robot->AfterStep(snapshot.robots[k], next.robots[k]);
+      for (const core::EncoderReading& reading : w.outputs.encoders) r.odometry.Update(reading);
+      w.cycle = false;
+      if (r.localization) {
+        const auto t_localization = Clock::now();
+        std::vector<const core::LaserScan*> scans;
+        for (const sim::ScanRecord& scan : w.outputs.scans) scans.push_back(&scan.scan);
+        w.cycle = r.localization->Update(w.outputs.encoders, scans, next.robots[k].pose, t_after);
+        w.localization_s = Seconds(Clock::now() - t_localization);
+      }
+    });
     for (std::size_t k = 0; k < robots.size(); ++k) {
       RobotRun& r = robots[k];
+      const TickWork& w = work[k];
       r.distance_m +=
           (next.robots[k].pose.translation() - snapshot.robots[k].pose.translation()).norm();
-      const sim::SensorOutputs outputs = r.robot->AfterStep(snapshot.robots[k], next.robots[k]);
-      for (const core::EncoderReading& reading : outputs.encoders) r.odometry.Update(reading);
-      for (const core::BumperReading& b : outputs.bumpers) {
+      for (const core::BumperReading& b : w.outputs.bumpers) {
         Json zones = Json::array();
         const auto& names = r.entry->config.bumpers;
         for (std::size_t z = 0; z < names.size(); ++z) {
@@ -547,19 +573,14 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
                   {"robot", r.entry->id},
                   {"zones", zones}});
       }
-      for (const sim::ScanRecord& scan : outputs.scans) {
+      for (const sim::ScanRecord& scan : w.outputs.scans) {
         ++r.scans;
         if (scan.fallback) ++r.fallback_scans;
         if (scan_log) scan_log->Append(r.entry->id, scan.scan, scan.truth);
       }
       if (r.localization) {
-        const auto t_localization = Clock::now();
-        std::vector<const core::LaserScan*> scans;
-        for (const sim::ScanRecord& scan : outputs.scans) scans.push_back(&scan.scan);
-        const bool cycle =
-            r.localization->Update(outputs.encoders, scans, next.robots[k].pose, t_after);
-        localization_s += Seconds(Clock::now() - t_localization);
-        if (cycle) {
+        localization_s += w.localization_s;  // summed over robots: thread time
+        if (w.cycle) {
           ++localization_cycles;
           const LocalizationCycle& c = r.localization->last_cycle();
           localization_log->Append(
@@ -743,7 +764,10 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   summary.real_time_factor = loop_s > 0 ? sim_s / loop_s : 0.0;
   for (const auto& [type, n] : event_counts) summary.events += n;
   summary.laser_fallback_scans = summary_fallback_scans;
-  const std::int64_t laser_rays = world.rays_cast() + (planar ? planar->rays_cast() : 0);
+  std::int64_t laser_rays = 0;  // counted by the scanners, either backend
+  for (const RobotRun& r : robots) {
+    for (const sim::LaserScanner& laser : r.robot->lasers()) laser_rays += laser.rays_cast();
+  }
 
   // performance.json: the one output with wall-clock figures.
   Json perf;
@@ -752,7 +776,7 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   perf["startup_s"] = startup_s;
   perf["real_time_factor"] = summary.real_time_factor;
   perf["peak_rss_mb"] = PeakRssMb();
-  perf["threads"] = 1;  // the worker pool comes with the speed issue
+  perf["threads"] = pool.threads();
   perf["physics_steps_per_s"] = physics_s > 0 ? static_cast<double>(ticks_run) / physics_s : 0.0;
   perf["laser_backend"] = ToString(scenario.laser_backend);
   perf["laser_rays"] = laser_rays;

@@ -9,6 +9,10 @@ namespace pavilion::scenarios {
 struct RunOptions {
   std::string out_dir;    // every output file goes here (created if missing)
   bool progress = false;  // a live progress line on stderr (TTYs only)
+  // Threads for the robots' per-tick work (sensors, localization), the
+  // calling thread included; 0: every hardware thread. Outputs do not depend
+  // on it (same scenario and seed, same bytes; performance.json aside).
+  int threads = 0;
 };
 
 struct RunSummary {

@@ -288,6 +288,7 @@ LaserScanner::RaySample LaserScanner::CastBeam(const LaserHitFinder& finder,
   const Eigen::Vector3d from = RayOrigin(world_from_sensor);
   const Eigen::Vector3d dir = BeamDirection(world_from_sensor, bearing_rad);
   // Transparent elements are skipped by the finder itself.
+  ++rays_cast_;
   const RayHit hit = finder.Cast(from, dir.head<2>(), options_.max_range_m, ignore_group);
   RaySample s;
   if (!hit.hit) return s;

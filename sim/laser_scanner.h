@@ -105,6 +105,8 @@ class LaserScanner {
                double mount_height_m, core::RandomStream stream);
 
   const std::string& id() const { return id_; }
+  // Rays this scanner has cast (central and edge rays), by either hit finder.
+  std::int64_t rays_cast() const { return rays_cast_; }
   const LaserScannerOptions& options() const { return options_; }
   // Bearing and time after the sweep start of reading i.
   double bearing_rad(int i) const { return bearings_rad_[i]; }
@@ -194,6 +196,7 @@ class LaserScanner {
   Sweep sweep_;
   core::LaserScan scan_;
   core::LaserScanTruth truth_;
+  mutable std::int64_t rays_cast_ = 0;  // counted in CastBeam (const: a geometric query)
 };
 
 }  // namespace pavilion::sim

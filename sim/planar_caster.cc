@@ -269,7 +269,6 @@ struct PlanarSlice::Best {
 
 RayHit PlanarSlice::Cast(const Eigen::Vector3d& origin_m, const Eigen::Vector2d& direction,
                          double max_range_m, int ignore_group) const {
-  ++rays_cast_;
   Best best{origin_m.head<2>(), direction, max_range_m, ignore_group};
   for (const Segment& s : outside_segments_) best.Test(s);
   for (const Circle& c : outside_circles_) best.Test(c);
@@ -388,12 +387,6 @@ const PlanarSlice& PlanarCaster::SliceAt(double height_m) {
         slices_.emplace(height_m, std::make_unique<PlanarSlice>(*world_, height_m, options_)).first;
   }
   return *it->second;
-}
-
-std::int64_t PlanarCaster::rays_cast() const {
-  std::int64_t n = 0;
-  for (const auto& [height, slice] : slices_) n += slice->rays_cast();
-  return n;
 }
 
 }  // namespace pavilion::sim

@@ -51,8 +51,6 @@ class PlanarSlice final : public LaserHitFinder {
   // or bottom) lies within radius_m of center_m, the ignored group's aside:
   // then rays from center_m up to radius_m long are exact here.
   bool Covers(const Eigen::Vector2d& center_m, double radius_m, int ignore_group) const;
-  // Rays cast so far (a performance figure).
-  std::int64_t rays_cast() const { return rays_cast_; }
 
   // Re-slices the static geometry (doors in their current state).
   void UpdateStatic();
@@ -109,7 +107,6 @@ class PlanarSlice final : public LaserHitFinder {
   std::vector<Segment> outside_segments_;
   std::vector<Circle> outside_circles_;
   std::vector<UncutElement> uncut_;
-  mutable std::int64_t rays_cast_ = 0;
 };
 
 // Planar laser casting for the scanners of one world: one PlanarSlice per
@@ -128,9 +125,12 @@ class PlanarCaster {
   void Update();
   void Refresh();
   // The slice at a beam height, built on first use; calls Update() first.
+  // Once the slices of every height in use exist and Update() has run after
+  // the tick's step, SliceAt changes nothing and the slices are read-only:
+  // scanners may then cast from several threads (the scenario runner's
+  // worker pool). Rays are counted by the scanners (LaserScanner::rays_cast),
+  // not here, so that casting writes nothing shared.
   const PlanarSlice& SliceAt(double height_m);
-  // Rays cast in every slice so far.
-  std::int64_t rays_cast() const;
 
  private:
   const World* world_;

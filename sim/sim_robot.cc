@@ -45,6 +45,14 @@ void SimRobot::SetWheelSpeeds(double left_radps, double right_radps) {
   world_->SetWheelSpeeds(index_, left_radps, right_radps);
 }
 
+void SimRobot::UsePlanarCaster(PlanarCaster* caster) {
+  planar_ = caster;
+  if (planar_ == nullptr) return;
+  // Every slice this robot needs exists before the first tick, so that SliceAt
+  // never builds one while robots cast from several threads.
+  for (const LaserScanner& laser : lasers_) planar_->SliceAt(laser.mount_height_m());
+}
+
 SensorOutputs SimRobot::AfterStep(const RobotState& before, const RobotState& after) {
   const World& world = *world_;
   SensorOutputs out;

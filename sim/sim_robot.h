@@ -63,7 +63,7 @@ class SimRobot {
   // Casts this robot's scans with `caster` (shared by the world's robots; it
   // must outlive the robot) where the beam plane allows, Bullet elsewhere;
   // null (the default): Bullet for every scan.
-  void UsePlanarCaster(PlanarCaster* caster) { planar_ = caster; }
+  void UsePlanarCaster(PlanarCaster* caster);
 
   // Wheel-speed command (rad/s, positive forward), held until changed.
   void SetWheelSpeeds(double left_radps, double right_radps);
@@ -75,6 +75,12 @@ class SimRobot {
   // readings of this tick fall back to Bullet when the robot's tilt at either
   // end exceeds the caster's max_tilt_rad or a body the plane does not cut
   // exactly is within range.
+  //
+  // Robots may sample from several threads at once (each robot from one) when
+  // the world is not stepped meanwhile and the planar caster has been brought
+  // up to date (PlanarCaster::Update) after the step: each robot then writes
+  // only its own state, draws from its own streams, and Bullet fallback casts
+  // are serialized by the world.
   SensorOutputs AfterStep(const RobotState& before, const RobotState& after);
 
  private:

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <mutex>
 #include <numbers>
 #include <set>
 #include <stdexcept>
@@ -353,7 +354,8 @@ struct World::Impl {
 
   std::map<const btCollisionShape*, RayPrism> prisms;
   std::int64_t static_revision = 0;    // counts door moves
-  mutable std::int64_t rays_cast = 0;  // CastRay is single-threaded per world (see world.h)
+  mutable std::int64_t rays_cast = 0;  // guarded by ray_mutex
+  mutable std::mutex ray_mutex;        // serializes CastRay (world.h)
 
   std::vector<core::SectionElement> elements;
   std::vector<Body> bodies;
@@ -1412,6 +1414,7 @@ class DynamicRay : public btBroadphaseRayCallback {
 RayHit World::CastRay(const Eigen::Vector3d& from_m, const Eigen::Vector3d& to_m, int ignore_group,
                       bool hit_transparent) const {
   const Impl& im = *impl_;
+  const std::lock_guard<std::mutex> lock(im.ray_mutex);
   ++im.rays_cast;
   const btVector3 from = ToBt(from_m), to = ToBt(to_m);
   const auto make_hit = [&](const btVector3& p, const btVector3& normal, int element) {
@@ -1467,7 +1470,10 @@ RayHit World::CastRay(const Eigen::Vector3d& from_m, const Eigen::Vector3d& to_m
 
 const std::vector<core::SectionElement>& World::elements() const { return impl_->elements; }
 
-std::int64_t World::rays_cast() const { return impl_->rays_cast; }
+std::int64_t World::rays_cast() const {
+  const std::lock_guard<std::mutex> lock(impl_->ray_mutex);
+  return impl_->rays_cast;
+}
 
 std::vector<ContactChange> World::TakeContactChanges() {
   std::vector<ContactChange> out;

@@ -220,8 +220,10 @@ class World {
   std::int64_t static_revision() const;
   // Casts a ray from `from_m` to `to_m` and returns the closest hit, ignoring
   // the elements of `ignore_group` (the casting robot's parts) and, unless
-  // `hit_transparent`, elements whose material is laser-transparent. Not
-  // thread-safe: one Bullet world is never ray-cast from two threads.
+  // `hit_transparent`, elements whose material is laser-transparent.
+  // Thread-safe: calls from several threads are serialized (Bullet's ray
+  // queries are not made for concurrent use); the planar caster is the
+  // parallel path.
   RayHit CastRay(const Eigen::Vector3d& from_m, const Eigen::Vector3d& to_m, int ignore_group = -1,
                  bool hit_transparent = false) const;
 

@@ -45,6 +45,7 @@ struct RunArgs {
   std::int64_t seed = -1;
   double duration_s = -1.0;
   std::vector<std::string> set;
+  int threads = 0;
 };
 
 int Run(const RunArgs& a) {
@@ -58,6 +59,7 @@ int Run(const RunArgs& a) {
   scenarios::RunOptions options;
   options.out_dir = a.out;
   options.progress = ProgressWanted();
+  options.threads = a.threads;
   const scenarios::RunSummary s = scenarios::RunScenario(scenario, options);
   spdlog::info("simulated {:.1f} s in {:.2f} s wall ({:.1f}x real time), {} events",
                s.sim_duration_s, s.wall_time_s, s.real_time_factor, s.events);
@@ -157,6 +159,11 @@ int main(int argc, char** argv) {
   run->add_option("--duration", run_args.duration_s, "Simulated seconds, replaces the scenario's")
       ->check(CLI::PositiveNumber);
   run->add_option("--set", run_args.set, "Override a scenario key: key.path=value (repeatable)");
+  run->add_option("--threads", run_args.threads,
+                  "Threads for the robots' sensors and localization (0: all cores); the outputs "
+                  "are the same for any count")
+      ->check(CLI::Range(0, 256))
+      ->capture_default_str();
   run->footer(
       "Example:\n  pavilion run scenarios/expo_visitors.yaml --out out/demo --seed 3 "
       "--duration 20 --set physics.rate_hz=100");
