@@ -70,6 +70,9 @@ struct RobotEntry {
   sim::RobotConfig config;
   core::Pose2 pose;
   std::vector<DriveCommand> drive;  // sorted by time
+  // How its wheels meet the floor: the entry's `wheel_model`, else the
+  // scenario's `physics.wheel_model`.
+  sim::WheelModel wheel_model = sim::WheelModel::kArticulated;
   LocalizationEntry localization;
   std::optional<RouteEntry> route;
 };
@@ -102,6 +105,8 @@ struct Scenario {
   bool end_when_routes_done = false;
   std::string world_file;  // the world.yaml (its folder holds the default map.yaml)
   sim::WorldOptions physics;
+  // physics.wheel_model: the robots' wheel model unless an entry names its own.
+  sim::WheelModel wheel_model = sim::WheelModel::kArticulated;
   sim::WorldDescription world;
   std::vector<BodyEntry> bodies;
   std::vector<RobotEntry> robots;
