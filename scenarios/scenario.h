@@ -76,6 +76,9 @@ struct RobotEntry {
   sim::RobotConfig config;
   core::Pose2 pose;
   std::vector<DriveCommand> drive;  // sorted by time
+  // How its wheels meet the floor: the entry's `wheel_model`, else the
+  // scenario's `physics.wheel_model`.
+  sim::WheelModel wheel_model = sim::WheelModel::kArticulated;
   LocalizationEntry localization;
   std::optional<RouteEntry> route;
 };
@@ -115,6 +118,8 @@ struct Scenario {
   sim::WorldOptions physics;
   LaserBackend laser_backend = LaserBackend::kPlanar;  // key laser_backend
   sim::PlanarCasterOptions planar_laser;               // laser_max_tilt_deg
+  // physics.wheel_model: the robots' wheel model unless an entry names its own.
+  sim::WheelModel wheel_model = sim::WheelModel::kArticulated;
   sim::WorldDescription world;
   std::vector<BodyEntry> bodies;
   std::vector<RobotEntry> robots;

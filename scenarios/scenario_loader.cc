@@ -23,6 +23,14 @@ constexpr std::int64_t kMaxGroupCount = 100000;
 constexpr double kDefaultLaserMaxTiltDeg = 1.0;
 constexpr double kMaxLaserTiltDeg = 45.0;
 
+// Reads a `wheel_model` key: one of the sim::WheelModel names.
+sim::WheelModel ReadWheelModel(MapReader& r, sim::WheelModel default_model) {
+  const std::vector<std::string> names = {sim::WheelModelName(sim::WheelModel::kArticulated),
+                                          sim::WheelModelName(sim::WheelModel::kRaycast)};
+  const std::string name = r.Choice("wheel_model", names, sim::WheelModelName(default_model));
+  return name == names[1] ? sim::WheelModel::kRaycast : sim::WheelModel::kArticulated;
+}
+
 std::optional<sim::BodyShape> ReadShape(YamlDocument* doc, MapReader& parent) {
   MapReader r(doc, parent.Child("shape", true), parent.PathOf("shape"));
   if (!r.valid()) return std::nullopt;
@@ -286,7 +294,7 @@ void ReadRoute(YamlDocument* doc, MapReader& r, RobotEntry* robot) {
 
 // robots: [{id, model, pose: [x, y, theta], drive: [{at_s, left, right} |
 // {at_s, speed_mps, turn_radps}], systematic: {...}, encoder_noise: bool,
-// laser_noise: bool}]
+// laser_noise: bool, wheel_model: articulated | raycast}]
 void ReadRobots(YamlDocument* doc, MapReader& top, const std::string& base, Scenario* s) {
   YAML::Node list = top.Child("robots");
   if (!list.IsDefined() || list.IsNull()) return;
@@ -333,6 +341,7 @@ void ReadRobots(YamlDocument* doc, MapReader& top, const std::string& base, Scen
       e.wheelbase_factor = m.Number("wheelbase_factor", e.wheelbase_factor, 0.9, 1.1);
       m.Finish();
     }
+    robot.wheel_model = ReadWheelModel(r, s->wheel_model);
     robot.config.encoders.noise = r.Bool("encoder_noise", robot.config.encoders.noise);
     // laser_noise: false turns every laser's range noise, outliers and dark
     // dropouts off (sim::LaserScannerOptions::noise).
@@ -466,6 +475,7 @@ Scenario LoadScenarioFile(const std::string& path, const ScenarioOverrides& over
     s.physics.solver_iterations =
         static_cast<int>(r.Integer("solver_iterations", s.physics.solver_iterations, 1, 100));
     s.physics.gravity_mps2 = r.Number("gravity_mps2", s.physics.gravity_mps2, 0.0, 100.0);
+    s.wheel_model = ReadWheelModel(r, s.wheel_model);
     r.Finish();
   }
   {

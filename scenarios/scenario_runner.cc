@@ -266,6 +266,7 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   std::vector<sim::SimRobotSetup> robot_setups;
   for (const RobotEntry& r : scenario.robots) {
     robot_setups.push_back(MakeSimRobotSetup(r.id, r.config, r.pose, &description));
+    robot_setups.back().spec.wheel_model = r.wheel_model;
   }
   sim::World world(std::move(description), scenario.physics);
   // Maps before any body enters the world (a derived map is a survey of the

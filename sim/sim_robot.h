@@ -53,6 +53,8 @@ class SimRobot {
  public:
   // Adds the robot to `world`. Throws std::invalid_argument for inconsistent
   // setups (sensor rates that do not divide the physics rate, duplicate ids).
+  // Encoders may also run at a whole multiple of the physics rate: they then
+  // read several times a tick, at wheel angles interpolated within it.
   SimRobot(World* world, SimRobotSetup setup, std::uint64_t seed);
 
   const std::string& id() const { return setup_.spec.id; }
@@ -94,6 +96,7 @@ class SimRobot {
   std::vector<bool> fell_back_;  // this sweep used the Bullet fallback
   PlanarCaster* planar_ = nullptr;
   std::int64_t encoder_period_ticks_ = 1;
+  int encoder_readings_per_tick_ = 1;  // > 1 when the encoders are faster than the physics
   std::int64_t bumper_period_ticks_ = 1;
   std::uint32_t pressed_ = 0;
 };

@@ -15,6 +15,7 @@
 #include <utility>
 
 #include "sim/ray_shapes.h"
+#include "sim/raycast_drive.h"
 #include "sim/triangle_mesh.h"
 #include "sim/wall_geometry.h"
 
@@ -61,6 +62,30 @@ constexpr int kSolverFrictionModes = SOLVER_USE_2_FRICTION_DIRECTIONS;
 constexpr double kMinAxisZ = 0.01;
 
 btVector3 ToBt(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
+
+// The masses of the articulated reference's bodies; they add up to the model's
+// total mass.
+struct PartMasses {
+  double chassis_kg = 0.0;
+  double wheel_kg[2] = {0.0, 0.0};  // left, right: the drive units lumped at the axles
+  double caster_kg = kCasterMassKg;
+};
+
+PartMasses ReferencePartMasses(const RobotDescription& m) {
+  PartMasses p;
+  p.chassis_kg =
+      std::max(0.5 * m.chassis_mass_kg,
+               m.chassis_mass_kg - kCasterMassKg * static_cast<double>(m.casters.size()));
+  p.wheel_kg[0] = m.left_wheel.mass_kg;
+  p.wheel_kg[1] = m.right_wheel.mass_kg;
+  const double min_wheel_mass_kg = kMinWheelMassFraction * p.chassis_kg;
+  for (double& mass : p.wheel_kg) {
+    const double lumped = std::max(mass, min_wheel_mass_kg);
+    p.chassis_kg -= lumped - mass;
+    mass = lumped;
+  }
+  return p;
+}
 
 double YawOf(const btTransform& t) {
   btScalar yaw, pitch, roll;
@@ -264,6 +289,16 @@ void WorldOptions::Validate() const {
   }
 }
 
+const char* WheelModelName(WheelModel model) {
+  switch (model) {
+    case WheelModel::kArticulated:
+      return "articulated";
+    case WheelModel::kRaycast:
+      return "raycast";
+  }
+  return "?";
+}
+
 double BodyShape::HalfHeight() const {
   switch (type) {
     case BodyShapeType::kBox:
@@ -320,6 +355,12 @@ struct World::Impl {
     double command_radps[2] = {0, 0};
     double wheel_rad[2] = {0, 0};  // unwrapped, positive forward
     double last_hinge_rad[2] = {0, 0};
+    // WheelModel::kRaycast: the contact solver (left, right wheel, then
+    // casters) and its per-wheel commands; parts then holds the chassis alone.
+    std::unique_ptr<RaycastDrive> drive;
+    std::vector<double> drive_command_radps;
+    double push_height_m = 0.0;  // where pushes act, above the chassis body's centre of mass
+    bool raycast() const { return drive != nullptr; }
     btRigidBody* chassis() const { return parts[0].rigid; }
     btRigidBody* wheel(int side) const { return parts[1 + side].rigid; }
   };
@@ -387,12 +428,14 @@ struct World::Impl {
                        [&](const core::SectionElement& e) { return e.id == id; });
   }
 
-  // A dynamic rigid body owned by the world, never deactivated.
+  // A dynamic rigid body owned by the world, never deactivated. Its inertia is
+  // the shape's unless given (principal moments about the body axes).
   btRigidBody* AddDynamic(std::unique_ptr<btCollisionShape> shape, double mass_kg,
                           const btTransform& transform, double friction, double restitution,
-                          int element) {
+                          int element, const btVector3* given_inertia = nullptr) {
     btVector3 inertia(0, 0, 0);
     shape->calculateLocalInertia(mass_kg, inertia);
+    if (given_inertia != nullptr) inertia = *given_inertia;
     auto motion = std::make_unique<btDefaultMotionState>(transform);
     btRigidBody::btRigidBodyConstructionInfo info(mass_kg, motion.get(), shape.get(), inertia);
     info.m_friction = friction;
@@ -407,6 +450,73 @@ struct World::Impl {
     return rigid_bodies.back().get();
   }
 
+  // The chassis of a WheelModel::kRaycast robot: `compound` (origin at the
+  // common centre of mass of the reference's parts, `base_from_chassis`)
+  // carrying the mass of the whole robot, and the contact solver of its wheels
+  // and casters.
+  void AddRaycastRobot(std::unique_ptr<btCompoundShape> compound,
+                       const btTransform& base_from_chassis, const PartMasses& masses,
+                       double chassis_com_z_m, const double radius[2], const double wheel_y[2],
+                       const Material& material, int first_attachment, Robot* robot) {
+    const RobotDescription& m = robot->spec.model;
+    const double com_z = robot->com_z_m;
+    // The reference's bodies welded together, so that a push or a collision
+    // tips and slides the robot as it does the reference (whose lumped drive
+    // units make it bottom-heavy): the inertia about the common centre of mass
+    // is the chassis' as the reference computes it (its compound's) plus each
+    // wheel and caster as a solid sphere, by the parallel-axis theorem.
+    btVector3 inertia(0, 0, 0);
+    compound->calculateLocalInertia(masses.chassis_kg, inertia);
+    const double dz = chassis_com_z_m - com_z;
+    inertia += masses.chassis_kg * btVector3(dz * dz, dz * dz, 0.0);
+    const auto add_sphere = [&](double mass, const btVector3& centre, double r) {
+      const btVector3 p = centre - btVector3(0, 0, com_z);
+      const double own = 0.4 * mass * r * r;
+      inertia += btVector3(mass * (p.y() * p.y() + p.z() * p.z()) + own,
+                           mass * (p.x() * p.x() + p.z() * p.z()) + own,
+                           mass * (p.x() * p.x() + p.y() * p.y()) + own);
+    };
+    const WheelSpec* wheels[2] = {&m.left_wheel, &m.right_wheel};
+    for (int side = 0; side < 2; ++side) {
+      add_sphere(masses.wheel_kg[side],
+                 btVector3(wheels[side]->position_m.x(), wheel_y[side], radius[side]),
+                 radius[side]);
+    }
+    for (const CasterSpec& c : m.casters) {
+      add_sphere(masses.caster_kg, btVector3(c.position_m.x(), c.position_m.y(), c.radius_m),
+                 c.radius_m);
+    }
+    // Pushes act where they act on the reference: at its chassis' centre of mass.
+    robot->push_height_m = chassis_com_z_m - com_z;
+    btRigidBody* chassis =
+        AddDynamic(std::move(compound), m.total_mass_kg(), base_from_chassis, material.friction,
+                   material.restitution, robot->element, &inertia);
+    chassis->setUserIndex2(robot->spec.attachments.empty() ? -1 : first_attachment);
+    robot->parts.push_back({chassis, base_from_chassis});
+
+    // Wheels as the reference builds them (systematic errors applied), then casters.
+    const double tread =
+        kWheelTreadFriction * description.MaterialNamed(description.floor.material).friction;
+    std::vector<RaycastWheelSpec> specs;
+    for (int side = 0; side < 2; ++side) {
+      specs.push_back({{wheels[side]->position_m.x(), wheel_y[side], radius[side] - com_z},
+                       radius[side],
+                       true,
+                       tread,
+                       m.max_wheel_torque_nm});
+    }
+    for (const CasterSpec& c : m.casters) {
+      specs.push_back({{c.position_m.x(), c.position_m.y(), c.radius_m - com_z}, c.radius_m});
+    }
+    RaycastDriveOptions options;
+    options.iterations = this->options.solver_iterations;
+    options.gravity_mps2 = this->options.gravity_mps2;
+    options.floor_min_m = description.floor.min_m;
+    options.floor_max_m = description.floor.max_m;
+    robot->drive_command_radps.assign(specs.size(), 0.0);
+    robot->drive = std::make_unique<RaycastDrive>(std::move(specs), options);
+  }
+
   // Places every part of a robot at `pose`, at rest.
   static void PlaceRobot(Robot* robot, const core::Pose2& pose) {
     const btTransform world_from_base = PlanarTransform(pose, 0.0);
@@ -419,6 +529,12 @@ struct World::Impl {
       part.rigid->setAngularVelocity(btVector3(0, 0, 0));
       part.rigid->clearForces();
     }
+    if (robot->raycast()) {
+      // Its contact solver reads the world inertia tensor before Bullet
+      // refreshes it; the reference's bodies are left as they always were.
+      robot->chassis()->updateInertiaTensor();
+      robot->drive->Reset();
+    }
   }
 
   btTransform WorldFromBase(const Robot& robot) const {
@@ -426,6 +542,33 @@ struct World::Impl {
     com_from_base.setIdentity();
     com_from_base.setOrigin(btVector3(0, 0, -robot.com_z_m));
     return robot.chassis()->getWorldTransform() * com_from_base;
+  }
+
+  // Solves a WheelModel::kRaycast robot's wheel contacts for the coming step
+  // and leaves their impulses in the chassis' velocities.
+  static void SolveRaycastContacts(Robot* robot, double dt) {
+    btRigidBody* chassis = robot->chassis();
+    const btMatrix3x3& basis = chassis->getWorldTransform().getBasis();
+    const btMatrix3x3& inv_inertia = chassis->getInvInertiaTensorWorld();
+    RaycastChassis c;
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) {
+        c.world_from_body(i, j) = basis[i][j];
+        c.inverse_inertia(i, j) = inv_inertia[i][j];
+      }
+    }
+    const btVector3& com = chassis->getCenterOfMassPosition();
+    const btVector3& v = chassis->getLinearVelocity();
+    const btVector3& w = chassis->getAngularVelocity();
+    c.com_m = {com.x(), com.y(), com.z()};
+    c.inverse_mass = chassis->getInvMass();
+    c.linear_mps = {v.x(), v.y(), v.z()};
+    c.angular_radps = {w.x(), w.y(), w.z()};
+    robot->drive_command_radps[0] = robot->command_radps[0];
+    robot->drive_command_radps[1] = robot->command_radps[1];
+    robot->drive->Solve(dt, robot->drive_command_radps, &c);
+    chassis->setLinearVelocity(ToBt(c.linear_mps));
+    chassis->setAngularVelocity(ToBt(c.angular_radps));
   }
 
   // Accumulates each wheel's rotation from its hinge angle (wrapped by Bullet).
@@ -893,6 +1036,27 @@ int World::AddRobot(const RobotSpec& spec) {
   // drive is symmetric) and inside the chassis' height.
   robot.com_z_m =
       std::clamp(m.chassis_com_m.z(), m.chassis_base_z_m, m.chassis_base_z_m + m.chassis_height_m);
+  const double chassis_com_z_m = robot.com_z_m;
+  // Drive wheels: the physical robot's radii and wheelbase carry the
+  // systematic errors (mean radius and the wheel positions' midpoint kept).
+  const double ratio = spec.systematic.wheel_radius_ratio;
+  const double mean_radius = 0.5 * (m.left_wheel.radius_m + m.right_wheel.radius_m);
+  const double radius[2] = {2.0 * mean_radius / (1.0 + ratio),
+                            2.0 * mean_radius * ratio / (1.0 + ratio)};
+  const double mid_y = 0.5 * (m.left_wheel.position_m.y() + m.right_wheel.position_m.y());
+  const double half_base = 0.5 * m.wheelbase_m() * spec.systematic.wheelbase_factor;
+  const WheelSpec* wheel_specs[2] = {&m.left_wheel, &m.right_wheel};
+  const double wheel_y[2] = {mid_y + half_base, mid_y - half_base};
+  const bool raycast = spec.wheel_model == WheelModel::kRaycast;
+  const PartMasses masses = ReferencePartMasses(m);
+  if (raycast) {
+    // One body carries the reference's parts as if welded together: its centre
+    // of mass is theirs (kept on the base's z axis, as the chassis').
+    double moment = masses.chassis_kg * chassis_com_z_m;
+    for (int side = 0; side < 2; ++side) moment += masses.wheel_kg[side] * radius[side];
+    for (const CasterSpec& c : m.casters) moment += masses.caster_kg * c.radius_m;
+    robot.com_z_m = moment / m.total_mass_kg();
+  }
 
   // Chassis: the footprint prism and the attachments in one compound whose
   // origin is the centre of mass. Child 0 is the prism (the chassis element);
@@ -905,8 +1069,19 @@ int World::AddRobot(const RobotSpec& spec) {
       hull->addPoint(
           btVector3(p.x(), p.y(), m.chassis_base_z_m + m.chassis_height_m - robot.com_z_m), false);
     }
-    hull->recalcLocalAabb();
-    hull->setMargin(0.0);  // the true outline, as walls (rays and contacts agree)
+    if (raycast) {
+      hull->setMargin(0.0);  // the true outline, as walls (rays and contacts agree)
+      // Bounds cached after the margin is gone: with the default 4 cm margin
+      // in them, a chassis 4 cm above the floor overlaps it in the broadphase
+      // and every step runs a convex test of chassis against floor for nothing.
+      hull->recalcLocalAabb();
+    } else {
+      // The reference keeps the bounds with the margin: its robots' odometry
+      // calibrations (robot.yaml) were made with the floor pairs this gives,
+      // whose order in the solver changes the trajectories measurably.
+      hull->recalcLocalAabb();
+      hull->setMargin(0.0);
+    }
     im.prisms[hull.get()] = {m.footprint_m, m.chassis_base_z_m - robot.com_z_m,
                              m.chassis_base_z_m + m.chassis_height_m - robot.com_z_m};
     btTransform identity;
@@ -932,33 +1107,22 @@ int World::AddRobot(const RobotSpec& spec) {
   btTransform base_from_chassis;
   base_from_chassis.setIdentity();
   base_from_chassis.setOrigin(btVector3(0, 0, robot.com_z_m));
-  double chassis_mass_kg =
-      std::max(0.5 * m.chassis_mass_kg,
-               m.chassis_mass_kg - kCasterMassKg * static_cast<double>(m.casters.size()));
-  double wheel_mass_kg[2] = {m.left_wheel.mass_kg, m.right_wheel.mass_kg};
-  const double min_wheel_mass_kg = kMinWheelMassFraction * chassis_mass_kg;
-  for (double& mass : wheel_mass_kg) {
-    const double lumped = std::max(mass, min_wheel_mass_kg);
-    chassis_mass_kg -= lumped - mass;
-    mass = lumped;
+  if (raycast) {
+    im.AddRaycastRobot(std::move(compound), base_from_chassis, masses, chassis_com_z_m, radius,
+                       wheel_y, material, first_attachment, &robot);
+    Impl::PlaceRobot(&robot, spec.pose);
+    im.robots.push_back(std::move(robot));
+    return static_cast<int>(im.robots.size()) - 1;
   }
-  btRigidBody* chassis = im.AddDynamic(std::move(compound), chassis_mass_kg, base_from_chassis,
+  const double* wheel_mass_kg = masses.wheel_kg;
+  btRigidBody* chassis = im.AddDynamic(std::move(compound), masses.chassis_kg, base_from_chassis,
                                        material.friction, material.restitution, robot.element);
   chassis->setUserIndex2(spec.attachments.empty() ? -1 : first_attachment);
   robot.parts.push_back({chassis, base_from_chassis});
 
-  // Drive wheels: the physical robot's radii and wheelbase carry the
-  // systematic errors (mean radius and the wheel positions' midpoint kept).
-  const double ratio = spec.systematic.wheel_radius_ratio;
-  const double mean_radius = 0.5 * (m.left_wheel.radius_m + m.right_wheel.radius_m);
-  const double radius[2] = {2.0 * mean_radius / (1.0 + ratio),
-                            2.0 * mean_radius * ratio / (1.0 + ratio)};
-  const double mid_y = 0.5 * (m.left_wheel.position_m.y() + m.right_wheel.position_m.y());
-  const double half_base = 0.5 * m.wheelbase_m() * spec.systematic.wheelbase_factor;
-  const WheelSpec* wheel_specs[2] = {&m.left_wheel, &m.right_wheel};
   for (int side = 0; side < 2; ++side) {
     const WheelSpec& w = *wheel_specs[side];
-    const double y = mid_y + (side == 0 ? half_base : -half_base);
+    const double y = wheel_y[side];
     btTransform base_from_wheel;
     base_from_wheel.setIdentity();
     base_from_wheel.setOrigin(btVector3(w.position_m.x(), y, radius[side]));
@@ -982,8 +1146,8 @@ int World::AddRobot(const RobotSpec& spec) {
     base_from_caster.setIdentity();
     base_from_caster.setOrigin(btVector3(c.position_m.x(), c.position_m.y(), c.radius_m));
     const int element = im.AddElement(spec.id + "/" + c.link, m.material, true, robot.group);
-    btRigidBody* caster = im.AddDynamic(std::make_unique<btSphereShape>(c.radius_m), kCasterMassKg,
-                                        base_from_caster, 0.0, 0.0, element);
+    btRigidBody* caster = im.AddDynamic(std::make_unique<btSphereShape>(c.radius_m),
+                                        masses.caster_kg, base_from_caster, 0.0, 0.0, element);
     robot.parts.push_back({caster, base_from_caster});
     auto joint = std::make_unique<btPoint2PointConstraint>(
         *chassis, *caster, base_from_chassis.inverse() * base_from_caster.getOrigin(),
@@ -1016,6 +1180,13 @@ RobotState World::robot_state(int robot) const {
                                                        chassis->getCenterOfMassPosition());
   s.velocity_mps = {v.x(), v.y()};
   s.yaw_rate_radps = chassis->getAngularVelocity().z();
+  if (r.raycast()) {
+    s.left_wheel_rad = r.drive->angle_rad(0);
+    s.right_wheel_rad = r.drive->angle_rad(1);
+    s.left_wheel_radps = r.drive->rate_radps(0);
+    s.right_wheel_radps = r.drive->rate_radps(1);
+    return s;
+  }
   const btVector3 axis = chassis->getWorldTransform().getBasis().getColumn(1);
   const double rates[2] = {
       (r.wheel(0)->getAngularVelocity() - chassis->getAngularVelocity()).dot(axis),
@@ -1059,8 +1230,14 @@ std::vector<Eigen::Vector2d> World::RobotContactPoints(int robot) const {
 }
 
 void World::ApplyRobotImpulse(int robot, const Eigen::Vector2d& impulse_ns) {
-  impl_->robots.at(robot).chassis()->applyCentralImpulse(
-      btVector3(impulse_ns.x(), impulse_ns.y(), 0.0));
+  const Impl::Robot& r = impl_->robots.at(robot);
+  const btVector3 impulse(impulse_ns.x(), impulse_ns.y(), 0.0);
+  if (r.push_height_m == 0.0) {
+    r.chassis()->applyCentralImpulse(impulse);
+  } else {
+    const btVector3 up = r.chassis()->getWorldTransform().getBasis().getColumn(2);
+    r.chassis()->applyImpulse(impulse, r.push_height_m * up);
+  }
 }
 
 void World::TeleportRobot(int robot, const core::Pose2& pose) {
@@ -1069,7 +1246,7 @@ void World::TeleportRobot(int robot, const core::Pose2& pose) {
   for (int side = 0; side < 2; ++side) {
     r.command_radps[side] = 0.0;
     r.target_radps[side] = 0.0;
-    r.last_hinge_rad[side] = r.hinge[side]->getHingeAngle();
+    if (!r.raycast()) r.last_hinge_rad[side] = r.hinge[side]->getHingeAngle();
   }
 }
 
@@ -1166,12 +1343,21 @@ void World::Step() {
       const double step = m.max_wheel_accel_radps2 * dt;
       r.command_radps[side] +=
           std::clamp(r.target_radps[side] - r.command_radps[side], -step, step);
-      r.hinge[side]->enableAngularMotor(true, kHingeSign * r.command_radps[side],
-                                        m.max_wheel_torque_nm * dt);
+      if (!r.raycast()) {
+        r.hinge[side]->enableAngularMotor(true, kHingeSign * r.command_radps[side],
+                                          m.max_wheel_torque_nm * dt);
+      }
     }
+    if (r.raycast()) im.SolveRaycastContacts(&r, dt);
   }
   im.dynamics.stepSimulation(dt, 0, dt);
-  for (Impl::Robot& r : im.robots) im.UpdateWheelAngles(&r);
+  for (Impl::Robot& r : im.robots) {
+    if (r.raycast()) {
+      r.drive->Integrate(dt);
+    } else {
+      im.UpdateWheelAngles(&r);
+    }
+  }
   ++im.tick;
   im.UpdateContacts(&im.pending_changes);
 }

@@ -70,6 +70,25 @@ struct RobotAttachment {
   std::string material;    // a material of the world
 };
 
+// How a robot's wheels meet the floor.
+enum class WheelModel {
+  // The reference: chassis, two sphere wheels on hinge motors and caster
+  // spheres on ball joints, each a rigid body in contact with the floor.
+  kArticulated,
+  // The fast path: the chassis is the only body; each wheel and caster is a
+  // sphere under it whose floor contact a vertical ray finds, with traction
+  // from ideal motors, lateral friction and frictionless casters solved on the
+  // chassis (sim/raycast_drive.h). The body carries the reference's part
+  // masses welded together, so pushes tip and slide it as they do the
+  // reference. Its wheels meet only the floor plane (a robot that must drive
+  // onto other objects needs the reference) and are not bodies: rays and
+  // sections meet its chassis and attachments only.
+  kRaycast,
+};
+
+// "articulated" or "raycast".
+const char* WheelModelName(WheelModel model);
+
 // A differential-drive robot added to a world: the nominal model, and how the
 // physical robot differs from it. The physical wheels are built with the
 // systematic errors applied (mean radius and nominal wheelbase scaled), so
@@ -80,6 +99,7 @@ struct RobotSpec {
   SystematicErrors systematic;
   core::Pose2 pose;  // initial pose of the base frame
   std::vector<RobotAttachment> attachments;
+  WheelModel wheel_model = WheelModel::kArticulated;
 };
 
 // The true state of a robot.
@@ -159,7 +179,8 @@ class World {
 
   // Adds a robot: chassis (a convex prism of the footprint, with its
   // attachments), two sphere wheels on hinge motors and frictionless caster
-  // spheres. Its parts share one element group, which its own sensors ignore.
+  // spheres, or with WheelModel::kRaycast the chassis alone on ray-cast wheels.
+  // Its parts share one element group, which its own sensors ignore.
   // Throws std::invalid_argument for an inconsistent model. Returns the robot index.
   int AddRobot(const RobotSpec& spec);
   int robot_count() const;

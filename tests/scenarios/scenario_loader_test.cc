@@ -312,6 +312,44 @@ TEST(ScenarioLoaderTest, ReportsBadRobotEntries) {
   }
 }
 
+// Confirms the wheel model: articulated by default, the scenario's
+// physics.wheel_model for every robot unless an entry names its own, and a bad
+// name reported at its key and line.
+TEST(ScenarioLoaderTest, ReadsTheWheelModelPerScenarioAndRobot) {
+  const std::string robots =
+      "  - id: r1\n"
+      "    model: pygmalion\n"
+      "    pose: [1, 2, 0]\n"
+      "  - id: r2\n"
+      "    model: robox\n"
+      "    pose: [3, 2, 0]\n"
+      "    wheel_model: articulated\n";
+  const Scenario plain = LoadScenarioFile(WriteScenario(WithRobot(ScenarioText(), robots)));
+  EXPECT_EQ(plain.wheel_model, sim::WheelModel::kArticulated);
+  EXPECT_EQ(plain.robots[0].wheel_model, sim::WheelModel::kArticulated);
+  std::string text = WithRobot(ScenarioText(), robots);
+  const std::string rate = "  rate_hz: 200\n";
+  text.replace(text.find(rate), rate.size(), "  rate_hz: 100\n  wheel_model: raycast\n");
+  const Scenario fast = LoadScenarioFile(WriteScenario(text));
+  EXPECT_EQ(fast.wheel_model, sim::WheelModel::kRaycast);
+  EXPECT_EQ(fast.robots[0].wheel_model, sim::WheelModel::kRaycast);
+  EXPECT_EQ(fast.robots[1].wheel_model, sim::WheelModel::kArticulated);
+  EXPECT_DOUBLE_EQ(fast.physics.physics_rate_hz, 100.0);
+
+  const std::string bad = WithRobot(ScenarioText(),
+                                    "  - id: r1\n"
+                                    "    model: pygmalion\n"
+                                    "    pose: [1, 2, 0]\n"
+                                    "    wheel_model: hovercraft\n");
+  const std::string path = WriteScenario(bad);
+  const std::vector<Diagnostic> all = LoadErrors(path);
+  ASSERT_EQ(all.size(), 1u);
+  EXPECT_EQ(all[0].file, path);
+  EXPECT_EQ(all[0].key_path, "robots[0].wheel_model");
+  EXPECT_EQ(all[0].line, LineOf(bad, "wheel_model: hovercraft"));
+  EXPECT_TRUE(Contains(all[0].message, "raycast")) << all[0].message;
+}
+
 // Localization and route entries: read with their defaults; a missing map file,
 // an unknown laser, a drive and a route on one robot are errors with lines.
 TEST(ScenarioLoaderTest, LoadsLocalizationAndRouteAndReportsTheirErrors) {
