@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "nav/path_follower.h"
+#include "nav/wander_controller.h"
 #include "sim/body_motion.h"
 #include "sim/planar_caster.h"
 #include "sim/robot_config.h"
@@ -68,8 +69,16 @@ struct RouteEntry {
   double control_rate_hz = 20.0;  // path follower updates per second
 };
 
+// An obstacle-avoiding random walk reacting to each scan of one of the robot's
+// lasers: the hall benchmark's "wander" (nav/wander_controller.h). Its draws
+// come from the stream (scenario seed, "<robot id>/wander").
+struct WanderEntry {
+  std::string laser;  // a laser id of the robot model
+  nav::WanderOptions options;
+};
+
 // A robot of the scenario: its model (robots/<name>/robot.yaml), start pose,
-// and either a scripted wheel-speed profile or a route.
+// and at most one of a scripted wheel-speed profile, a route or a wander.
 struct RobotEntry {
   std::string id;
   std::string model;  // as written in the scenario
@@ -81,6 +90,7 @@ struct RobotEntry {
   sim::WheelModel wheel_model = sim::WheelModel::kArticulated;
   LocalizationEntry localization;
   std::optional<RouteEntry> route;
+  std::optional<WanderEntry> wander;
 };
 
 // A scripted event of the timeline.

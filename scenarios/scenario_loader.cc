@@ -292,9 +292,56 @@ void ReadRoute(YamlDocument* doc, MapReader& r, RobotEntry* robot) {
   robot->route = route;
 }
 
+// wander: {laser, cruise_speed_mps, avoid_speed_mps, avoid_turn_rate_radps,
+// obstruction_distance_m, stop_distance_m, min_avoid_scans, max_avoid_scans};
+// every key optional (the peers' values, nav::WanderOptions), `laser`
+// defaulting to the model's first.
+void ReadWander(YamlDocument* doc, MapReader& r, bool model_ok, RobotEntry* robot) {
+  YAML::Node node = r.Child("wander");
+  if (!node.IsDefined()) return;
+  MapReader m(doc, node, r.PathOf("wander"));
+  if (!m.valid()) return;
+  WanderEntry wander;
+  const auto& lasers = robot->config.lasers;
+  if (m.Has("laser")) {
+    wander.laser = m.RequiredString("laser").value_or("");
+    const bool known = std::any_of(lasers.begin(), lasers.end(),
+                                   [&](const sim::LaserMount& l) { return l.id == wander.laser; });
+    if (model_ok && !known) {
+      doc->Error(m.Child("laser"), m.PathOf("laser"),
+                 "robot model '" + robot->model + "' has no laser '" + wander.laser + "'");
+    }
+  } else if (!lasers.empty()) {
+    wander.laser = lasers.front().id;
+  } else if (model_ok) {
+    doc->Error(node, m.PathOf("laser"),
+               "robot model '" + robot->model + "' has no laser for the wander controller");
+  }
+  nav::WanderOptions& o = wander.options;
+  o.cruise_speed_mps = m.Number("cruise_speed_mps", o.cruise_speed_mps, 0.0, 10.0);
+  o.avoid_speed_mps = m.Number("avoid_speed_mps", o.avoid_speed_mps, 0.0, 10.0);
+  o.avoid_turn_rate_radps = m.Number("avoid_turn_rate_radps", o.avoid_turn_rate_radps, 1e-6, 10.0);
+  o.obstruction_distance_m =
+      m.Number("obstruction_distance_m", o.obstruction_distance_m, 1e-3, 1000.0);
+  o.stop_distance_m = m.Number("stop_distance_m", o.stop_distance_m, 0.0, 1000.0);
+  o.min_avoid_scans = static_cast<int>(m.Integer("min_avoid_scans", o.min_avoid_scans, 1, 1000000));
+  o.max_avoid_scans = static_cast<int>(m.Integer("max_avoid_scans", o.max_avoid_scans, 1, 1000000));
+  if (o.stop_distance_m > o.obstruction_distance_m) {
+    doc->Error(m.Child("stop_distance_m"), m.PathOf("stop_distance_m"),
+               "must not exceed obstruction_distance_m");
+  }
+  if (o.max_avoid_scans < o.min_avoid_scans) {
+    doc->Error(m.Child("max_avoid_scans"), m.PathOf("max_avoid_scans"),
+               "must be at least min_avoid_scans");
+  }
+  m.Finish();
+  robot->wander = wander;
+}
+
 // robots: [{id, model, pose: [x, y, theta], drive: [{at_s, left, right} |
 // {at_s, speed_mps, turn_radps}], systematic: {...}, encoder_noise: bool,
-// laser_noise: bool, wheel_model: articulated | raycast}]
+// laser_noise: bool, wheel_model: articulated | raycast, localization: {...},
+// route: {...}, wander: {...}}]
 void ReadRobots(YamlDocument* doc, MapReader& top, const std::string& base, Scenario* s) {
   YAML::Node list = top.Child("robots");
   if (!list.IsDefined() || list.IsNull()) return;
@@ -309,6 +356,7 @@ void ReadRobots(YamlDocument* doc, MapReader& top, const std::string& base, Scen
   for (const auto& m : s->world.meshes) ids.insert(m.id);
   for (const auto& d : s->world.doors) ids.insert(d.id);
   for (const auto& b : s->bodies) ids.insert(b.spec.id);
+  std::map<std::string, sim::RobotConfig> models;  // by resolved robot file
   for (std::size_t i = 0; i < list.size(); ++i) {
     const std::string path = IndexPath("robots", i);
     MapReader r(doc, list[i], path);
@@ -326,7 +374,12 @@ void ReadRobots(YamlDocument* doc, MapReader& top, const std::string& base, Scen
     if (auto model = r.RequiredString("model")) {
       robot.model = *model;
       try {
-        robot.config = LoadRobotFile(ResolveRobotPath(*model, base));
+        // Each model file is read once: a fleet of a thousand robots of one
+        // model would otherwise parse its URDF a thousand times at start-up.
+        const std::string model_path = ResolveRobotPath(*model, base);
+        auto it = models.find(model_path);
+        if (it == models.end()) it = models.emplace(model_path, LoadRobotFile(model_path)).first;
+        robot.config = it->second;
         model_ok = true;
       } catch (const InputError& e) {
         doc->Error(
@@ -385,8 +438,15 @@ void ReadRobots(YamlDocument* doc, MapReader& top, const std::string& base, Scen
     }
     ReadLocalization(doc, r, base, *s, &robot);
     ReadRoute(doc, r, &robot);
-    if (robot.route && !robot.drive.empty()) {
-      doc->Error(r.Child("route"), r.PathOf("route"), "give either drive or route, not both");
+    ReadWander(doc, r, model_ok, &robot);
+    // One controller per robot: a scripted drive, a route or a wander.
+    const int controllers = static_cast<int>(!robot.drive.empty()) +
+                            static_cast<int>(robot.route.has_value()) +
+                            static_cast<int>(robot.wander.has_value());
+    if (controllers > 1) {
+      const std::string key = robot.wander ? "wander" : "route";
+      doc->Error(r.Child(key), r.PathOf(key),
+                 "give only one of drive, route and wander (each drives the wheels)");
     }
     r.Finish();
     s->robots.push_back(robot);

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -13,6 +14,7 @@
 #include "core/random/random_stream.h"
 #include "nav/path_follower.h"
 #include "nav/route_planner.h"
+#include "nav/wander_controller.h"
 #include "scenarios/input_error.h"
 #include "scenarios/localization_plot.h"
 #include "scenarios/localization_run.h"
@@ -45,6 +47,14 @@ constexpr std::uint64_t kSpawnStream = 0x5350415749ULL;  // "SPAWN"
 constexpr double kProgressPeriodS = 0.25;
 
 double Seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
+
+// CPU seconds this process has used: beside wall time, a figure that holds on a
+// machine shared with other work (the run itself is single-threaded).
+double ProcessCpuSeconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
 
 std::string Fixed(double v, int decimals) {
   char buf[64];
@@ -208,6 +218,7 @@ struct RobotRun {
   std::vector<Eigen::Vector2d> estimate_track;
   std::unique_ptr<LocalizationRun> localization;
   std::unique_ptr<nav::PathFollower> follower;
+  std::unique_ptr<nav::WanderController> wander;  // reacts to each scan of entry->wander->laser
   std::int64_t control_period_ticks = 1;
   bool route_done = false;
   double route_done_s = 0.0;
@@ -318,6 +329,12 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
       run.control_period_ticks = std::max<std::int64_t>(
           1, std::llround(scenario.physics.physics_rate_hz / entry.route->control_rate_hz));
     }
+    if (entry.wander) {
+      run.wander = std::make_unique<nav::WanderController>(
+          entry.wander->options,
+          core::RandomStream(scenario.seed,
+                             core::RandomStream::StreamId((entry.id + "/wander").c_str())));
+    }
   }
 
   const double dt = world.step_s();
@@ -426,6 +443,7 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   std::vector<TickWork> work(robots.size());
   sim::WorkerPool pool(options.threads > 0 ? options.threads : sim::WorkerPool::HardwareThreads());
   const auto t_loop = Clock::now();
+  const double cpu_loop_start_s = ProcessCpuSeconds();
   const double startup_s = Seconds(t_loop - t_start);
   double physics_s = 0.0;
   double sensors_s = 0.0;       // robots' sensors, laser rays included
@@ -578,6 +596,14 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
         ++r.scans;
         if (scan.fallback) ++r.fallback_scans;
         if (scan_log) scan_log->Append(r.entry->id, scan.scan, scan.truth);
+        if (r.wander && scan.scan.sensor_id == r.entry->wander->laser) {
+          // The new command holds from the next physics step until the next scan.
+          const nav::VelocityCommand command = r.wander->Update(scan.scan.readings);
+          const sim::OdometryCalibration& c = r.entry->config.odometry;
+          const nav::WheelSpeeds w = nav::ToWheelSpeeds(command, c.left_wheel_radius_m,
+                                                        c.right_wheel_radius_m, c.wheelbase_m);
+          r.robot->SetWheelSpeeds(w.left_radps, w.right_radps);
+        }
       }
       if (r.localization) {
         localization_s += w.localization_s;  // summed over robots: thread time
@@ -635,6 +661,7 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   }
   progress.Done();
   const double loop_s = Seconds(Clock::now() - t_loop);
+  const double loop_cpu_s = ProcessCpuSeconds() - cpu_loop_start_s;
   const double sim_s = static_cast<double>(ticks_run) * dt;
   emit(Json{{"time_s", std::stod(Fixed(sim_s, 6))}, {"type", "run_finished"}});
   events.Flush();
@@ -763,12 +790,18 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   summary.startup_s = startup_s;
   summary.wall_time_s = Seconds(Clock::now() - t_start);
   summary.real_time_factor = loop_s > 0 ? sim_s / loop_s : 0.0;
-  for (const auto& [type, n] : event_counts) summary.events += n;
-  summary.laser_fallback_scans = summary_fallback_scans;
+  summary.loop_s = loop_s;
+  summary.loop_cpu_s = loop_cpu_s;
+  summary.physics_s = physics_s;
+  summary.sensors_s = sensors_s;
   std::int64_t laser_rays = 0;  // counted by the scanners, either backend
   for (const RobotRun& r : robots) {
     for (const sim::LaserScanner& laser : r.robot->lasers()) laser_rays += laser.rays_cast();
   }
+  summary.laser_rays = laser_rays;
+  summary.peak_rss_mb = PeakRssMb();
+  for (const auto& [type, n] : event_counts) summary.events += n;
+  summary.laser_fallback_scans = summary_fallback_scans;
 
   // performance.json: the one output with wall-clock figures.
   Json perf;
@@ -776,7 +809,8 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
   perf["wall_time_s"] = summary.wall_time_s;
   perf["startup_s"] = startup_s;
   perf["real_time_factor"] = summary.real_time_factor;
-  perf["peak_rss_mb"] = PeakRssMb();
+  perf["loop_cpu_s"] = loop_cpu_s;
+  perf["peak_rss_mb"] = summary.peak_rss_mb;
   perf["threads"] = pool.threads();
   perf["physics_steps_per_s"] = physics_s > 0 ? static_cast<double>(ticks_run) / physics_s : 0.0;
   perf["laser_backend"] = ToString(scenario.laser_backend);

@@ -17,9 +17,15 @@ struct RunOptions {
 
 struct RunSummary {
   double sim_duration_s = 0.0;
-  double wall_time_s = 0.0;
-  double startup_s = 0.0;
-  double real_time_factor = 0.0;
+  double wall_time_s = 0.0;       // the whole call: start-up, stepping loop, outputs
+  double startup_s = 0.0;         // building the world and robots, before the first step
+  double loop_s = 0.0;            // the stepping loop (wall s)
+  double loop_cpu_s = 0.0;        // the stepping loop (CPU s of the process)
+  double real_time_factor = 0.0;  // sim_duration_s / loop_s
+  double physics_s = 0.0;         // of loop_s: Bullet steps
+  double sensors_s = 0.0;         // of loop_s: robots' sensors (laser rays) and their controllers
+  std::int64_t laser_rays = 0;    // rays cast by every laser (counted by the scanners)
+  double peak_rss_mb = 0.0;       // the process' peak resident memory so far
   std::int64_t ticks = 0;
   std::int64_t events = 0;
   std::int64_t laser_fallback_scans = 0;  // planar backend: scans cast partly with Bullet

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "scenarios/cli/bench_command.h"
 #include "scenarios/cli/calibrate_command.h"
 #include "scenarios/cli/extract_command.h"
 #include "scenarios/cli/map_command.h"
@@ -144,7 +145,8 @@ int main(int argc, char** argv) {
       "  pavilion validate worlds/*/world.yaml scenarios/*.yaml\n"
       "  pavilion world render expo_hall --png hall.png\n"
       "  pavilion map derive expo_hall --out map.yaml\n"
-      "  pavilion scan expo_hall robox --pose 15,3,1.57 --out scan.csv --png scan.png");
+      "  pavilion scan expo_hall robox --pose 15,3,1.57 --out scan.csv --png scan.png\n"
+      "  pavilion bench hall --robots 10 --runs 3");
   std::string log_level = "info";
   app.add_option("--log-level", log_level, "trace, debug, info, warn, error or off")
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}))
@@ -212,6 +214,11 @@ int main(int argc, char** argv) {
   auto* calibrate = cli::AddCalibrateCommand(&app, &calibrate_args);
   // --- end calibrate ---
 
+  // --- bench: the hall benchmark (scenarios/cli/bench_command.cc) ---
+  cli::BenchArgs bench_args;
+  auto* bench_hall = cli::AddBenchCommand(&app, &bench_args);
+  // --- end bench ---
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -237,6 +244,10 @@ int main(int argc, char** argv) {
     if (*extract) return cli::RunExtractCommand(extract_args);
     if (*calibrate) return cli::RunCalibrateCommand(calibrate_args);  // calibrate
     if (*map) return cli::RunMapCommand(map_args);                    // map
+    if (*bench_hall) {
+      bench_args.progress = ProgressWanted();
+      return cli::RunBenchCommand(bench_args);
+    }
   } catch (const scenarios::InputError& e) {
     for (std::size_t i = 1; i < e.diagnostics().size(); ++i) {
       spdlog::debug("also: {}", e.diagnostics()[i].ToString());

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -426,6 +427,64 @@ TEST(ScenarioLoaderTest, LoadsLocalizationAndRouteAndReportsTheirErrors) {
   EXPECT_EQ(stray_errors[0].line, LineOf(stray, "map_noise_m: 0.002"));
 }
 
+// A wander entry (the hall benchmark's controller): defaults are the peers'
+// values, the laser defaults to the model's first; an unknown laser, bad
+// options and a wander beside a drive or route are errors at their key and line.
+TEST(ScenarioLoaderTest, LoadsWanderAndReportsItsErrors) {
+  const std::string good = WithRobot(ScenarioText(),
+                                     "  - id: r1\n"
+                                     "    model: hall_bot\n"
+                                     "    pose: [1, 2, 0]\n"
+                                     "    wander: {}\n"
+                                     "  - id: r2\n"
+                                     "    model: pygmalion\n"
+                                     "    pose: [3, 2, 0]\n"
+                                     "    wander:\n"
+                                     "      laser: rear\n"
+                                     "      cruise_speed_mps: 0.3\n"
+                                     "      min_avoid_scans: 2\n"
+                                     "      max_avoid_scans: 4\n");
+  const Scenario s = LoadScenarioFile(WriteScenario(good));
+  ASSERT_EQ(s.robots.size(), 2u);
+  ASSERT_TRUE(s.robots[0].wander.has_value());
+  EXPECT_EQ(s.robots[0].wander->laser, "front");
+  EXPECT_EQ(s.robots[0].wander->options.cruise_speed_mps, nav::WanderOptions{}.cruise_speed_mps);
+  EXPECT_EQ(s.robots[0].wander->options.max_avoid_scans, 19);
+  ASSERT_TRUE(s.robots[1].wander.has_value());
+  EXPECT_EQ(s.robots[1].wander->laser, "rear");
+  EXPECT_EQ(s.robots[1].wander->options.cruise_speed_mps, 0.3);
+  EXPECT_EQ(s.robots[1].wander->options.min_avoid_scans, 2);
+  EXPECT_EQ(s.robots[1].wander->options.max_avoid_scans, 4);
+
+  const std::string bad = WithRobot(ScenarioText(),
+                                    "  - id: r1\n"
+                                    "    model: hall_bot\n"
+                                    "    pose: [1, 2, 0]\n"
+                                    "    drive:\n"
+                                    "      - {at_s: 0, left: 1, right: 1}\n"
+                                    "    wander: {laser: top}\n"
+                                    "  - id: r2\n"
+                                    "    model: hall_bot\n"
+                                    "    pose: [3, 2, 0]\n"
+                                    "    wander:\n"
+                                    "      stop_distance_m: 2.0\n"
+                                    "      min_avoid_scans: 5\n"
+                                    "      max_avoid_scans: 3\n"
+                                    "      turbo: true\n");
+  const std::string path = WriteScenario(bad);
+  std::map<std::string, int> lines;
+  for (const Diagnostic& d : LoadErrors(path)) {
+    EXPECT_EQ(d.file, path);
+    EXPECT_GT(d.line, 0) << d.ToString();
+    lines[d.key_path] = d.line;
+  }
+  EXPECT_EQ(lines["robots[0].wander.laser"], LineOf(bad, "wander: {laser: top}"));
+  EXPECT_EQ(lines["robots[0].wander"], LineOf(bad, "wander: {laser: top}"));
+  EXPECT_EQ(lines["robots[1].wander.stop_distance_m"], LineOf(bad, "stop_distance_m: 2.0"));
+  EXPECT_EQ(lines["robots[1].wander.max_avoid_scans"], LineOf(bad, "max_avoid_scans: 3"));
+  EXPECT_EQ(lines["robots[1].wander.turbo"], LineOf(bad, "turbo: true"));
+}
+
 // Confirms that a body material defined neither by the world nor the scenario is an error.
 TEST(ScenarioLoaderTest, ReportsUnknownBodyMaterial) {
   std::string text = ScenarioText();
@@ -489,11 +548,12 @@ TEST(ScenarioLoaderTest, ReportsWorldErrorsAgainstWorldFile) {
   EXPECT_EQ(gone[0].file, (fs::path(path2).parent_path() / "missing" / "world.yaml").string());
 }
 
-// Confirms that every shipped scenario file validates with no diagnostics.
+// Confirms that every shipped scenario file (scenarios/ and its folders, such
+// as hall_bench/) validates with no diagnostics.
 TEST(ScenarioLoaderTest, EveryShippedScenarioValidates) {
   const fs::path dir = fs::path(PAVILION_SOURCE_DIR) / "scenarios";
   std::vector<fs::path> files;
-  for (const auto& entry : fs::directory_iterator(dir)) {
+  for (const auto& entry : fs::recursive_directory_iterator(dir)) {
     const std::string ext = entry.path().extension().string();
     if (entry.is_regular_file() && (ext == ".yaml" || ext == ".yml")) files.push_back(entry.path());
   }

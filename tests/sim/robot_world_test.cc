@@ -5,6 +5,7 @@
 #include <cmath>
 #include <memory>
 #include <numbers>
+#include <string>
 
 #include "core/odometry/diff_drive.h"
 #include "core/random/random_stream.h"
@@ -361,6 +362,22 @@ TEST(RobotWorld, FastRaysAgreeWithBulletsPrimitiveRayTest) {
   }
   EXPECT_GT(hits, rays / 3);
   EXPECT_LE(mismatched, rays / 200);  // ≥ 99.5 % agree within 1 mm
+}
+
+// A robot is where its pose says from the moment it is added: rays find it
+// before the first step, and robots added one after the other never share
+// broadphase pairs through their parts' construction place at the origin.
+TEST(RobotWorld, AddedRobotsAreInTheBroadphaseAtTheirPose) {
+  World world(Hall(false), WorldOptions{});
+  for (int k = 0; k < 20; ++k) {
+    std::string id = "r";  // appended, not `+`: GCC 12 warns falsely (-Wrestrict)
+    id += std::to_string(k);
+    world.AddRobot(Spec(id, {-10.0 + k, 8, 0}));
+  }
+  const int r = world.AddRobot(Spec("target", {3, -6, 0.0}));
+  const RayHit hit = world.CastRay({0, -6, 0.2}, {6, -6, 0.2});
+  ASSERT_TRUE(hit.hit);
+  EXPECT_EQ(hit.element, world.robot_element(r));
 }
 
 TEST(RobotWorld, SameCommandsGiveBitIdenticalStates) {
