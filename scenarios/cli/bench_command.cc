@@ -16,6 +16,7 @@
 #include "scenarios/scenario.h"
 #include "scenarios/scenario_runner.h"
 #include "scenarios/version.h"
+#include "sim/worker_pool.h"
 
 namespace pavilion::cli {
 namespace {
@@ -97,6 +98,16 @@ CLI::App* AddBenchCommand(CLI::App* app, BenchArgs* args) {
   hall->add_option("--seed", args->seed, "Seed, replaces the scenario's")
       ->check(CLI::NonNegativeNumber);
   hall->add_option("--set", args->set, "Override a scenario key: key.path=value (repeatable)");
+  hall->add_option("--laser-backend", args->laser_backend, "planar or bullet (default: planar)")
+      ->check(CLI::IsMember({"planar", "bullet"}));
+  hall->add_option("--wheel-model", args->wheel_model,
+                   "articulated (hinged sphere wheels, the reference) or raycast (one body)")
+      ->check(CLI::IsMember({"articulated", "raycast"}));
+  hall->add_option("--physics-rate", args->physics_rate_hz,
+                   "Physics steps per second (default 200)")
+      ->check(CLI::Range(10.0, 10000.0));
+  hall->add_option("--threads", args->threads, "Threads for the robots' work (0: all cores)")
+      ->check(CLI::Range(0, 256));
   hall->add_option("--json", args->json, "Also write the figures to this JSON file");
   hall->add_option("--out", args->out, "Keep each run's outputs in DIR/run_<k>");
   hall->footer(
@@ -118,6 +129,15 @@ int RunBenchCommand(const BenchArgs& args) {
   if (args.seed >= 0) overrides.seed = static_cast<std::uint64_t>(args.seed);
   if (args.duration_s > 0) overrides.duration_s = args.duration_s;
   overrides.assignments = args.set;
+  if (!args.laser_backend.empty()) {
+    overrides.assignments.push_back("laser_backend=" + args.laser_backend);
+  }
+  if (!args.wheel_model.empty()) {
+    overrides.assignments.push_back("physics.wheel_model=" + args.wheel_model);
+  }
+  if (args.physics_rate_hz > 0.0) {
+    overrides.assignments.push_back("physics.rate_hz=" + std::to_string(args.physics_rate_hz));
+  }
 
   // Outputs are written (after the stepping loop, outside the measured time)
   // to a scratch folder unless the user wants them.
@@ -129,7 +149,9 @@ int RunBenchCommand(const BenchArgs& args) {
   std::printf("hall benchmark: %d robot%s, %s, %d run%s, one at a time, %u hardware threads\n",
               args.robots, args.robots == 1 ? "" : "s", file.c_str(), args.runs,
               args.runs == 1 ? "" : "s", std::thread::hardware_concurrency());
-  for (const std::string& s : args.set) std::printf("  setting %s\n", s.c_str());
+  for (const std::string& s : overrides.assignments) std::printf("  setting %s\n", s.c_str());
+  std::printf("  threads %d\n",
+              args.threads > 0 ? args.threads : sim::WorkerPool::HardwareThreads());
   std::fflush(stdout);
 
   std::vector<RunFigures> runs;
@@ -146,6 +168,7 @@ int RunBenchCommand(const BenchArgs& args) {
     scenarios::RunOptions options;
     options.out_dir = (out_root / ("run_" + std::to_string(k + 1))).string();
     options.progress = args.progress;
+    options.threads = args.threads;
     const scenarios::RunSummary s = scenarios::RunScenario(scenario, options);
     if (!keep) fs::remove_all(options.out_dir);
     f.sim_s = s.sim_duration_s;
@@ -188,7 +211,8 @@ int RunBenchCommand(const BenchArgs& args) {
     j["robots"] = args.robots;
     j["duration_s"] = duration_s;
     j["seed"] = seed;
-    j["settings"] = args.set;
+    j["settings"] = overrides.assignments;
+    j["threads"] = args.threads > 0 ? args.threads : sim::WorkerPool::HardwareThreads();
     j["hardware_threads"] = std::thread::hardware_concurrency();
     Json list = Json::array();
     for (const RunFigures& f : runs) list.push_back(ToJson(f));

@@ -21,9 +21,10 @@ struct BenchArgs {
   std::string json;              // optional: the figures as JSON
   std::string out;               // optional: keep each run's outputs in out/run_<k>
   bool progress = false;         // a live progress line on stderr
-  // Settings that other backends add (a planar laser caster, a fast wheel
-  // model, a worker pool) become fields here, turned into scenario overrides
-  // or RunOptions in RunBenchCommand and reported in the "settings" list.
+  std::string laser_backend;     // planar | bullet; empty: the scenario's (planar)
+  std::string wheel_model;       // articulated | raycast; empty: the scenario's (articulated)
+  double physics_rate_hz = 0.0;  // > 0: replaces the scenario's physics.rate_hz (200)
+  int threads = 0;               // RunOptions::threads (0: every hardware thread)
 };
 
 // Adds `bench` with its `hall` subcommand; returns `bench hall`.

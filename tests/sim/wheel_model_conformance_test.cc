@@ -169,7 +169,7 @@ TEST_P(WheelModelConformance, SidewaysPushSlidesAsFarAsTheReference) {
 }
 
 INSTANTIATE_TEST_SUITE_P(ShippedRobots, WheelModelConformance,
-                         ::testing::Values("pygmalion", "robox"));
+                         ::testing::Values("pygmalion", "robox", "hall_bot"));
 
 // Dead reckoning from the true wheel angles with the nominal model.
 struct Odometer {
