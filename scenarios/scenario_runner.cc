@@ -561,20 +561,34 @@ RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
     // outputs are the same for any thread count.
     const auto t_sensors = Clock::now();
     if (planar) planar->Update();  // the slices are read-only until the next step
-    pool.ParallelFor(robots.size(), [&](std::size_t k) {
+    const auto sense = [&](std::size_t k) {
       RobotRun& r = robots[k];
       TickWork& w = work[k];
       w.outputs = r.robot->AfterStep(snapshot.robots[k], next.robots[k]);
       for (const core::EncoderReading& reading : w.outputs.encoders) r.odometry.Update(reading);
+    };
+    const auto localize = [&](std::size_t k) {
+      RobotRun& r = robots[k];
+      TickWork& w = work[k];
       w.cycle = false;
-      if (r.localization) {
-        const auto t_localization = Clock::now();
-        std::vector<const core::LaserScan*> scans;
-        for (const sim::ScanRecord& scan : w.outputs.scans) scans.push_back(&scan.scan);
-        w.cycle = r.localization->Update(w.outputs.encoders, scans, next.robots[k].pose, t_after);
-        w.localization_s = Seconds(Clock::now() - t_localization);
-      }
-    });
+      if (!r.localization) return;
+      const auto t_localization = Clock::now();
+      std::vector<const core::LaserScan*> scans;
+      for (const sim::ScanRecord& scan : w.outputs.scans) scans.push_back(&scan.scan);
+      w.cycle = r.localization->Update(w.outputs.encoders, scans, next.robots[k].pose, t_after);
+      w.localization_s = Seconds(Clock::now() - t_localization);
+    };
+    if (planar) {
+      pool.ParallelFor(robots.size(), [&](std::size_t k) {
+        sense(k);
+        localize(k);
+      });
+    } else {
+      // Bullet serializes its ray casts (World::CastRay): threads would only
+      // queue for the lock, so the scans are cast in order.
+      for (std::size_t k = 0; k < robots.size(); ++k) sense(k);
+      pool.ParallelFor(robots.size(), localize);
+    }
     for (std::size_t k = 0; k < robots.size(); ++k) {
       RobotRun& r = robots[k];
       const TickWork& w = work[k];
