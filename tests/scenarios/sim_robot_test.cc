@@ -12,28 +12,14 @@
 #include "core/odometry/diff_drive.h"
 #include "scenarios/robot_loader.h"
 #include "scenarios/robot_setup.h"
+#include "tests/support/floor_world.h"
 
 namespace pavilion {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-sim::WorldDescription Floor(bool wall) {
-  sim::WorldDescription w;
-  w.name = "floor";
-  w.materials["floor"] = sim::Material{0.8, 0.0, {0.5, 0.5, 0.5, 1}, core::LaserResponse::kNormal};
-  w.floor = {{-10, -10}, {10, 10}, "floor"};
-  if (wall) {
-    sim::Wall x;
-    x.id = "wall";
-    x.points_m = {{3, -4}, {3, 4}};
-    x.thickness_m = 0.2;
-    x.height_m = 2.0;
-    x.material = "floor";
-    w.walls.push_back(x);
-  }
-  return w;
-}
+sim::WorldDescription Floor(bool wall) { return pavilion::testing::FloorWorld(10, wall); }
 
 // Dead reckoning from encoder readings with the robot file's calibrated odometry.
 struct EncoderOdometer {

@@ -16,6 +16,7 @@
 #include "scenarios/robot_loader.h"
 #include "scenarios/robot_setup.h"
 #include "sim/world.h"
+#include "tests/support/floor_world.h"
 
 namespace pavilion::sim {
 namespace {
@@ -40,22 +41,7 @@ constexpr double kSettleS = 2.0;
 // height), so a push tips them while they slide: 2–7 cm at 1.5 m/s.
 constexpr double kPushSpeedMps = 1.5;
 
-WorldDescription Floor(bool wall) {
-  WorldDescription w;
-  w.name = "floor";
-  w.materials["floor"] = Material{0.8, 0.0, {0.5, 0.5, 0.5, 1}, core::LaserResponse::kNormal};
-  w.floor = {{-30, -30}, {30, 30}, "floor"};
-  if (wall) {
-    Wall x;
-    x.id = "wall";
-    x.points_m = {{3, -4}, {3, 4}};
-    x.thickness_m = 0.2;
-    x.height_m = 2.0;
-    x.material = "floor";
-    w.walls.push_back(x);
-  }
-  return w;
-}
+WorldDescription Floor(bool wall) { return pavilion::testing::FloorWorld(30, wall); }
 
 const RobotConfig& Config(const std::string& name) {
   static const RobotConfig pygmalion =
