@@ -170,6 +170,8 @@ class LaserScanner {
   };
 
   Sweep NewSweep(double start_s) const;
+  // Sets `sweep` up for a new sweep starting at start_s, keeping its buffers.
+  void ResetSweep(double start_s, Sweep* sweep) const;
   RaySample CastBeam(const LaserHitFinder& finder, const core::Pose2& world_from_sensor,
                      double bearing_rad, int ignore_group) const;
   Eigen::Vector3d RayOrigin(const core::Pose2& world_from_sensor) const;
