@@ -208,7 +208,9 @@ void Print(const std::string& what, const ExtractionFigures& f) {
       f.in_gate_fraction);
 }
 
-ExtractionFigures ScoreWorld(const std::string& name, int visitors, int scans) {
+ExtractionFigures ScoreWorld(
+    const std::string& name, int visitors, int scans,
+    const core::LineExtractionOptions& extraction = core::LineExtractionOptions::SickLms200()) {
   const sim::WorldDescription d = LoadWorldFile(ResolveWorldPath(name));
   sim::World world(d, sim::WorldOptions{});
   // Visitors (pedestrian-sized cylinders) on every k-th free cell.
@@ -231,7 +233,6 @@ ExtractionFigures ScoreWorld(const std::string& name, int visitors, int scans) {
   const std::vector<Eigen::Vector2d> cells = FreeCells(world, d, 0.7, 0.5);
   EXPECT_GE(static_cast<int>(cells.size()), scans) << name;
   const core::PlanarSection section = world.SectionAt(kBeamHeightM);
-  const core::LineExtractionOptions extraction = core::LineExtractionOptions::SickLms200();
   ExtractionScoreAccumulator acc;
   // Three noise seeds; headings differ per seed, positions repeat.
   for (const std::uint64_t seed : {5, 6, 7}) {
@@ -257,31 +258,45 @@ ExtractionFigures ScoreWorld(const std::string& name, int visitors, int scans) {
 
 // Issue 5 acceptance: TP rate >= 0.95, FP rate <= 0.03, >= 90% of (alpha, r)
 // errors inside the 95% gate; 3 noise seeds x 300 (office) or 200 (hall) sensor
-// poses per world with 30 visitors.
+// poses per world with 30 visitors. Three seeds are a small sample of the
+// hall's rates: over six sets of three seeds (5-22, docs/benchmarks.md) its TP
+// rate ranged 0.940-0.955 and its FP rate 0.021-0.030.
 TEST(ExtractionScoringTest, OfficeFloorLms200WithVisitors) {
   const ExtractionFigures f = ScoreWorld("office_floor", 30, 300);
   EXPECT_EQ(f.scans, 900);
   EXPECT_GT(f.walls_in_view, 2000);
-  EXPECT_GE(f.true_positive_rate, 0.95);   // measured 0.9719
-  EXPECT_LE(f.false_positive_rate, 0.03);  // measured 0.0173
-  EXPECT_GE(f.in_gate_fraction, 0.90);     // measured 0.9638 (0.9241 without the floor)
+  EXPECT_GE(f.true_positive_rate, 0.95);   // measured 0.9840
+  EXPECT_LE(f.false_positive_rate, 0.03);  // measured 0.0164
+  EXPECT_GE(f.in_gate_fraction, 0.90);     // measured 0.9607
 }
 
 TEST(ExtractionScoringTest, ExpoHallLms200WithVisitors) {
   const ExtractionFigures f = ScoreWorld("expo_hall", 30, 200);  // 219 free cells
   EXPECT_EQ(f.scans, 600);
   EXPECT_GT(f.walls_in_view, 1200);
-  // Walls of surfaces the extraction's sensor model covers (all but the black
-  // velvet booth, exhibit 15: sigma x5 and 30% dropouts, which the thesis too
-  // found outside its model, §3.2.4 fig. 3.6).
-  EXPECT_GE(f.modelled_true_positive_rate, 0.95);  // measured 0.9637
-  // TODO(issue 5): acceptance is TP rate >= 0.95 over all walls; measured
-  // 0.9187: 62 of the 108 missed walls are the velvet booth's faces (a 1 cm
-  // sigma model cannot fit 5 cm noise), most others grazing showcase faces
-  // seen by fewer than n_f readings.
-  EXPECT_GE(f.true_positive_rate, 0.91);
-  EXPECT_LE(f.false_positive_rate, 0.03);  // measured 0.0225
-  EXPECT_GE(f.in_gate_fraction, 0.90);     // measured 0.9568 (0.9156 without the floor)
+  // Walls of surfaces the thesis' sensor model covers: all but the black velvet
+  // booth, exhibit 15 (sigma x5 and 30% dropouts, §3.2.4 fig. 3.6), whose
+  // faces the adaptive sigma finds in 22 of 62 views — a fit of exactly the
+  // velvet readings of each face, segmented by hand, meets the 2 deg / 5 cm
+  // criteria in 45.
+  EXPECT_GE(f.modelled_true_positive_rate, 0.95);  // measured 0.9763
+  EXPECT_GE(f.true_positive_rate, 0.95);           // measured 0.9526
+  EXPECT_LE(f.false_positive_rate, 0.03);          // measured 0.0283
+  EXPECT_GE(f.in_gate_fraction, 0.90);             // measured 0.9570
+}
+
+// The adaptive sigma is what finds the velvet booth: without it, no face.
+TEST(ExtractionScoringTest, ExpoHallVelvetNeedsTheAdaptiveSigma) {
+  core::LineExtractionOptions thesis_model = core::LineExtractionOptions::SickLms200();
+  thesis_model.adaptive_range_sigma = false;
+  const ExtractionFigures without = ScoreWorld("expo_hall", 30, 200, thesis_model);
+  const ExtractionFigures with = ScoreWorld("expo_hall", 30, 200);
+  const int velvet_without = without.walls_found - without.modelled_walls_found;
+  const int velvet_with = with.walls_found - with.modelled_walls_found;
+  EXPECT_LE(velvet_without, 3);  // measured 1
+  EXPECT_GE(velvet_with, 15);    // measured 22 of 62
+  // Elsewhere the noise is nominal and the extraction nearly unchanged.
+  EXPECT_NEAR(with.modelled_walls_found, without.modelled_walls_found, 5);  // 1243 vs 1242
 }
 
 }  // namespace

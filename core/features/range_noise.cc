@@ -1,0 +1,167 @@
+#include "core/features/range_noise.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace pavilion::core {
+namespace {
+
+// sigma = 1.4826 x the median absolute deviation of a zero-mean normal
+// (1 / Phi^-1(3/4)).
+constexpr double kMadToSigma = 1.482602218505602;
+// A beam meeting the chord of its neighbours at a sine below this (relative to
+// the chord's length) has no pseudo-residual: the chord runs along the beam (a
+// depth edge), which counts as a large one.
+constexpr double kMinChordSine = 1e-9;
+// A region is widened into neighbouring readings whose pseudo-residual is
+// within this many of its sigmas.
+constexpr double kExplainedSigmas = 3.0;
+constexpr double kEdgeSigmas = 4.0;
+
+void Require(bool ok, const char* field, const std::string& expected) {
+  if (!ok) {
+    throw std::invalid_argument(std::string("RangeNoiseOptions.") + field + ": expected " +
+                                expected);
+  }
+}
+
+// The normalized pseudo-residual |e_i| / sqrt(1 + a^2 + b^2) of every interior
+// point (see the header); NaN at both ends, +inf where the chord runs along the beam.
+void PseudoResiduals(std::span<const FitPoint> p, std::vector<double>& z) {
+  const int n = static_cast<int>(p.size());
+  z.assign(n, std::numeric_limits<double>::quiet_NaN());
+  for (int i = 1; i + 1 < n; ++i) {
+    const FitPoint& prev = p[i - 1];
+    const FitPoint& next = p[i + 1];
+    const double ax = prev.range_m * prev.cos_bearing;
+    const double ay = prev.range_m * prev.sin_bearing;
+    const double dx = next.range_m * next.cos_bearing - ax;
+    const double dy = next.range_m * next.sin_bearing - ay;
+    const double denominator = dx * p[i].sin_bearing - dy * p[i].cos_bearing;  // d x u
+    if (!(denominator * denominator > kMinChordSine * kMinChordSine * (dx * dx + dy * dy))) {
+      z[i] = std::numeric_limits<double>::infinity();
+      continue;
+    }
+    const double chord_range = (dx * ay - dy * ax) / denominator;  // (d x A) / (d x u)
+    // Interpolation weights from the bearing steps (sines of the differences;
+    // the steps are small): a for i - 1, b for i + 1.
+    const double before = prev.cos_bearing * p[i].sin_bearing - prev.sin_bearing * p[i].cos_bearing;
+    const double after = p[i].cos_bearing * next.sin_bearing - p[i].sin_bearing * next.cos_bearing;
+    double a = 0.5;
+    if (before > 0.0 && after > 0.0) a = after / (before + after);
+    const double b = 1.0 - a;
+    z[i] = std::abs(p[i].range_m - chord_range) / std::sqrt(1.0 + a * a + b * b);
+  }
+}
+
+}  // namespace
+
+void RangeNoiseOptions::Validate() const {
+  Require(window_readings >= 5 && window_readings % 2 == 1, "window_readings",
+          "an odd integer >= 5");
+  Require(std::isfinite(detection_factor) && detection_factor > 0.0, "detection_factor",
+          "a finite value > 0");
+  Require(std::isfinite(max_factor) && max_factor >= 1.0, "max_factor", "a finite value >= 1");
+}
+
+std::vector<NoisyRegion> EstimateRangeSigmas(std::span<const FitPoint> points,
+                                             double nominal_sigma_m,
+                                             const RangeNoiseOptions& options,
+                                             std::vector<double>& sigmas) {
+  const int n = static_cast<int>(points.size());
+  sigmas.assign(n, nominal_sigma_m);
+  std::vector<NoisyRegion> regions;
+  const int m = options.window_readings;
+  if (n < m) return regions;
+  thread_local std::vector<double> z;
+  thread_local std::vector<double> sample;
+  PseudoResiduals(points, z);
+
+  // Running count of pseudo-residuals above the threshold in [c - h, c + h];
+  // runs of centres where they are the majority.
+  const double threshold = options.detection_factor * nominal_sigma_m;
+  const int h = m / 2;
+  const auto exceeds = [&](int i) { return i >= 0 && i < n && z[i] > threshold ? 1 : 0; };
+  int count = 0;
+  for (int i = 0; i < h; ++i) count += exceeds(i);
+  int run_first = -1;
+  for (int c = 0; c < n; ++c) {
+    count += exceeds(c + h) - exceeds(c - h - 1);
+    const bool noisy = 2 * count > m;
+    if (noisy && run_first < 0) run_first = c;
+    if (run_first >= 0 && (!noisy || c == n - 1)) {
+      regions.push_back({run_first, noisy ? c : c - 1, 0.0, false});
+      run_first = -1;
+    }
+  }
+
+  // Each run's sigma from its own readings; then the run is widened by up to a
+  // quarter window into readings its noise explains (|z| <= 3 sigma: not
+  // across a depth edge).
+  const int widen = m / 4;
+  for (NoisyRegion& region : regions) {
+    sample.clear();
+    for (int i = region.first; i <= region.last; ++i) {
+      if (!std::isnan(z[i])) sample.push_back(z[i]);
+    }
+    if (sample.empty()) {
+      region.clutter = true;
+      continue;
+    }
+    const auto middle = sample.begin() + static_cast<std::ptrdiff_t>(sample.size() / 2);
+    std::nth_element(sample.begin(), middle, sample.end());
+    // Once more without the depth edges the first estimate shows (the chord
+    // across an edge at either end of the run).
+    const double first_estimate = kMadToSigma * *middle;
+    std::erase_if(sample, [&](double v) { return v > kEdgeSigmas * first_estimate; });
+    const auto centre = sample.begin() + static_cast<std::ptrdiff_t>(sample.size() / 2);
+    std::nth_element(sample.begin(), centre, sample.end());
+    region.sigma_m = std::max(kMadToSigma * *centre, nominal_sigma_m);
+    region.clutter = !(region.sigma_m <= options.max_factor * nominal_sigma_m);
+    if (region.clutter) continue;
+    const double explained = kExplainedSigmas * region.sigma_m;
+    for (int k = 0; k < widen && region.first > 0 && !(z[region.first - 1] > explained); ++k) {
+      --region.first;
+    }
+    for (int k = 0; k < widen && region.last + 1 < n && !(z[region.last + 1] > explained); ++k) {
+      ++region.last;
+    }
+  }
+  // Surface regions that now touch are one surface: the larger sigma (the
+  // conservative weight).
+  std::vector<NoisyRegion> merged;
+  for (const NoisyRegion& region : regions) {
+    if (!merged.empty() && !region.clutter && !merged.back().clutter &&
+        region.first <= merged.back().last + 1) {
+      merged.back().last = std::max(merged.back().last, region.last);
+      merged.back().sigma_m = std::max(merged.back().sigma_m, region.sigma_m);
+      continue;
+    }
+    merged.push_back(region);
+  }
+  // A surface ends at a depth edge: a reading its neighbours' chord misses by
+  // more than kEdgeSigmas of the region's sigma (a chance of 6e-5 per reading
+  // on the surface) separates two surfaces — the velvet and a visitor in
+  // front of it. Such readings keep the region's sigma but belong to no piece.
+  std::vector<NoisyRegion> pieces;
+  for (const NoisyRegion& region : merged) {
+    if (region.clutter) {
+      pieces.push_back(region);
+      continue;
+    }
+    std::fill(sigmas.begin() + region.first, sigmas.begin() + region.last + 1, region.sigma_m);
+    const double edge = kEdgeSigmas * region.sigma_m;
+    int first = region.first;
+    for (int i = region.first; i <= region.last + 1; ++i) {
+      if (i <= region.last && !(z[i] > edge)) continue;
+      if (i > first) pieces.push_back({first, i - 1, region.sigma_m, false});
+      first = i + 1;
+    }
+  }
+  return pieces;
+}
+
+}  // namespace pavilion::core
