@@ -18,14 +18,13 @@ struct LineExtractionOptions {
   // office_floor 900 scans / expo_hall 600 scans with 30 visitors, three noise
   // seeds; tests/scenarios/extraction_scoring_test.cc) with the SickLms200()
   // preset (adaptive sigma, sparse lines, precision limits) gave true-positive
-  // rates 0.971/0.945 (n_f 5), 0.984/0.953 (7), 0.981/0.950 (9), 0.977/0.942
-  // (11) and false-positive rates 0.011/0.024, 0.016/0.028, 0.018/0.030,
-  // 0.021/0.032. Small windows split walls into fragments that the precision
-  // limits then drop; large windows miss grazing faces and near walls, where
-  // a window spans little more than the noise. n_f = 7 (3.5 deg, as the
-  // thesis' PLS). Before the extensions (2026-11-26) the same sweep gave
-  // 0.982/0.929 (7) and 0.974/0.919 (9), FP 0.017/0.027 and 0.018/0.023, and
-  // n_f = 9 was the choice.
+  // rates 0.976/0.951 (n_f 5), 0.995/0.960 (7), 0.994/0.963 (9), 0.994/0.961
+  // (11) and false-positive rates 0.011/0.023, 0.014/0.028, 0.015/0.030,
+  // 0.016/0.030. Small windows split walls into fragments that the precision
+  // limits then drop; larger ones leave more far, short pieces whose r is off
+  // by more than 5 cm. n_f = 7 (3.5 deg, as the thesis' PLS). Before the
+  // extensions the same sweep gave 0.982/0.929 (7) and 0.974/0.919 (9), FP
+  // 0.017/0.027 and 0.018/0.023, and n_f = 9 was the choice.
   int window_size = 7;
   // d_m, threshold on the model fidelity distance (eq. 3.15); > 0.
   double fidelity_threshold = 3.0;
@@ -76,11 +75,13 @@ struct LineExtractionOptions {
   bool adaptive_range_sigma = true;
   RangeNoiseOptions range_noise;
   // Sparse lines (an extension): runs of at least this many readings that no
-  // segment explains are split top-down by the fit consistency test, and the
-  // pieces whose range residuals (not only perpendicular ones) are consistent
-  // become segments. A face at grazing incidence is seen by readings farther
-  // apart than a window can span (5 readings on 1.9 m) yet is a line to within
-  // the noise. 0: off (the thesis' minimal segment of n_f readings); else >= 3.
+  // segment explains, cut at gaps of invalid readings, are split top-down by
+  // the fit consistency test; a piece becomes a segment when its range
+  // residuals (not only its perpendicular ones) are consistent, after its end
+  // readings are shed while they are not (a mixed pixel at a face's end). A
+  // face at grazing incidence is seen by readings farther apart than a window
+  // can span (5 readings on 1.9 m) yet is a line to within the noise. 0: off
+  // (the thesis' minimal segment of n_f readings); else >= 3.
   int sparse_min_points = 0;
   // Lines less certain than these are not reported (rad, m; > 0, infinity: all
   // reported): a line whose 2-sigma interval is wider than the distance to the

@@ -148,8 +148,11 @@ std::optional<Line> FitLinePrepared(std::span<const FitPoint> points) {
   return fit;
 }
 
-PrefixLineFits::PrefixLineFits(std::span<const FitPoint> points)
-    : prefix_(std::make_unique_for_overwrite<Moments[]>(points.size() + 1)) {
+PrefixLineFits::PrefixLineFits(std::span<const FitPoint> points) { Rebuild(points); }
+
+void PrefixLineFits::Rebuild(std::span<const FitPoint> points) {
+  // The table keeps its capacity from scan to scan (a scan's table is ~50 kB).
+  prefix_.resize(points.size() + 1);
   // Two passes, each point's moments and then the running sums: one pass
   // keeping the sums in a temporary array stalls on store forwarding.
   prefix_[0].fill(0.0);

@@ -1,9 +1,9 @@
 #pragma once
 
 #include <array>
-#include <memory>
 #include <optional>
 #include <span>
+#include <vector>
 
 #include "core/features/uncertain_geometry.h"
 
@@ -52,7 +52,10 @@ std::optional<Line> FitLinePrepared(std::span<const FitPoint> points);
 // residual sum (FitMembers) is exact to ~1e-16 of the scan's sum w rho^2.
 class PrefixLineFits {
  public:
+  PrefixLineFits() = default;  // empty: Rebuild before fitting
   explicit PrefixLineFits(std::span<const FitPoint> points);
+  // The sums of `points`, replacing those held (reusing the table's memory).
+  void Rebuild(std::span<const FitPoint> points);
   // kFast computes alpha with a polynomial atan2 good to 1e-7 rad (for the
   // sliding windows, whose alpha sigma is of the order of 1e-2 rad); kExact
   // with std::atan2.
@@ -76,7 +79,7 @@ class PrefixLineFits {
   static std::optional<Line> FitMoments(const Moments& sums, Precision precision,
                                         double* residual_sum = nullptr);
   // Row i: the sums over points [0, i); n + 1 rows.
-  std::unique_ptr<Moments[]> prefix_;
+  std::vector<Moments> prefix_;
 };
 
 }  // namespace pavilion::core

@@ -28,33 +28,62 @@ void Require(bool ok, const char* field, const std::string& expected) {
   }
 }
 
-// The normalized pseudo-residual |e_i| / sqrt(1 + a^2 + b^2) of every interior
-// point (see the header); NaN at both ends, +inf where the chord runs along the beam.
-void PseudoResiduals(std::span<const FitPoint> p, std::vector<double>& z) {
-  const int n = static_cast<int>(p.size());
-  z.assign(n, std::numeric_limits<double>::quiet_NaN());
-  for (int i = 1; i + 1 < n; ++i) {
-    const FitPoint& prev = p[i - 1];
-    const FitPoint& next = p[i + 1];
-    const double ax = prev.range_m * prev.cos_bearing;
-    const double ay = prev.range_m * prev.sin_bearing;
-    const double dx = next.range_m * next.cos_bearing - ax;
-    const double dy = next.range_m * next.sin_bearing - ay;
-    const double denominator = dx * p[i].sin_bearing - dy * p[i].cos_bearing;  // d x u
-    if (!(denominator * denominator > kMinChordSine * kMinChordSine * (dx * dx + dy * dy))) {
-      z[i] = std::numeric_limits<double>::infinity();
-      continue;
-    }
-    const double chord_range = (dx * ay - dy * ax) / denominator;  // (d x A) / (d x u)
-    // Interpolation weights from the bearing steps (sines of the differences;
-    // the steps are small): a for i - 1, b for i + 1.
-    const double before = prev.cos_bearing * p[i].sin_bearing - prev.sin_bearing * p[i].cos_bearing;
-    const double after = p[i].cos_bearing * next.sin_bearing - p[i].sin_bearing * next.cos_bearing;
-    double a = 0.5;
-    if (before > 0.0 && after > 0.0) a = after / (before + after);
-    const double b = 1.0 - a;
-    z[i] = std::abs(p[i].range_m - chord_range) / std::sqrt(1.0 + a * a + b * b);
+// The pieces of reading i's pseudo-residual (see the header), i interior:
+// e = numerator / chord_sine with chord_sine = d x u (d the chord, u the beam),
+// and 1 + a^2 + b^2 = weight_sum / step_sum^2 for the bearing steps before
+// and after it. chord_sine is 0 where the chord runs along the beam.
+struct PseudoResidualParts {
+  double numerator = 0.0;
+  double chord_sine = 0.0;
+  double step_sum = 1.0;
+  double weight_sum = 1.5;
+};
+
+[[gnu::always_inline]] inline PseudoResidualParts Parts(std::span<const FitPoint> p, int i) {
+  const FitPoint& prev = p[i - 1];
+  const FitPoint& next = p[i + 1];
+  const double ax = prev.range_m * prev.cos_bearing;
+  const double ay = prev.range_m * prev.sin_bearing;
+  const double dx = next.range_m * next.cos_bearing - ax;
+  const double dy = next.range_m * next.sin_bearing - ay;
+  PseudoResidualParts parts;
+  parts.chord_sine = dx * p[i].sin_bearing - dy * p[i].cos_bearing;
+  if (!(parts.chord_sine * parts.chord_sine >
+        kMinChordSine * kMinChordSine * (dx * dx + dy * dy))) {
+    parts.chord_sine = 0.0;
+    return parts;
   }
+  // rho_i minus the range at which beam i meets the chord, (d x A) / (d x u).
+  parts.numerator = p[i].range_m * parts.chord_sine - (dx * ay - dy * ax);
+  // Interpolation weights a (for i - 1) and b (for i + 1) from the bearing
+  // steps (sines of the differences; the steps are small): a = after / sum.
+  const double before = prev.cos_bearing * p[i].sin_bearing - prev.sin_bearing * p[i].cos_bearing;
+  const double after = p[i].cos_bearing * next.sin_bearing - p[i].sin_bearing * next.cos_bearing;
+  if (before > 0.0 && after > 0.0) {
+    parts.step_sum = before + after;
+    parts.weight_sum = parts.step_sum * parts.step_sum + before * before + after * after;
+  }
+  return parts;
+}
+
+// The normalized pseudo-residual |e_i| / sqrt(1 + a^2 + b^2): NaN at both
+// ends, +inf where the chord runs along the beam.
+double PseudoResidual(std::span<const FitPoint> p, int i) {
+  if (i <= 0 || i + 1 >= static_cast<int>(p.size()))
+    return std::numeric_limits<double>::quiet_NaN();
+  const PseudoResidualParts q = Parts(p, i);
+  if (q.chord_sine == 0.0) return std::numeric_limits<double>::infinity();
+  return std::abs(q.numerator / q.chord_sine) * q.step_sum / std::sqrt(q.weight_sum);
+}
+
+// Whether the normalized pseudo-residual of interior reading i exceeds
+// `threshold`, without a division or root (the test runs on every reading).
+bool Exceeds(std::span<const FitPoint> p, int i, double threshold) {
+  const PseudoResidualParts q = Parts(p, i);
+  if (q.chord_sine == 0.0) return true;
+  const double lhs = q.numerator * q.step_sum;
+  const double rhs = threshold * q.chord_sine;
+  return lhs * lhs > rhs * rhs * q.weight_sum;
 }
 
 }  // namespace
@@ -72,21 +101,25 @@ std::vector<NoisyRegion> EstimateRangeSigmas(std::span<const FitPoint> points,
                                              const RangeNoiseOptions& options,
                                              std::vector<double>& sigmas) {
   const int n = static_cast<int>(points.size());
-  sigmas.assign(n, nominal_sigma_m);
+  sigmas.clear();
   std::vector<NoisyRegion> regions;
   const int m = options.window_readings;
   if (n < m) return regions;
-  thread_local std::vector<double> z;
+  thread_local std::vector<char> exceed;
   thread_local std::vector<double> sample;
-  PseudoResiduals(points, z);
 
   // Running count of pseudo-residuals above the threshold in [c - h, c + h];
   // runs of centres where they are the majority.
   const double threshold = options.detection_factor * nominal_sigma_m;
+  exceed.assign(n, 0);
+  int total = 0;
+  for (int i = 1; i + 1 < n; ++i) total += exceed[i] = Exceeds(points, i, threshold);
+  if (2 * total <= m) return regions;  // no window can hold a majority
   const int h = m / 2;
-  const auto exceeds = [&](int i) { return i >= 0 && i < n && z[i] > threshold ? 1 : 0; };
+  const auto exceeds = [&](int i) { return i >= 0 && i < n ? exceed[i] : 0; };
   int count = 0;
   for (int i = 0; i < h; ++i) count += exceeds(i);
+  const auto z = [&](int i) { return PseudoResidual(points, i); };
   int run_first = -1;
   for (int c = 0; c < n; ++c) {
     count += exceeds(c + h) - exceeds(c - h - 1);
@@ -105,7 +138,7 @@ std::vector<NoisyRegion> EstimateRangeSigmas(std::span<const FitPoint> points,
   for (NoisyRegion& region : regions) {
     sample.clear();
     for (int i = region.first; i <= region.last; ++i) {
-      if (!std::isnan(z[i])) sample.push_back(z[i]);
+      if (const double v = z(i); !std::isnan(v)) sample.push_back(v);
     }
     if (sample.empty()) {
       region.clutter = true;
@@ -123,10 +156,10 @@ std::vector<NoisyRegion> EstimateRangeSigmas(std::span<const FitPoint> points,
     region.clutter = !(region.sigma_m <= options.max_factor * nominal_sigma_m);
     if (region.clutter) continue;
     const double explained = kExplainedSigmas * region.sigma_m;
-    for (int k = 0; k < widen && region.first > 0 && !(z[region.first - 1] > explained); ++k) {
+    for (int k = 0; k < widen && region.first > 0 && !(z(region.first - 1) > explained); ++k) {
       --region.first;
     }
-    for (int k = 0; k < widen && region.last + 1 < n && !(z[region.last + 1] > explained); ++k) {
+    for (int k = 0; k < widen && region.last + 1 < n && !(z(region.last + 1) > explained); ++k) {
       ++region.last;
     }
   }
@@ -152,11 +185,12 @@ std::vector<NoisyRegion> EstimateRangeSigmas(std::span<const FitPoint> points,
       pieces.push_back(region);
       continue;
     }
+    if (sigmas.empty()) sigmas.assign(n, nominal_sigma_m);
     std::fill(sigmas.begin() + region.first, sigmas.begin() + region.last + 1, region.sigma_m);
     const double edge = kEdgeSigmas * region.sigma_m;
     int first = region.first;
     for (int i = region.first; i <= region.last + 1; ++i) {
-      if (i <= region.last && !(z[i] > edge)) continue;
+      if (i <= region.last && !(z(i) > edge)) continue;
       if (i > first) pieces.push_back({first, i - 1, region.sigma_m, false});
       first = i + 1;
     }

@@ -61,8 +61,10 @@ struct NoisyRegion {
 
 // The range sigma of each of `points` (the valid readings of one scan in
 // order, as the extraction prepares them; weights are ignored) into `sigmas`:
-// nominal_sigma_m, or the estimate of the noisy region the reading lies in.
-// Returns the regions found (most scans: none). O(n) plus a median per region.
+// nominal_sigma_m, or the estimate of the noisy region the reading lies in —
+// or `sigmas` left empty when every reading keeps the nominal sigma (most
+// scans). Returns the regions found, cut at depth edges: the pieces of
+// surface, and the clutter. O(n) plus a median per region.
 std::vector<NoisyRegion> EstimateRangeSigmas(std::span<const FitPoint> points,
                                              double nominal_sigma_m,
                                              const RangeNoiseOptions& options,

@@ -258,16 +258,17 @@ ExtractionFigures ScoreWorld(
 
 // Issue 5 acceptance: TP rate >= 0.95, FP rate <= 0.03, >= 90% of (alpha, r)
 // errors inside the 95% gate; 3 noise seeds x 300 (office) or 200 (hall) sensor
-// poses per world with 30 visitors. Three seeds are a small sample of the
-// hall's rates: over six sets of three seeds (5-22, docs/benchmarks.md) its TP
-// rate ranged 0.940-0.955 and its FP rate 0.021-0.030.
+// poses per world with 30 visitors. Three seeds are a sample: over six sets of
+// three seeds (5-22, docs/benchmarks.md) the hall's TP rate ranged
+// 0.950-0.966 (pooled 0.960) and its FP rate 0.021-0.028 (0.025); the
+// office's 0.993-0.997 and 0.012-0.014.
 TEST(ExtractionScoringTest, OfficeFloorLms200WithVisitors) {
   const ExtractionFigures f = ScoreWorld("office_floor", 30, 300);
   EXPECT_EQ(f.scans, 900);
   EXPECT_GT(f.walls_in_view, 2000);
-  EXPECT_GE(f.true_positive_rate, 0.95);   // measured 0.9840
-  EXPECT_LE(f.false_positive_rate, 0.03);  // measured 0.0164
-  EXPECT_GE(f.in_gate_fraction, 0.90);     // measured 0.9607
+  EXPECT_GE(f.true_positive_rate, 0.95);   // measured 0.9945
+  EXPECT_LE(f.false_positive_rate, 0.03);  // measured 0.0138
+  EXPECT_GE(f.in_gate_fraction, 0.90);     // measured 0.9610
 }
 
 TEST(ExtractionScoringTest, ExpoHallLms200WithVisitors) {
@@ -276,13 +277,13 @@ TEST(ExtractionScoringTest, ExpoHallLms200WithVisitors) {
   EXPECT_GT(f.walls_in_view, 1200);
   // Walls of surfaces the thesis' sensor model covers: all but the black velvet
   // booth, exhibit 15 (sigma x5 and 30% dropouts, §3.2.4 fig. 3.6), whose
-  // faces the adaptive sigma finds in 22 of 62 views — a fit of exactly the
+  // faces the adaptive sigma finds in 20 of 62 views — a fit of exactly the
   // velvet readings of each face, segmented by hand, meets the 2 deg / 5 cm
-  // criteria in 45.
-  EXPECT_GE(f.modelled_true_positive_rate, 0.95);  // measured 0.9763
-  EXPECT_GE(f.true_positive_rate, 0.95);           // measured 0.9526
-  EXPECT_LE(f.false_positive_rate, 0.03);          // measured 0.0283
-  EXPECT_GE(f.in_gate_fraction, 0.90);             // measured 0.9570
+  // criteria in 45: the rest is the noise.
+  EXPECT_GE(f.modelled_true_positive_rate, 0.98);  // measured 0.9913
+  EXPECT_GE(f.true_positive_rate, 0.95);           // measured 0.9601
+  EXPECT_LE(f.false_positive_rate, 0.03);          // measured 0.0281
+  EXPECT_GE(f.in_gate_fraction, 0.90);             // measured 0.9540
 }
 
 // The adaptive sigma is what finds the velvet booth: without it, no face.
@@ -294,9 +295,9 @@ TEST(ExtractionScoringTest, ExpoHallVelvetNeedsTheAdaptiveSigma) {
   const int velvet_without = without.walls_found - without.modelled_walls_found;
   const int velvet_with = with.walls_found - with.modelled_walls_found;
   EXPECT_LE(velvet_without, 3);  // measured 1
-  EXPECT_GE(velvet_with, 15);    // measured 22 of 62
+  EXPECT_GE(velvet_with, 12);    // measured 20 of 62
   // Elsewhere the noise is nominal and the extraction nearly unchanged.
-  EXPECT_NEAR(with.modelled_walls_found, without.modelled_walls_found, 5);  // 1243 vs 1242
+  EXPECT_NEAR(with.modelled_walls_found, without.modelled_walls_found, 5);
 }
 
 }  // namespace

@@ -69,7 +69,7 @@ TEST(RangeNoiseTest, NominalNoiseGivesNoRegion) {
     const LaserScan scan = WallScan(3.0, -20.0, 20.0, kSigmaM, 0.0, seed);
     std::vector<double> sigmas;
     regions += static_cast<int>(EstimateRangeSigmas(ValidPoints(scan), kSigmaM, {}, sigmas).size());
-    for (double s : sigmas) ASSERT_EQ(s, kSigmaM);
+    ASSERT_TRUE(sigmas.empty());  // every reading nominal
   }
   EXPECT_EQ(regions, 0);  // binomial tail ~1e-7 per reading
 }
@@ -85,6 +85,7 @@ TEST(RangeNoiseTest, NoisySurfaceIsFoundWithItsSigma) {
     const std::vector<FitPoint> points = ValidPoints(scan);
     std::vector<double> sigmas;
     EstimateRangeSigmas(points, kSigmaM, {}, sigmas);
+    if (sigmas.empty()) sigmas.assign(points.size(), kSigmaM);
     // The face's readings away from its two depth edges.
     int inner = 0;
     int raised = 0;
@@ -122,7 +123,7 @@ TEST(RangeNoiseTest, ClutterKeepsTheNominalSigma) {
       EstimateRangeSigmas(ValidPoints(scan), kSigmaM, {}, sigmas);
   ASSERT_FALSE(regions.empty());
   for (const NoisyRegion& r : regions) EXPECT_TRUE(r.clutter);
-  for (double s : sigmas) EXPECT_EQ(s, kSigmaM);
+  EXPECT_TRUE(sigmas.empty());
 }
 
 TEST(RangeNoiseTest, OptionsAreValidated) {
@@ -218,6 +219,45 @@ TEST(RangeNoiseTest, SparseGrazingFaceIsFound) {
   }
   EXPECT_GE(found, 0.95 * runs);
   EXPECT_EQ(found_without, 0);
+}
+
+// The same face with a mixed pixel after its far end (the beam's footprint
+// partly on the face's edge, partly beyond): 12 cm long in range, but at
+// this incidence less than 2 cm off the line, so the perpendicular residuals
+// (eqs. 3.4-3.5) keep it and the line through it misses the range model.
+// The range residuals cut it off and the face is still found.
+TEST(RangeNoiseTest, SparseGrazingFaceShedsAMixedPixel) {
+  const LineExtractionOptions options = LineExtractionOptions::SickLms200();
+  int found = 0;
+  const int runs = 100;
+  for (int seed = 1; seed <= runs; ++seed) {
+    RandomStream rng(seed, 7);
+    LaserScan scan;
+    scan.max_range_m = 8.0;
+    bool mixed_placed = false;
+    for (int i = 0; i <= 360; ++i) {
+      LaserReading r;
+      r.bearing_rad = (-90.0 + 0.5 * i) * kDeg;
+      const double s = std::sin(r.bearing_rad);
+      const double x = s > 0.0 ? 1.0 / std::tan(r.bearing_rad) : 0.0;
+      r.range_m = 8.0;
+      if (s > 0.0 && x >= 4.5 && x <= 6.5) {
+        r.range_m = 1.0 / s + rng.Normal(0.0, kSigmaM);
+        r.valid = true;
+      } else if (s > 0.0 && x < 4.5 && !mixed_placed) {
+        // The first reading past the far end.
+        r.range_m = 1.0 / s + 0.12;
+        r.valid = true;
+        mixed_placed = true;
+      }
+      scan.readings.push_back(r);
+    }
+    for (const Segment& seg : ExtractLines(scan, options)) {
+      found += std::abs(seg.line.alpha_rad - std::numbers::pi / 2) < 2.0 * kDeg &&
+               std::abs(seg.line.r_m - 1.0) < 0.05;
+    }
+  }
+  EXPECT_GE(found, 0.95 * runs);
 }
 
 // Two small clusters on different objects (a wall 6 m away and a visitor 2.5 m
