@@ -183,78 +183,67 @@ TEST(RangeNoiseTest, ExtractionFindsANoisySurfaceWithAConsistentCovariance) {
               found_adaptive, runs, found_thesis, in_gate);
 }
 
-// A face at grazing incidence seen by 5 readings over ~1.5 m: below the
-// window's minimal segment, found as a sparse line.
+// A face at grazing incidence: the wall y = 1 from x = 4.5 to 6.5 (bearings
+// ~8.7-12.5 deg, 5 readings over 2 m), behind it nothing. With
+// `mixed_pixel`, the first reading past its far end returns 12 cm beyond the
+// face's plane (the beam's footprint partly on the edge, partly beyond).
+LaserScan GrazingFaceScan(int seed, bool mixed_pixel) {
+  RandomStream rng(seed, mixed_pixel ? 7 : 5);
+  LaserScan scan;
+  scan.max_range_m = 8.0;
+  bool mixed_placed = !mixed_pixel;
+  for (int i = 0; i <= 360; ++i) {
+    LaserReading r;
+    r.bearing_rad = (-90.0 + 0.5 * i) * kDeg;
+    const double s = std::sin(r.bearing_rad);
+    const double x = s > 0.0 ? 1.0 / std::tan(r.bearing_rad) : 0.0;
+    r.range_m = 8.0;
+    if (s > 0.0 && x >= 4.5 && x <= 6.5) {
+      r.range_m = 1.0 / s + rng.Normal(0.0, kSigmaM);
+      r.valid = true;
+    } else if (s > 0.0 && x < 4.5 && !mixed_placed) {
+      r.range_m = 1.0 / s + 0.12;
+      r.valid = true;
+      mixed_placed = true;
+    }
+    scan.readings.push_back(r);
+  }
+  return scan;
+}
+
+bool OnGrazingFace(const Segment& s) {
+  return std::abs(s.line.alpha_rad - std::numbers::pi / 2) < 2.0 * kDeg &&
+         std::abs(s.line.r_m - 1.0) < 0.05;
+}
+
+// The face is below the window's minimal segment and found as a sparse line.
 TEST(RangeNoiseTest, SparseGrazingFaceIsFound) {
-  // Wall y = 1 from x = 4.5 to 6.5 (bearings ~8.7-12.5 deg), behind it nothing.
-  LineExtractionOptions options = LineExtractionOptions::SickLms200();
+  const LineExtractionOptions options = LineExtractionOptions::SickLms200();
+  LineExtractionOptions without = options;
+  without.sparse_min_points = 0;
   int found = 0;
   int found_without = 0;
   const int runs = 100;
   for (int seed = 1; seed <= runs; ++seed) {
-    RandomStream rng(seed, 5);
-    LaserScan scan;
-    scan.max_range_m = 8.0;
-    for (int i = 0; i <= 360; ++i) {
-      LaserReading r;
-      r.bearing_rad = (-90.0 + 0.5 * i) * kDeg;
-      const double s = std::sin(r.bearing_rad);
-      const double x = s > 0.0 ? 1.0 / std::tan(r.bearing_rad) : 0.0;
-      if (s > 0.0 && x >= 4.5 && x <= 6.5) {
-        r.range_m = 1.0 / s + rng.Normal(0.0, kSigmaM);
-        r.valid = true;
-      } else {
-        r.range_m = 8.0;
-      }
-      scan.readings.push_back(r);
-    }
-    const auto on_wall = [](const Segment& s) {
-      return std::abs(s.line.alpha_rad - std::numbers::pi / 2) < 2.0 * kDeg &&
-             std::abs(s.line.r_m - 1.0) < 0.05;
-    };
-    for (const Segment& s : ExtractLines(scan, options)) found += on_wall(s);
-    LineExtractionOptions without = options;
-    without.sparse_min_points = 0;
-    for (const Segment& s : ExtractLines(scan, without)) found_without += on_wall(s);
+    const LaserScan scan = GrazingFaceScan(seed, false);
+    for (const Segment& s : ExtractLines(scan, options)) found += OnGrazingFace(s);
+    for (const Segment& s : ExtractLines(scan, without)) found_without += OnGrazingFace(s);
   }
   EXPECT_GE(found, 0.95 * runs);
   EXPECT_EQ(found_without, 0);
 }
 
-// The same face with a mixed pixel after its far end (the beam's footprint
-// partly on the face's edge, partly beyond): 12 cm long in range, but at
-// this incidence less than 2 cm off the line, so the perpendicular residuals
-// (eqs. 3.4-3.5) keep it and the line through it misses the range model.
-// The range residuals cut it off and the face is still found.
+// The mixed pixel is 12 cm off in range but, at this incidence, less than 2 cm
+// off the line: the perpendicular residuals (eqs. 3.4-3.5) keep it and the
+// line through it misses the range model. The range residuals shed it and the
+// face is still found.
 TEST(RangeNoiseTest, SparseGrazingFaceShedsAMixedPixel) {
   const LineExtractionOptions options = LineExtractionOptions::SickLms200();
   int found = 0;
   const int runs = 100;
   for (int seed = 1; seed <= runs; ++seed) {
-    RandomStream rng(seed, 7);
-    LaserScan scan;
-    scan.max_range_m = 8.0;
-    bool mixed_placed = false;
-    for (int i = 0; i <= 360; ++i) {
-      LaserReading r;
-      r.bearing_rad = (-90.0 + 0.5 * i) * kDeg;
-      const double s = std::sin(r.bearing_rad);
-      const double x = s > 0.0 ? 1.0 / std::tan(r.bearing_rad) : 0.0;
-      r.range_m = 8.0;
-      if (s > 0.0 && x >= 4.5 && x <= 6.5) {
-        r.range_m = 1.0 / s + rng.Normal(0.0, kSigmaM);
-        r.valid = true;
-      } else if (s > 0.0 && x < 4.5 && !mixed_placed) {
-        // The first reading past the far end.
-        r.range_m = 1.0 / s + 0.12;
-        r.valid = true;
-        mixed_placed = true;
-      }
-      scan.readings.push_back(r);
-    }
-    for (const Segment& seg : ExtractLines(scan, options)) {
-      found += std::abs(seg.line.alpha_rad - std::numbers::pi / 2) < 2.0 * kDeg &&
-               std::abs(seg.line.r_m - 1.0) < 0.05;
+    for (const Segment& s : ExtractLines(GrazingFaceScan(seed, true), options)) {
+      found += OnGrazingFace(s);
     }
   }
   EXPECT_GE(found, 0.95 * runs);
