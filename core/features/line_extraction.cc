@@ -553,10 +553,12 @@ class Extractor {
 
   // Candidates failing the fit consistency test are cut where the two fitted
   // lines leave the smallest residual sum, recursively; pieces with fewer than
-  // n_f readings (the minimal segment, §3.2.2) are dropped. An outlier at an
-  // end (a mixed pixel) is cut off alone; a bend splits at its vertex. The
-  // result is in scan order with strictly increasing first readings (candidates
-  // overlap by at most n_f - 1 readings, and every piece has n_f or more).
+  // min_piece readings are dropped (n_f for the window candidates: the minimal
+  // segment, §3.2.2; sparse_min_points for sparse lines). An outlier at an end
+  // (a mixed pixel) is cut off alone; a bend splits at its vertex. For window
+  // candidates the result is in scan order with strictly increasing first
+  // readings (they overlap by at most n_f - 1 readings, and every piece has
+  // n_f or more).
   std::vector<Cluster> SplitInconsistent(std::vector<Cluster> candidates, int min_piece) {
     std::vector<Cluster> result;
     result.reserve(candidates.size());
