@@ -410,7 +410,7 @@ class Extractor {
     for (const NoisyRegion& region : noisy_surfaces_) {
       int first = region.first;
       for (int i = region.first + 1; i <= region.last; ++i) {
-        if (reading_index_[i] - reading_index_[i - 1] - 1 <= kMaxDropoutRun) continue;
+        if (!DropoutGapBefore(i)) continue;
         add_piece(first, i - 1);
         first = i;
       }
@@ -441,8 +441,7 @@ class Extractor {
     int first = -1;
     for (int k = 0; k <= n; ++k) {
       const bool free = k < n && !used[k];
-      const bool gap =
-          free && first >= 0 && reading_index_[k] - reading_index_[k - 1] - 1 > kMaxDropoutRun;
+      const bool gap = free && first >= 0 && DropoutGapBefore(k);
       if (first >= 0 && (!free || gap)) {
         if (k - first >= options_.sparse_min_points && RunSpan(first, k) >= sparse_min_span) {
           Cluster run;
@@ -481,6 +480,13 @@ class Extractor {
     std::stable_sort(clusters.begin(), clusters.end(), [](const Cluster& a, const Cluster& b) {
       return a.points.front() < b.points.front();
     });
+  }
+
+  // Whether more readings in a row returned nothing between valid points k - 1
+  // and k (k >= 1) than a dark surface's dropouts explain: the beam left the
+  // surface.
+  bool DropoutGapBefore(int k) const {
+    return reading_index_[k] - reading_index_[k - 1] - 1 > kMaxDropoutRun;
   }
 
   // The diagonal of the bounding box of points [first, end).
