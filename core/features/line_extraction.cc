@@ -986,7 +986,7 @@ LineExtractionOptions LineExtractionOptions::LeuzeRs3() {
 // from scan to scan (extracted r is 0.4-0.5 mm short on average against
 // ground truth), and eqs. 3.8-3.10 alone put only 92.4% (office_floor) and
 // 91.6% (expo_hall) of the (alpha, r) errors inside their 95% gate
-// (tests/scenarios/extraction_scoring_test.cc, 900 and 600 scans with
+// (tests/scenarios/scoring/extraction_scoring_test.cc, 900 and 600 scans with
 // visitors). With the floor: 96.4% and 95.7%; 0.5 mm / 0.2 mrad gives 95.0%
 // and 93.6%. Error that repeats does not average out over the hundreds of
 // cycles a localizer integrates: without the floor the office tour's filter is

@@ -16,7 +16,7 @@ struct LineExtractionOptions {
   // radial accuracy (n_f * resolution = 3.5 deg for the PLS, 3.75 deg for the
   // RS3). For the LMS 200, a sweep scored against ground truth (metrics.md;
   // office_floor 900 scans / expo_hall 600 scans with 30 visitors, three noise
-  // seeds; tests/scenarios/extraction_scoring_test.cc) with the SickLms200()
+  // seeds; tests/scenarios/scoring/extraction_scoring_test.cc) with the SickLms200()
   // preset (adaptive sigma, sparse lines, precision limits) gave true-positive
   // rates 0.976/0.951 (n_f 5), 0.995/0.960 (7), 0.994/0.963 (9), 0.994/0.961
   // (11) and false-positive rates 0.011/0.023, 0.014/0.028, 0.015/0.030,

@@ -11,12 +11,12 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
-#include "scenarios/data_paths.h"
-#include "scenarios/output_files.h"
-#include "scenarios/scenario.h"
-#include "scenarios/scenario_runner.h"
+#include "scenarios/config/data_paths.h"
+#include "scenarios/config/scenario.h"
+#include "scenarios/output/output_files.h"
+#include "scenarios/run/scenario_runner.h"
 #include "scenarios/version.h"
-#include "sim/worker_pool.h"
+#include "sim/runtime/worker_pool.h"
 
 namespace pavilion::cli {
 namespace {

@@ -5,10 +5,10 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "scenarios/data_paths.h"
-#include "scenarios/odometry_calibration.h"
-#include "scenarios/output_files.h"
-#include "scenarios/robot_loader.h"
+#include "scenarios/calibration/odometry_calibration.h"
+#include "scenarios/config/data_paths.h"
+#include "scenarios/config/robot_loader.h"
+#include "scenarios/output/output_files.h"
 
 namespace pavilion::cli {
 

@@ -7,7 +7,7 @@
 namespace pavilion::cli {
 
 // `pavilion calibrate ROBOT`: the odometry calibration scenario
-// (scenarios/odometry_calibration.h, docs/calibration.md).
+// (scenarios/calibration/odometry_calibration.h, docs/calibration.md).
 struct CalibrateArgs {
   std::string robot;  // robots/<name> name or path to a robot file
   int runs = 5;       // runs of each kind

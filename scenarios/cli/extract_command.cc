@@ -21,14 +21,14 @@
 #include "core/geometry/planar_section.h"
 #include "core/math/chi_square.h"
 #include "core/types/image.h"
-#include "scenarios/carmen_log.h"
-#include "scenarios/data_paths.h"
-#include "scenarios/extraction_scoring.h"
-#include "scenarios/png.h"
-#include "scenarios/raster.h"
-#include "scenarios/scan_log.h"
-#include "scenarios/world_loader.h"
-#include "sim/world.h"
+#include "scenarios/config/data_paths.h"
+#include "scenarios/config/world_loader.h"
+#include "scenarios/datasets/carmen_log.h"
+#include "scenarios/output/png.h"
+#include "scenarios/output/raster.h"
+#include "scenarios/output/scan_log.h"
+#include "scenarios/scoring/extraction_scoring.h"
+#include "sim/world/world.h"
 
 namespace pavilion::cli {
 namespace {

@@ -7,12 +7,12 @@
 #include <numbers>
 #include <vector>
 
-#include "scenarios/data_paths.h"
-#include "scenarios/map_derivation.h"
-#include "scenarios/map_file.h"
-#include "scenarios/map_render.h"
-#include "scenarios/png.h"
-#include "scenarios/world_loader.h"
+#include "scenarios/config/data_paths.h"
+#include "scenarios/config/world_loader.h"
+#include "scenarios/maps/map_derivation.h"
+#include "scenarios/maps/map_file.h"
+#include "scenarios/maps/map_render.h"
+#include "scenarios/output/png.h"
 
 namespace pavilion::cli {
 namespace {

@@ -18,7 +18,7 @@ struct MapArgs {
   double robot_radius_m = 0.35;  // clearance of edges
   double via_spacing_m = 3.0;    // grid pitch of via nodes
   // --keep-direction: keep only lines within keep_tolerance_deg of this direction
-  // (deg, world frame), drop points and beacons (scenarios/map_derivation.h).
+  // (deg, world frame), drop points and beacons (scenarios/maps/map_derivation.h).
   double keep_direction_deg = 0.0;
   double keep_tolerance_deg = 5.0;
   // render

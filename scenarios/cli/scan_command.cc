@@ -4,15 +4,15 @@
 #include <cstdio>
 #include <sstream>
 
-#include "scenarios/data_paths.h"
-#include "scenarios/input_error.h"
-#include "scenarios/output_files.h"
-#include "scenarios/png.h"
-#include "scenarios/robot_loader.h"
-#include "scenarios/robot_setup.h"
-#include "scenarios/world_loader.h"
-#include "sim/sim_robot.h"
-#include "sim/top_down_view.h"
+#include "scenarios/config/data_paths.h"
+#include "scenarios/config/input_error.h"
+#include "scenarios/config/robot_loader.h"
+#include "scenarios/config/robot_setup.h"
+#include "scenarios/config/world_loader.h"
+#include "scenarios/output/output_files.h"
+#include "scenarios/output/png.h"
+#include "sim/render/top_down_view.h"
+#include "sim/robot/sim_robot.h"
 
 namespace pavilion::cli {
 namespace {

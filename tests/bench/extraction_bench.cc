@@ -21,10 +21,10 @@
 #include "core/features/line_extraction.h"
 #include "core/features/split_and_merge.h"
 #include "core/random/random_stream.h"
-#include "scenarios/data_paths.h"
-#include "scenarios/world_loader.h"
-#include "sim/laser_scanner.h"
-#include "sim/world.h"
+#include "scenarios/config/data_paths.h"
+#include "scenarios/config/world_loader.h"
+#include "sim/sensors/laser_scanner.h"
+#include "sim/world/world.h"
 
 namespace {
 

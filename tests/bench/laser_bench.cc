@@ -3,7 +3,7 @@
 // second of the same scene with the robots driving. The reference measured in
 // the same run is Bullet's rayTest against the world's primitive shapes
 // (WorldOptions::baked_static_rays = false). The planar caster
-// (sim/planar_caster.h) is measured on the same hall with 100 legs
+// (sim/raycast/planar_caster.h) is measured on the same hall with 100 legs
 // (r 0.06 m) against World::CastRay in the same run (issue 7: ≥ 3 M rays/s).
 #include <benchmark/benchmark.h>
 #include <time.h>
@@ -15,14 +15,14 @@
 #include <vector>
 
 #include "core/random/random_stream.h"
-#include "scenarios/data_paths.h"
-#include "scenarios/robot_loader.h"
-#include "scenarios/robot_setup.h"
-#include "scenarios/world_loader.h"
-#include "sim/body_motion.h"
-#include "sim/planar_caster.h"
-#include "sim/sim_robot.h"
-#include "sim/world.h"
+#include "scenarios/config/data_paths.h"
+#include "scenarios/config/robot_loader.h"
+#include "scenarios/config/robot_setup.h"
+#include "scenarios/config/world_loader.h"
+#include "sim/bodies/body_motion.h"
+#include "sim/raycast/planar_caster.h"
+#include "sim/robot/sim_robot.h"
+#include "sim/world/world.h"
 
 namespace {
 
@@ -243,7 +243,7 @@ double BulletRaysPerS(HallScene& scene) {
   return static_cast<double>(rays) / s;
 }
 
-// Planar casting (sim/planar_caster.h) of the 20 scanners' 361-beam scans in
+// Planar casting (sim/raycast/planar_caster.h) of the 20 scanners' 361-beam scans in
 // the hall with 10 robots and 100 legs, geometry only; `bullet_rays_per_s`
 // and `ratio_to_bullet` compare with World::CastRay on the same scene and rays.
 // Arg: the grid's cell size in cm.

@@ -13,10 +13,10 @@
 #include <vector>
 
 #include "core/random/random_stream.h"
-#include "scenarios/data_paths.h"
-#include "scenarios/world_loader.h"
-#include "sim/body_motion.h"
-#include "sim/world.h"
+#include "scenarios/config/data_paths.h"
+#include "scenarios/config/world_loader.h"
+#include "sim/bodies/body_motion.h"
+#include "sim/world/world.h"
 
 namespace {
 

@@ -23,14 +23,14 @@ expect() {  # expect WANT_STATUS FILE CONTENT
 }
 
 expect 0 core/clean.cc '#include <Eigen/Core>'
-expect 1 core/bad.cc '#include "sim/world.h"'
+expect 1 core/bad.cc '#include "sim/world/world.h"'
 expect 1 core/bad.h '#include <yaml-cpp/yaml.h>'
 expect 1 core/bad.cc '#include "nav/planner.h"'
-expect 1 nav/bad.cc '#include "sim/world.h"'
+expect 1 nav/bad.cc '#include "sim/world/world.h"'
 expect 1 nav/bad.h '#include <btBulletDynamicsCommon.h>'
 expect 1 sim/bad.h '#include <btBulletDynamicsCommon.h>'
 expect 0 sim/fine.cc '#include <btBulletDynamicsCommon.h>'
-expect 1 sim/bad.cc '#include "scenarios/scenario.h"'
+expect 1 sim/bad.cc '#include "scenarios/config/scenario.h"'
 expect 1 sim/bad.h '#  include <assimp/scene.h>'
 [ $fail -eq 0 ] && echo "check_layers self-test ok"
 exit $fail

@@ -3,7 +3,7 @@
 // A bare test world for robot tests: a square floor (material "floor",
 // friction 0.8) and, optionally, a wall across the way at x = 3 m.
 
-#include "sim/world_description.h"
+#include "sim/world/world_description.h"
 
 namespace pavilion::testing {
 

@@ -1,0 +1,151 @@
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "nav/control/path_follower.h"
+#include "nav/control/wander_controller.h"
+#include "sim/bodies/body_motion.h"
+#include "sim/raycast/planar_caster.h"
+#include "sim/robot/robot_config.h"
+#include "sim/world/world.h"
+#include "sim/world/world_description.h"
+
+namespace pavilion::scenarios {
+
+// How a body moves: not at all by itself, a scripted profile, or a random walk.
+struct MotionSpec {
+  enum class Type { kNone, kScripted, kRandomWalk } type = Type::kNone;
+  sim::ScriptedMotionOptions scripted;
+  sim::RandomWalkOptions random_walk;
+};
+
+// A body of the scenario; groups are expanded into bodies at load time with
+// positions drawn later from the run's seeded stream.
+struct BodyEntry {
+  sim::BodySpec spec;
+  MotionSpec motion;
+  std::string spawn_area;  // place name (or key path of an inline polygon)
+  std::optional<core::Polygon2> spawn_polygon;
+};
+
+// One step of a robot's scripted drive: wheel speeds held from `at_s` until
+// the next step (rad/s, positive forward).
+struct DriveCommand {
+  double at_s = 0.0;
+  double left_radps = 0.0;
+  double right_radps = 0.0;
+};
+
+// A robot's EKF pose tracking (thesis §4.4): the map it is given, how often it
+// localizes and where its estimate starts.
+struct LocalizationEntry {
+  bool enabled = false;
+  std::string map_file;  // the robot's map.yaml (default: the world's)
+  // `map: derive`: instead of a file, the map is derived from the world at
+  // start-up (pavilion map derive) with tape-measure noise of this sigma drawn
+  // from the scenario's seed: a fresh survey per seed, so that runs over
+  // several seeds sample the map's error as well (consistency checks, NEES).
+  std::optional<double> derive_map_noise_m;
+  // Localization cycles per second: each laser's scans are integrated at most
+  // this often (the thesis: 2 Hz, §4.5.2).
+  double rate_hz = 2.0;
+  // The estimate starts at the true start pose plus `initial_offset` (x, y in
+  // the world frame, theta), with standard deviations `initial_sigma`.
+  core::Pose2 initial_offset;
+  Eigen::Vector3d initial_sigma{0.01, 0.01, 0.0175};  // m, m, rad
+  double significance = 0.95;                         // of the validation gate (eq. 4.16)
+  std::vector<std::string> lasers;                    // lasers that feed it; empty: all
+};
+
+// A tour through the stops of the robot's map topology, driven by the path
+// follower from the robot's estimate (localization, or odometry without it).
+struct RouteEntry {
+  std::vector<std::string> stops;  // node ids of the map
+  double start_s = 0.0;
+  nav::PathFollowerOptions follower;
+  double control_rate_hz = 20.0;  // path follower updates per second
+};
+
+// An obstacle-avoiding random walk reacting to each scan of one of the robot's
+// lasers: the hall benchmark's "wander" (nav/control/wander_controller.h). Its draws
+// come from the stream (scenario seed, "<robot id>/wander").
+struct WanderEntry {
+  std::string laser;  // a laser id of the robot model
+  nav::WanderOptions options;
+};
+
+// A robot of the scenario: its model (robots/<name>/robot.yaml), start pose,
+// and at most one of a scripted wheel-speed profile, a route or a wander.
+struct RobotEntry {
+  std::string id;
+  std::string model;  // as written in the scenario
+  sim::RobotConfig config;
+  core::Pose2 pose;
+  std::vector<DriveCommand> drive;  // sorted by time
+  // How its wheels meet the floor: the entry's `wheel_model`, else the
+  // scenario's `physics.wheel_model`.
+  sim::WheelModel wheel_model = sim::WheelModel::kArticulated;
+  LocalizationEntry localization;
+  std::optional<RouteEntry> route;
+  std::optional<WanderEntry> wander;
+};
+
+// A scripted event of the timeline.
+struct ScriptedEvent {
+  enum class Type { kPush, kTeleport, kDoor } type = Type::kPush;
+  double at_s = 0.0;
+  std::string target;  // body or robot id (push, teleport) or door id
+  Eigen::Vector2d impulse_ns{0, 0};
+  core::Pose2 pose;
+  bool open = false;
+};
+
+struct OutputOptions {
+  double trajectory_rate_hz = 10.0;  // rows of trajectories.csv per body per s
+  double section_height_m = 0.5;     // height of the top-down picture's cut
+  int image_width_px = 900;          // top-down picture width
+  bool scan_log = true;              // write scans.bin (every robot's scans with ground truth)
+};
+
+// Who finds the laser rays' hits: the planar caster (sim/raycast/planar_caster.h; falls
+// back to Bullet for tilted beam planes) or Bullet for every ray (the reference).
+enum class LaserBackend { kPlanar, kBullet };
+const char* ToString(LaserBackend backend);
+
+// A fully loaded, validated scenario.
+struct Scenario {
+  std::string name;
+  std::string description;
+  std::string source_file;
+  std::uint64_t seed = 1;
+  double duration_s = 60.0;
+  // End the run early once every robot with a route has finished it.
+  bool end_when_routes_done = false;
+  std::string world_file;  // the world.yaml (its folder holds the default map.yaml)
+  sim::WorldOptions physics;
+  LaserBackend laser_backend = LaserBackend::kPlanar;  // key laser_backend
+  sim::PlanarCasterOptions planar_laser;               // laser_max_tilt_deg
+  // physics.wheel_model: the robots' wheel model unless an entry names its own.
+  sim::WheelModel wheel_model = sim::WheelModel::kArticulated;
+  sim::WorldDescription world;
+  std::vector<BodyEntry> bodies;
+  std::vector<RobotEntry> robots;
+  std::vector<ScriptedEvent> events;  // sorted by time, stable
+  OutputOptions outputs;
+};
+
+// Command-line adjustments applied before validation.
+struct ScenarioOverrides {
+  std::optional<std::uint64_t> seed;
+  std::optional<double> duration_s;
+  std::vector<std::string> assignments;  // "key.path=value"
+};
+
+// Reads and validates a scenario file and the world it names. Throws InputError
+// listing every problem (file:line: key.path: message).
+Scenario LoadScenarioFile(const std::string& path, const ScenarioOverrides& overrides = {});
+
+}  // namespace pavilion::scenarios

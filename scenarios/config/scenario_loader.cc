@@ -1,0 +1,590 @@
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <numbers>
+#include <set>
+
+#include "scenarios/config/data_paths.h"
+#include "scenarios/config/robot_loader.h"
+#include "scenarios/config/scenario.h"
+#include "scenarios/config/world_loader.h"
+#include "scenarios/config/yaml_reader.h"
+#include "scenarios/maps/map_derivation.h"
+
+namespace pavilion::scenarios {
+namespace {
+
+constexpr double kMaxDurationS = 1e7;
+constexpr double kMaxMassKg = 1e5;
+constexpr double kMaxBodySizeM = 100.0;
+constexpr std::int64_t kMaxGroupCount = 100000;
+// laser_max_tilt_deg: the planar caster's default (1°) and its limit.
+constexpr double kDefaultLaserMaxTiltDeg = 1.0;
+constexpr double kMaxLaserTiltDeg = 45.0;
+
+// Reads a `wheel_model` key: one of the sim::WheelModel names.
+sim::WheelModel ReadWheelModel(MapReader& r, sim::WheelModel default_model) {
+  const std::vector<std::string> names = {sim::WheelModelName(sim::WheelModel::kArticulated),
+                                          sim::WheelModelName(sim::WheelModel::kRaycast)};
+  const std::string name = r.Choice("wheel_model", names, sim::WheelModelName(default_model));
+  return name == names[1] ? sim::WheelModel::kRaycast : sim::WheelModel::kArticulated;
+}
+
+std::optional<sim::BodyShape> ReadShape(YamlDocument* doc, MapReader& parent) {
+  MapReader r(doc, parent.Child("shape", true), parent.PathOf("shape"));
+  if (!r.valid()) return std::nullopt;
+  sim::BodyShape shape;
+  const std::string type = r.Choice("type", {"box", "cylinder", "sphere"}, "cylinder", true);
+  bool ok = true;
+  if (type == "box") {
+    shape.type = sim::BodyShapeType::kBox;
+    auto size = r.Numbers("size", 3, true);
+    if (size && size->at(0) > 0 && size->at(1) > 0 && size->at(2) > 0 &&
+        std::max({size->at(0), size->at(1), size->at(2)}) <= kMaxBodySizeM) {
+      shape.box_size_m = {(*size)[0], (*size)[1], (*size)[2]};
+    } else if (size) {
+      doc->Error(r.Child("size"), r.PathOf("size"), "every size must be in (0, 100] m");
+      ok = false;
+    } else {
+      ok = false;
+    }
+  } else if (type == "cylinder") {
+    shape.type = sim::BodyShapeType::kCylinder;
+    auto radius = r.RequiredNumber("radius", 1e-3, kMaxBodySizeM);
+    auto height = r.RequiredNumber("height", 1e-3, kMaxBodySizeM);
+    ok = radius && height;
+    if (ok) {
+      shape.radius_m = *radius;
+      shape.height_m = *height;
+    }
+  } else {
+    shape.type = sim::BodyShapeType::kSphere;
+    auto radius = r.RequiredNumber("radius", 1e-3, kMaxBodySizeM);
+    ok = radius.has_value();
+    if (ok) shape.radius_m = *radius;
+  }
+  r.Finish();
+  if (!ok) return std::nullopt;
+  return shape;
+}
+
+MotionSpec ReadMotion(YamlDocument* doc, MapReader& parent) {
+  MotionSpec motion;
+  YAML::Node node = parent.Child("motion");
+  if (!node.IsDefined()) return motion;
+  MapReader r(doc, node, parent.PathOf("motion"));
+  const std::string type = r.Choice("type", {"none", "scripted", "random_walk"}, "none", true);
+  if (type == "scripted") {
+    motion.type = MotionSpec::Type::kScripted;
+    motion.scripted.body_frame = r.Bool("body_frame", true);
+    motion.scripted.loop = r.Bool("loop", false);
+    YAML::Node segs = r.Child("segments", true);
+    if (segs.IsDefined() && (!segs.IsSequence() || segs.size() == 0)) {
+      doc->Error(segs, r.PathOf("segments"), "expected a non-empty list of segments");
+    } else if (segs.IsDefined()) {
+      for (std::size_t i = 0; i < segs.size(); ++i) {
+        MapReader s(doc, segs[i], IndexPath(r.PathOf("segments"), i));
+        sim::VelocitySegment seg;
+        seg.duration_s = s.RequiredNumber("duration_s", 1e-6, kMaxDurationS).value_or(1.0);
+        if (auto v = s.Numbers("velocity", 2, false)) seg.velocity_mps = {(*v)[0], (*v)[1]};
+        seg.yaw_rate_radps = s.Number("yaw_rate", 0.0, -100.0, 100.0);
+        s.Finish();
+        motion.scripted.segments.push_back(seg);
+      }
+    }
+  } else if (type == "random_walk") {
+    motion.type = MotionSpec::Type::kRandomWalk;
+    auto& o = motion.random_walk;
+    o.speed_mps = r.Number("speed_mps", o.speed_mps, 0.0, 5.0);
+    o.mean_leg_s = r.Number("mean_leg_s", o.mean_leg_s, 1e-3, 1e4);
+  }
+  r.Finish();
+  return motion;
+}
+
+// Fields shared by single bodies and groups.
+void ReadBodyCommon(YamlDocument* doc, MapReader& r, const sim::WorldDescription& world,
+                    BodyEntry* entry) {
+  if (auto shape = ReadShape(doc, r)) entry->spec.shape = *shape;
+  entry->spec.mass_kg = r.RequiredNumber("mass_kg", 1e-3, kMaxMassKg).value_or(1.0);
+  if (auto m = r.RequiredString("material")) {
+    if (!world.materials.contains(*m)) {
+      doc->Error(r.Child("material"), r.PathOf("material"),
+                 "unknown material '" + *m + "' (not in the world or the scenario's materials)");
+    }
+    entry->spec.material = *m;
+  }
+  entry->spec.upright = r.Bool("upright", true);
+  entry->motion = ReadMotion(doc, r);
+  entry->spec.driven = entry->motion.type != MotionSpec::Type::kNone;
+  if (r.Has("area")) {
+    YAML::Node area = r.Child("area");
+    if (area.IsSequence()) {  // an inline polygon
+      core::Polygon2 polygon;
+      for (std::size_t i = 0; i < area.size(); ++i) {
+        if (auto p = ReadNumbers(doc, area[i], IndexPath(r.PathOf("area"), i), 2)) {
+          polygon.emplace_back((*p)[0], (*p)[1]);
+        }
+      }
+      if (polygon.size() != area.size()) return;
+      if (polygon.size() < 3 || !core::IsSimple(polygon)) {
+        doc->Error(area, r.PathOf("area"), "expected a simple polygon of at least 3 [x, y] points");
+        return;
+      }
+      entry->spawn_area = r.PathOf("area");
+      entry->spawn_polygon = polygon;
+    } else if (auto name = r.RequiredString("area")) {
+      auto it = world.places.find(*name);
+      if (it == world.places.end() || !it->second.area) {
+        doc->Error(area, r.PathOf("area"), "no area place '" + *name + "' in the world");
+      } else {
+        entry->spawn_area = *name;
+        entry->spawn_polygon = it->second.area;
+      }
+    }
+  }
+}
+
+void ReadBodies(YamlDocument* doc, MapReader& top, const sim::WorldDescription& world,
+                Scenario* s) {
+  YAML::Node list = top.Child("bodies");
+  if (list.IsDefined() && !list.IsNull()) {
+    if (!list.IsSequence()) doc->Error(list, "bodies", "expected a list");
+    for (std::size_t i = 0; list.IsSequence() && i < list.size(); ++i) {
+      MapReader r(doc, list[i], IndexPath("bodies", i));
+      if (!r.valid()) continue;
+      BodyEntry entry;
+      entry.spec.id = r.RequiredString("id").value_or("");
+      ReadBodyCommon(doc, r, world, &entry);
+      if (r.Has("pose") == r.Has("area")) {
+        doc->Error(list[i], IndexPath("bodies", i), "give exactly one of pose or area");
+      } else if (r.Has("pose")) {
+        if (auto p = r.Numbers("pose", 3, true)) entry.spec.pose = {(*p)[0], (*p)[1], (*p)[2]};
+      }
+      r.Finish();
+      s->bodies.push_back(entry);
+    }
+  }
+  list = top.Child("groups");
+  if (list.IsDefined() && !list.IsNull()) {
+    if (!list.IsSequence()) doc->Error(list, "groups", "expected a list");
+    for (std::size_t i = 0; list.IsSequence() && i < list.size(); ++i) {
+      MapReader r(doc, list[i], IndexPath("groups", i));
+      if (!r.valid()) continue;
+      BodyEntry entry;
+      const std::string prefix = r.RequiredString("id").value_or("group");
+      const std::int64_t count = r.Integer("count", 1, 0, kMaxGroupCount);
+      ReadBodyCommon(doc, r, world, &entry);
+      if (!r.Has("area"))
+        doc->Error(list[i], IndexPath("groups", i) + ".area", "required key is missing");
+      r.Finish();
+      for (std::int64_t k = 0; k < count; ++k) {
+        char suffix[32];
+        std::snprintf(suffix, sizeof suffix, "_%03lld", static_cast<long long>(k));
+        BodyEntry body = entry;
+        body.spec.id = prefix + suffix;
+        s->bodies.push_back(body);
+      }
+    }
+  }
+  std::set<std::string> ids = {"floor"};
+  for (const auto& wall : world.walls) ids.insert(wall.id);
+  for (const auto& b : world.boxes) ids.insert(b.id);
+  for (const auto& c : world.cylinders) ids.insert(c.id);
+  for (const auto& m : world.meshes) ids.insert(m.id);
+  for (const auto& d : world.doors) ids.insert(d.id);
+  for (const auto& b : s->bodies) {
+    if (!ids.insert(b.spec.id).second) {
+      doc->Error(top.Child("bodies"), "bodies",
+                 "body id '" + b.spec.id + "' is used twice or by a world element");
+    }
+  }
+}
+
+// localization: {map, rate_hz, initial_offset: [x, y, theta], initial_sigma:
+// [x, y, theta], significance, lasers: [ids]} (thesis §4.4).
+void ReadLocalization(YamlDocument* doc, MapReader& r, const std::string& base,
+                      const Scenario& scenario, RobotEntry* robot) {
+  YAML::Node node = r.Child("localization");
+  if (!node.IsDefined()) return;
+  MapReader m(doc, node, r.PathOf("localization"));
+  if (!m.valid()) return;
+  LocalizationEntry& l = robot->localization;
+  l.enabled = m.Bool("enabled", true);
+  const std::string map = m.String("map", "");
+  if (map == "derive") {
+    l.derive_map_noise_m = m.Number("map_noise_m", MapDerivationOptions{}.noise_sigma_m, 0.0, 0.1);
+  } else if (m.Has("map_noise_m")) {
+    doc->Error(m.Child("map_noise_m"), m.PathOf("map_noise_m"),
+               "map_noise_m applies only with 'map: derive'");
+  }
+  if (map.empty()) {
+    l.map_file = (std::filesystem::path(scenario.world_file).parent_path() / "map.yaml").string();
+  } else if (map != "derive") {
+    l.map_file = (std::filesystem::path(base) / map).string();
+  }
+  if (!l.derive_map_noise_m && !std::filesystem::exists(l.map_file)) {
+    doc->Error(m.Has("map") ? m.Child("map") : node, m.PathOf("map"),
+               "no map file '" + l.map_file + "' (derive one: pavilion map derive)");
+  }
+  l.rate_hz = m.Number("rate_hz", l.rate_hz, 0.01, 1000.0);
+  if (auto o = m.Numbers("initial_offset", 3, false))
+    l.initial_offset = {(*o)[0], (*o)[1], (*o)[2]};
+  if (auto sigma = m.Numbers("initial_sigma", 3, false)) {
+    for (int k = 0; k < 3; ++k) {
+      if (!((*sigma)[k] > 0.0)) {
+        doc->Error(m.Child("initial_sigma"), m.PathOf("initial_sigma"), "expected values > 0");
+        break;
+      }
+      l.initial_sigma[k] = (*sigma)[k];
+    }
+  }
+  l.significance = m.Number("significance", l.significance, 0.5, 0.999999);
+  if (YAML::Node lasers = m.Child("lasers"); lasers.IsDefined()) {
+    if (!lasers.IsSequence()) {
+      doc->Error(lasers, m.PathOf("lasers"), "expected a list of laser ids");
+    } else {
+      for (std::size_t k = 0; k < lasers.size(); ++k) {
+        const std::string id = lasers[k].as<std::string>("");
+        const bool known =
+            std::any_of(robot->config.lasers.begin(), robot->config.lasers.end(),
+                        [&](const sim::LaserMount& mount) { return mount.id == id; });
+        if (!known) {
+          doc->Error(lasers[k], IndexPath(m.PathOf("lasers"), k),
+                     "robot model '" + robot->model + "' has no laser '" + id + "'");
+        }
+        l.lasers.push_back(id);
+      }
+    }
+  }
+  m.Finish();
+}
+
+// route: {stops: [node ids], start_s, max_speed_mps, max_accel_mps2,
+// max_turn_rate_radps, max_turn_accel_radps2, lookahead_m, max_lateral_accel_mps2,
+// goal_tolerance_m, control_rate_hz}
+void ReadRoute(YamlDocument* doc, MapReader& r, RobotEntry* robot) {
+  YAML::Node node = r.Child("route");
+  if (!node.IsDefined()) return;
+  MapReader m(doc, node, r.PathOf("route"));
+  if (!m.valid()) return;
+  RouteEntry route;
+  YAML::Node stops = m.Child("stops", true);
+  if (stops.IsDefined() && (!stops.IsSequence() || stops.size() < 2)) {
+    doc->Error(stops, m.PathOf("stops"), "expected a list of at least two map node ids");
+  }
+  for (std::size_t k = 0; stops.IsSequence() && k < stops.size(); ++k) {
+    route.stops.push_back(stops[k].as<std::string>(""));
+  }
+  route.start_s = m.Number("start_s", 0.0, 0.0, kMaxDurationS);
+  nav::PathFollowerOptions& f = route.follower;
+  f.max_speed_mps = m.Number("max_speed_mps", f.max_speed_mps, 0.01, 5.0);
+  f.max_accel_mps2 = m.Number("max_accel_mps2", f.max_accel_mps2, 0.01, 10.0);
+  f.max_turn_rate_radps = m.Number("max_turn_rate_radps", f.max_turn_rate_radps, 0.01, 10.0);
+  f.max_turn_accel_radps2 = m.Number("max_turn_accel_radps2", f.max_turn_accel_radps2, 0.01, 100.0);
+  f.lookahead_m = m.Number("lookahead_m", f.lookahead_m, 0.05, 10.0);
+  f.max_lateral_accel_mps2 =
+      m.Number("max_lateral_accel_mps2", f.max_lateral_accel_mps2, 0.01, 10.0);
+  f.goal_tolerance_m = m.Number("goal_tolerance_m", f.goal_tolerance_m, 0.001, 5.0);
+  route.control_rate_hz = m.Number("control_rate_hz", route.control_rate_hz, 0.1, 1000.0);
+  m.Finish();
+  robot->route = route;
+}
+
+// wander: {laser, cruise_speed_mps, avoid_speed_mps, avoid_turn_rate_radps,
+// obstruction_distance_m, stop_distance_m, min_avoid_scans, max_avoid_scans};
+// every key optional (the peers' values, nav::WanderOptions), `laser`
+// defaulting to the model's first.
+void ReadWander(YamlDocument* doc, MapReader& r, bool model_ok, RobotEntry* robot) {
+  YAML::Node node = r.Child("wander");
+  if (!node.IsDefined()) return;
+  MapReader m(doc, node, r.PathOf("wander"));
+  if (!m.valid()) return;
+  WanderEntry wander;
+  const auto& lasers = robot->config.lasers;
+  if (m.Has("laser")) {
+    wander.laser = m.RequiredString("laser").value_or("");
+    const bool known = std::any_of(lasers.begin(), lasers.end(),
+                                   [&](const sim::LaserMount& l) { return l.id == wander.laser; });
+    if (model_ok && !known) {
+      doc->Error(m.Child("laser"), m.PathOf("laser"),
+                 "robot model '" + robot->model + "' has no laser '" + wander.laser + "'");
+    }
+  } else if (!lasers.empty()) {
+    wander.laser = lasers.front().id;
+  } else if (model_ok) {
+    doc->Error(node, m.PathOf("laser"),
+               "robot model '" + robot->model + "' has no laser for the wander controller");
+  }
+  nav::WanderOptions& o = wander.options;
+  o.cruise_speed_mps = m.Number("cruise_speed_mps", o.cruise_speed_mps, 0.0, 10.0);
+  o.avoid_speed_mps = m.Number("avoid_speed_mps", o.avoid_speed_mps, 0.0, 10.0);
+  o.avoid_turn_rate_radps = m.Number("avoid_turn_rate_radps", o.avoid_turn_rate_radps, 1e-6, 10.0);
+  o.obstruction_distance_m =
+      m.Number("obstruction_distance_m", o.obstruction_distance_m, 1e-3, 1000.0);
+  o.stop_distance_m = m.Number("stop_distance_m", o.stop_distance_m, 0.0, 1000.0);
+  o.min_avoid_scans = static_cast<int>(m.Integer("min_avoid_scans", o.min_avoid_scans, 1, 1000000));
+  o.max_avoid_scans = static_cast<int>(m.Integer("max_avoid_scans", o.max_avoid_scans, 1, 1000000));
+  if (o.stop_distance_m > o.obstruction_distance_m) {
+    doc->Error(m.Child("stop_distance_m"), m.PathOf("stop_distance_m"),
+               "must not exceed obstruction_distance_m");
+  }
+  if (o.max_avoid_scans < o.min_avoid_scans) {
+    doc->Error(m.Child("max_avoid_scans"), m.PathOf("max_avoid_scans"),
+               "must be at least min_avoid_scans");
+  }
+  m.Finish();
+  robot->wander = wander;
+}
+
+// robots: [{id, model, pose: [x, y, theta], drive: [{at_s, left, right} |
+// {at_s, speed_mps, turn_radps}], systematic: {...}, encoder_noise: bool,
+// laser_noise: bool, wheel_model: articulated | raycast, localization: {...},
+// route: {...}, wander: {...}}]
+void ReadRobots(YamlDocument* doc, MapReader& top, const std::string& base, Scenario* s) {
+  YAML::Node list = top.Child("robots");
+  if (!list.IsDefined() || list.IsNull()) return;
+  if (!list.IsSequence()) {
+    doc->Error(list, "robots", "expected a list");
+    return;
+  }
+  std::set<std::string> ids = {"floor"};
+  for (const auto& wall : s->world.walls) ids.insert(wall.id);
+  for (const auto& b : s->world.boxes) ids.insert(b.id);
+  for (const auto& c : s->world.cylinders) ids.insert(c.id);
+  for (const auto& m : s->world.meshes) ids.insert(m.id);
+  for (const auto& d : s->world.doors) ids.insert(d.id);
+  for (const auto& b : s->bodies) ids.insert(b.spec.id);
+  std::map<std::string, sim::RobotConfig> models;  // by resolved robot file
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const std::string path = IndexPath("robots", i);
+    MapReader r(doc, list[i], path);
+    if (!r.valid()) continue;
+    RobotEntry robot;
+    robot.id = r.RequiredString("id").value_or("");
+    if (!robot.id.empty() &&
+        (!ids.insert(robot.id).second || robot.id.find('/') != std::string::npos)) {
+      doc->Error(
+          r.Child("id"), r.PathOf("id"),
+          "robot id '" + robot.id + "' is used twice, by a world element or body, or has a '/'");
+    }
+    if (auto p = r.Numbers("pose", 3, true)) robot.pose = {(*p)[0], (*p)[1], (*p)[2]};
+    bool model_ok = false;
+    if (auto model = r.RequiredString("model")) {
+      robot.model = *model;
+      try {
+        // Each model file is read once: a fleet of a thousand robots of one
+        // model would otherwise parse its URDF a thousand times at start-up.
+        const std::string model_path = ResolveRobotPath(*model, base);
+        auto it = models.find(model_path);
+        if (it == models.end()) it = models.emplace(model_path, LoadRobotFile(model_path)).first;
+        robot.config = it->second;
+        model_ok = true;
+      } catch (const InputError& e) {
+        doc->Error(
+            r.Child("model"), r.PathOf("model"),
+            "robot model '" + *model + "' is invalid: " + e.diagnostics().front().ToString());
+      }
+    }
+    if (YAML::Node sys = r.Child("systematic"); sys.IsDefined()) {
+      MapReader m(doc, sys, r.PathOf("systematic"));
+      auto& e = robot.config.systematic;
+      e.wheel_radius_ratio = m.Number("wheel_radius_ratio", e.wheel_radius_ratio, 0.9, 1.1);
+      e.wheelbase_factor = m.Number("wheelbase_factor", e.wheelbase_factor, 0.9, 1.1);
+      m.Finish();
+    }
+    robot.wheel_model = ReadWheelModel(r, s->wheel_model);
+    robot.config.encoders.noise = r.Bool("encoder_noise", robot.config.encoders.noise);
+    // laser_noise: false turns every laser's range noise, outliers and dark
+    // dropouts off (sim::LaserScannerOptions::noise).
+    if (r.Has("laser_noise")) {
+      const bool laser_noise = r.Bool("laser_noise", true);
+      for (sim::LaserMount& mount : robot.config.lasers) mount.options.noise = laser_noise;
+    }
+    YAML::Node drive = r.Child("drive");
+    if (drive.IsDefined() && !drive.IsSequence()) {
+      doc->Error(drive, r.PathOf("drive"), "expected a list of {at_s, left, right} steps");
+    }
+    for (std::size_t k = 0; drive.IsSequence() && k < drive.size(); ++k) {
+      const std::string step_path = IndexPath(r.PathOf("drive"), k);
+      MapReader d(doc, drive[k], step_path);
+      if (!d.valid()) continue;
+      DriveCommand c;
+      c.at_s = d.RequiredNumber("at_s", 0.0, kMaxDurationS).value_or(0.0);
+      const bool wheels = d.Has("left") || d.Has("right");
+      const bool body = d.Has("speed_mps") || d.Has("turn_radps");
+      if (wheels == body) {
+        doc->Error(drive[k], step_path,
+                   "give either left and right (rad/s) or speed_mps and turn_radps");
+      } else if (wheels) {
+        c.left_radps = d.RequiredNumber("left", -1000.0, 1000.0).value_or(0.0);
+        c.right_radps = d.RequiredNumber("right", -1000.0, 1000.0).value_or(0.0);
+      } else {
+        const double v = d.Number("speed_mps", 0.0, -10.0, 10.0);
+        const double w = d.Number("turn_radps", 0.0, -20.0, 20.0);
+        if (model_ok) {
+          // Inverse kinematics with the robot's calibrated odometry (eq. 2.7).
+          const auto& o = robot.config.odometry;
+          c.left_radps = (v - 0.5 * w * o.wheelbase_m) / o.left_wheel_radius_m;
+          c.right_radps = (v + 0.5 * w * o.wheelbase_m) / o.right_wheel_radius_m;
+        }
+      }
+      d.Finish();
+      if (!robot.drive.empty() && c.at_s < robot.drive.back().at_s) {
+        doc->Error(drive[k], step_path, "drive steps must be in time order");
+      }
+      robot.drive.push_back(c);
+    }
+    ReadLocalization(doc, r, base, *s, &robot);
+    ReadRoute(doc, r, &robot);
+    ReadWander(doc, r, model_ok, &robot);
+    // One controller per robot: a scripted drive, a route or a wander.
+    const int controllers = static_cast<int>(!robot.drive.empty()) +
+                            static_cast<int>(robot.route.has_value()) +
+                            static_cast<int>(robot.wander.has_value());
+    if (controllers > 1) {
+      const std::string key = robot.wander ? "wander" : "route";
+      doc->Error(r.Child(key), r.PathOf(key),
+                 "give only one of drive, route and wander (each drives the wheels)");
+    }
+    r.Finish();
+    s->robots.push_back(robot);
+  }
+}
+
+void ReadEvents(YamlDocument* doc, MapReader& top, Scenario* s) {
+  YAML::Node list = top.Child("events");
+  if (!list.IsDefined() || list.IsNull()) return;
+  if (!list.IsSequence()) {
+    doc->Error(list, "events", "expected a list");
+    return;
+  }
+  std::set<std::string> bodies;
+  for (const auto& b : s->bodies) bodies.insert(b.spec.id);
+  for (const auto& r : s->robots) bodies.insert(r.id);
+  std::set<std::string> doors;
+  for (const auto& d : s->world.doors) doors.insert(d.id);
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    MapReader r(doc, list[i], IndexPath("events", i));
+    if (!r.valid()) continue;
+    ScriptedEvent e;
+    e.at_s = r.RequiredNumber("at_s", 0.0, kMaxDurationS).value_or(0.0);
+    const std::string type = r.Choice("type", {"push", "teleport", "door"}, "push", true);
+    const std::string target_key = type == "door" ? "door" : "body";
+    e.target = r.RequiredString(target_key).value_or("");
+    const auto& known = type == "door" ? doors : bodies;
+    if (!e.target.empty() && !known.contains(e.target)) {
+      doc->Error(r.Child(target_key), r.PathOf(target_key),
+                 "no " + target_key + " '" + e.target + "'");
+    }
+    if (type == "push") {
+      e.type = ScriptedEvent::Type::kPush;
+      if (auto v = r.Numbers("impulse", 2, true)) e.impulse_ns = {(*v)[0], (*v)[1]};
+    } else if (type == "teleport") {
+      e.type = ScriptedEvent::Type::kTeleport;
+      if (auto p = r.Numbers("pose", 3, true)) e.pose = {(*p)[0], (*p)[1], (*p)[2]};
+    } else {
+      e.type = ScriptedEvent::Type::kDoor;
+      e.open = r.Choice("state", {"open", "closed"}, "closed", true) == "open";
+    }
+    r.Finish();
+    s->events.push_back(e);
+  }
+  std::stable_sort(s->events.begin(), s->events.end(),
+                   [](const ScriptedEvent& a, const ScriptedEvent& b) { return a.at_s < b.at_s; });
+}
+
+}  // namespace
+
+const char* ToString(LaserBackend backend) {
+  return backend == LaserBackend::kBullet ? "bullet" : "planar";
+}
+
+Scenario LoadScenarioFile(const std::string& path, const ScenarioOverrides& overrides) {
+  YamlDocument doc(path);
+  doc.ThrowIfErrors();
+  for (const std::string& assignment : overrides.assignments) {
+    ApplyOverride(doc.mutable_root(), assignment, true);
+  }
+  Scenario s;
+  s.source_file = path;
+  MapReader top(&doc, doc.root(), "");
+  if (!top.valid()) doc.ThrowIfErrors();
+  if (auto kind = top.RequiredString("kind"); kind && *kind != "scenario") {
+    doc.Error(top.Child("kind"), "kind", "expected 'scenario', got '" + *kind + "'");
+  }
+  s.name = top.RequiredString("name").value_or("");
+  s.description = top.String("description", "");
+  s.seed = static_cast<std::uint64_t>(top.Integer("seed", 1, 0, INT64_MAX));
+  s.duration_s = top.RequiredNumber("duration_s", 1e-3, kMaxDurationS).value_or(1.0);
+  s.end_when_routes_done = top.Bool("end_when_routes_done", false);
+  s.laser_backend = top.Choice("laser_backend", {"planar", "bullet"}, "planar") == "bullet"
+                        ? LaserBackend::kBullet
+                        : LaserBackend::kPlanar;
+  s.planar_laser.max_tilt_rad =
+      top.Number("laser_max_tilt_deg", kDefaultLaserMaxTiltDeg, 0.0, kMaxLaserTiltDeg) *
+      std::numbers::pi / 180.0;
+  if (overrides.seed) s.seed = *overrides.seed;
+  if (overrides.duration_s) s.duration_s = *overrides.duration_s;
+
+  {
+    MapReader r(&doc, top.Has("physics") ? top.Child("physics") : YAML::Node(YAML::NodeType::Map),
+                "physics");
+    s.physics.physics_rate_hz = r.Number("rate_hz", s.physics.physics_rate_hz, 10.0, 10000.0);
+    s.physics.solver_iterations =
+        static_cast<int>(r.Integer("solver_iterations", s.physics.solver_iterations, 1, 100));
+    s.physics.gravity_mps2 = r.Number("gravity_mps2", s.physics.gravity_mps2, 0.0, 100.0);
+    s.wheel_model = ReadWheelModel(r, s.wheel_model);
+    r.Finish();
+  }
+  {
+    MapReader r(&doc, top.Has("outputs") ? top.Child("outputs") : YAML::Node(YAML::NodeType::Map),
+                "outputs");
+    auto& o = s.outputs;
+    o.trajectory_rate_hz = r.Number("trajectory_rate_hz", o.trajectory_rate_hz, 1e-3, 10000.0);
+    o.section_height_m = r.Number("section_height_m", o.section_height_m, 0.0, 100.0);
+    o.image_width_px = static_cast<int>(r.Integer("image_width_px", o.image_width_px, 100, 8000));
+    o.scan_log = r.Bool("scan_log", o.scan_log);
+    r.Finish();
+  }
+
+  // The world: loaded from its own file, its problems reported against it.
+  const std::string base = std::filesystem::path(path).parent_path().string();
+  if (auto world = top.RequiredString("world")) {
+    try {
+      s.world_file = ResolveWorldPath(*world, base);
+      s.world = LoadWorldFile(s.world_file);
+    } catch (const InputError& e) {
+      auto all = doc.diagnostics();
+      all.insert(all.end(), e.diagnostics().begin(), e.diagnostics().end());
+      throw InputError(all);
+    }
+  }
+  // Scenario materials are added to the world's (bodies such as visitors).
+  if (YAML::Node mats = top.Child("materials"); mats.IsDefined()) {
+    std::map<std::string, sim::Material> extra;
+    ReadMaterialMap(&doc, mats, "materials", &extra);
+    for (const auto& [name, m] : extra) {
+      if (s.world.materials.contains(name)) {
+        doc.Error(mats, "materials." + name, "material already defined by the world");
+      }
+      s.world.materials[name] = m;
+    }
+  }
+  if (YAML::Node states = top.Child("door_states"); states.IsDefined()) {
+    MapReader r(&doc, states, "door_states");
+    for (auto& door : s.world.doors) {
+      if (r.Has(door.id)) door.open = r.Choice(door.id, {"open", "closed"}, "closed") == "open";
+    }
+    r.Finish();
+  }
+  ReadBodies(&doc, top, s.world, &s);
+  ReadRobots(&doc, top, base, &s);
+  ReadEvents(&doc, top, &s);
+  top.Finish();
+  doc.ThrowIfErrors();
+  return s;
+}
+
+}  // namespace pavilion::scenarios

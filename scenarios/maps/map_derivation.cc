@@ -1,0 +1,1191 @@
+#include "scenarios/maps/map_derivation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <deque>
+#include <limits>
+#include <map>
+#include <memory>
+#include <numbers>
+#include <set>
+#include <stdexcept>
+#include <utility>
+
+#include "core/random/random_stream.h"
+#include "core/types/pose2.h"
+
+namespace pavilion::scenarios {
+namespace {
+
+using Vec2 = Eigen::Vector2d;
+
+// --- constants (docs/map_format.md, "Deriving a map") ---
+
+// Recorded tape-measure sigma never drops below this, so covariances stay
+// positive definite when the noise is off (m).
+constexpr double kMinRecordedSigmaM = 0.001;
+// Grid of the free-space model used only while deriving (m).
+constexpr double kCellM = 0.05;
+// Faces are tested for being inside another solid this far out (m).
+constexpr double kClipOffsetM = 0.001;
+// Pieces of faces shorter than this are dropped (m).
+constexpr double kMinPieceM = 0.01;
+// Visibility samples along a face (m) and the rays cast from each sample: up
+// to 85° from the face's normal, so that a face a robot could see at all, even
+// at a grazing angle, is mapped (a map errs towards including a face).
+constexpr double kSampleStepM = 0.02;
+constexpr double kMaxIncidenceRad = 85.0 * std::numbers::pi / 180.0;
+constexpr double kIncidenceStepRad = 5.0 * std::numbers::pi / 180.0;
+// Maximum range of the robots' SICK LMS 200 (robots/*/robot.yaml, thesis §2.2.2).
+constexpr double kLaserRangeM = 8.0;
+// A face or column is mapped when at least this much of it can be seen (m).
+constexpr double kMinVisibleM = 0.05;
+// Faces lie on one infinite line when their endpoints are this close to it (m).
+constexpr double kCollinearM = 1e-5;
+// Members of a multi-segment line closer than this along the line merge (m):
+// a tape measure does not resolve such gaps.
+constexpr double kMergeGapM = 0.05;
+// Candidate edges join nodes at most this many via spacings apart; an edge is
+// dropped when a detour over a third node is at most kDetourRatio as long.
+constexpr double kMaxEdgeSpacings = 1.5;
+constexpr double kDetourRatio = 1.05;
+// Via nodes keep this many via spacings from other nodes.
+constexpr double kMinNodeSpacings = 0.6;
+// Clearances above this are not told apart (m): enough to centre via nodes.
+constexpr double kMaxClearanceM = 2.0;
+// Lateral search for the sides of an opening (entrance, exit) (m).
+constexpr double kOpeningSearchM = 5.0;
+// Resolution of derived numbers: positions and radii, angles, covariances.
+constexpr int kPositionDecimals = 6;  // 1 µm
+constexpr int kAngleDecimals = 9;     // 1 nrad
+constexpr int kCovarianceDigits = 6;  // significant digits
+
+double RoundDecimals(double v, int decimals) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+  const double r = std::strtod(buf, nullptr);
+  return r == 0.0 ? 0.0 : r;
+}
+
+double RoundSignificant(double v, int digits) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
+  const double r = std::strtod(buf, nullptr);
+  return r == 0.0 ? 0.0 : r;
+}
+
+Vec2 RoundPosition(const Vec2& p) {
+  return {RoundDecimals(p.x(), kPositionDecimals), RoundDecimals(p.y(), kPositionDecimals)};
+}
+
+// alpha in (-pi, pi] at kAngleDecimals; pi itself does not round inside the range.
+double RoundAlpha(double alpha_rad) {
+  const double a = RoundDecimals(core::NormalizeAngle(alpha_rad), kAngleDecimals);
+  return std::abs(a) >= std::numbers::pi ? std::numbers::pi : a;
+}
+
+Eigen::Matrix2d RoundCovariance(const Eigen::Matrix2d& c) {
+  Eigen::Matrix2d r;
+  r(0, 0) = RoundSignificant(c(0, 0), kCovarianceDigits);
+  r(1, 1) = RoundSignificant(c(1, 1), kCovarianceDigits);
+  r(0, 1) = r(1, 0) = RoundSignificant(0.5 * (c(0, 1) + c(1, 0)), kCovarianceDigits);
+  return core::IsPositiveDefinite(r) ? r : c;
+}
+
+double Cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+
+double PointSegmentDistance(const Vec2& p, const Vec2& a, const Vec2& b) {
+  const Vec2 ab = b - a;
+  const double len2 = ab.squaredNorm();
+  const double t = len2 > 0.0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+  return (a + t * ab - p).norm();
+}
+
+bool SegmentsCross(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
+  const double d1 = Cross(b - a, c - a), d2 = Cross(b - a, d - a);
+  const double d3 = Cross(d - c, a - c), d4 = Cross(d - c, b - c);
+  return ((d1 > 0) != (d2 > 0)) && ((d3 > 0) != (d4 > 0)) && d1 != 0 && d2 != 0 && d3 != 0 &&
+         d4 != 0;
+}
+
+double SegmentSegmentDistance(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
+  if (SegmentsCross(a, b, c, d)) return 0.0;
+  return std::min({PointSegmentDistance(a, c, d), PointSegmentDistance(b, c, d),
+                   PointSegmentDistance(c, a, b), PointSegmentDistance(d, a, b)});
+}
+
+// Parameter t in (0, 1] where the ray o + t (e - o) first meets segment c-d; +inf if never.
+double RaySegmentHit(const Vec2& o, const Vec2& e, const Vec2& c, const Vec2& d) {
+  const Vec2 r = e - o, s = d - c;
+  const double denom = Cross(r, s);
+  if (denom == 0.0) return std::numeric_limits<double>::infinity();
+  const double t = Cross(c - o, s) / denom;
+  const double u = Cross(c - o, r) / denom;
+  if (t < 0.0 || t > 1.0 || u < 0.0 || u > 1.0) return std::numeric_limits<double>::infinity();
+  return t;
+}
+
+// Parameters where the line o + t (e - o) meets a circle (none, or two).
+std::vector<double> LineCircleHits(const Vec2& o, const Vec2& e, const Vec2& c, double radius) {
+  const Vec2 d = e - o, f = o - c;
+  const double A = d.squaredNorm(), B = 2.0 * f.dot(d), C = f.squaredNorm() - radius * radius;
+  const double disc = B * B - 4.0 * A * C;
+  if (A == 0.0 || disc <= 0.0) return {};
+  const double q = std::sqrt(disc);
+  return {(-B - q) / (2.0 * A), (-B + q) / (2.0 * A)};
+}
+
+struct Box2 {
+  Vec2 lo{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+  Vec2 hi{-std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+  void Add(const Vec2& p) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  bool Overlaps(const Box2& o, double margin) const {
+    return lo.x() - margin <= o.hi.x() && o.lo.x() - margin <= hi.x() &&
+           lo.y() - margin <= o.hi.y() && o.lo.y() - margin <= hi.y();
+  }
+};
+
+Box2 SegmentBox(const Vec2& a, const Vec2& b) {
+  Box2 box;
+  box.Add(a);
+  box.Add(b);
+  return box;
+}
+
+// A solid of the beam section that the laser sees (its outline or circle).
+struct Solid {
+  int element = -1;
+  std::vector<MapObstacles::Segment> outline;  // counter-clockwise around the solid
+  std::vector<MapObstacles::Circle> circles;
+  Box2 box;
+
+  bool Contains(const Vec2& p) const {
+    if (p.x() < box.lo.x() || p.x() > box.hi.x() || p.y() < box.lo.y() || p.y() > box.hi.y()) {
+      return false;
+    }
+    for (const auto& c : circles) {
+      if ((p - c.center_m).norm() < c.radius_m) return true;
+    }
+    int winding = 0;  // non-zero inside a closed counter-clockwise outline
+    for (const auto& s : outline) {
+      const double side = Cross(s.b_m - s.a_m, p - s.a_m);
+      if (s.a_m.y() <= p.y()) {
+        if (s.b_m.y() > p.y() && side > 0) ++winding;
+      } else if (s.b_m.y() <= p.y() && side < 0) {
+        --winding;
+      }
+    }
+    return winding != 0;
+  }
+};
+
+// The free-space grid of the floor: clearance of each cell centre to the
+// navigation obstacles (capped) and which cells a robot can reach.
+class FreeSpace {
+ public:
+  FreeSpace(const Vec2& lo, const Vec2& hi, const MapObstacles& obstacles, double cap_m) : lo_(lo) {
+    nx_ = std::max(1, static_cast<int>(std::ceil((hi.x() - lo.x()) / kCellM)));
+    ny_ = std::max(1, static_cast<int>(std::ceil((hi.y() - lo.y()) / kCellM)));
+    clearance_.assign(static_cast<std::size_t>(nx_) * ny_, static_cast<float>(cap_m));
+    reachable_.assign(clearance_.size(), 0);
+    const auto visit = [&](const Box2& box, auto distance) {
+      int x0, y0, x1, y1;
+      CellRange(box, cap_m, &x0, &y0, &x1, &y1);
+      for (int y = y0; y <= y1; ++y) {
+        for (int x = x0; x <= x1; ++x) {
+          float& c = clearance_[Index(x, y)];
+          c = std::min(c, static_cast<float>(distance(Center(x, y))));
+        }
+      }
+    };
+    for (const auto& s : obstacles.segments) {
+      visit(SegmentBox(s.a_m, s.b_m),
+            [&](const Vec2& p) { return PointSegmentDistance(p, s.a_m, s.b_m); });
+    }
+    for (const auto& c : obstacles.circles) {
+      Box2 box;
+      box.Add(c.center_m.array() - c.radius_m);
+      box.Add(c.center_m.array() + c.radius_m);
+      visit(box,
+            [&](const Vec2& p) { return std::max(0.0, (p - c.center_m).norm() - c.radius_m); });
+    }
+  }
+
+  int nx() const { return nx_; }
+  int ny() const { return ny_; }
+  std::size_t Index(int x, int y) const { return static_cast<std::size_t>(y) * nx_ + x; }
+  Vec2 Center(int x, int y) const { return lo_ + kCellM * Vec2(x + 0.5, y + 0.5); }
+  Vec2 Center(std::size_t i) const {
+    return Center(static_cast<int>(i % nx_), static_cast<int>(i / nx_));
+  }
+  bool CellOf(const Vec2& p, std::size_t* index) const {
+    const int x = static_cast<int>(std::floor((p.x() - lo_.x()) / kCellM));
+    const int y = static_cast<int>(std::floor((p.y() - lo_.y()) / kCellM));
+    if (x < 0 || y < 0 || x >= nx_ || y >= ny_) return false;
+    *index = Index(x, y);
+    return true;
+  }
+  double clearance(std::size_t i) const { return clearance_[i]; }
+  bool reachable(std::size_t i) const { return reachable_[i] != 0; }
+  bool ReachableAt(const Vec2& p) const {
+    std::size_t i;
+    return CellOf(p, &i) && reachable(i);
+  }
+
+  // Floods the cells with clearance >= radius from the seeds (4-connected).
+  void Flood(const std::vector<std::size_t>& seeds, double radius_m) {
+    std::deque<std::size_t> queue;
+    for (std::size_t s : seeds) {
+      if (clearance_[s] >= radius_m && !reachable_[s]) {
+        reachable_[s] = 1;
+        queue.push_back(s);
+      }
+    }
+    while (!queue.empty()) {
+      const std::size_t i = queue.front();
+      queue.pop_front();
+      const int x = static_cast<int>(i % nx_), y = static_cast<int>(i / nx_);
+      const int dx[4] = {1, -1, 0, 0}, dy[4] = {0, 0, 1, -1};
+      for (int k = 0; k < 4; ++k) {
+        const int u = x + dx[k], v = y + dy[k];
+        if (u < 0 || v < 0 || u >= nx_ || v >= ny_) continue;
+        const std::size_t j = Index(u, v);
+        if (reachable_[j] || clearance_[j] < radius_m) continue;
+        reachable_[j] = 1;
+        queue.push_back(j);
+      }
+    }
+  }
+
+ private:
+  void CellRange(const Box2& box, double margin, int* x0, int* y0, int* x1, int* y1) const {
+    *x0 = std::max(0, static_cast<int>(std::floor((box.lo.x() - margin - lo_.x()) / kCellM)));
+    *y0 = std::max(0, static_cast<int>(std::floor((box.lo.y() - margin - lo_.y()) / kCellM)));
+    *x1 = std::min(nx_ - 1, static_cast<int>(std::floor((box.hi.x() + margin - lo_.x()) / kCellM)));
+    *y1 = std::min(ny_ - 1, static_cast<int>(std::floor((box.hi.y() + margin - lo_.y()) / kCellM)));
+  }
+
+  Vec2 lo_;
+  int nx_ = 0;
+  int ny_ = 0;
+  std::vector<float> clearance_;
+  std::vector<char> reachable_;
+};
+
+// The laser's view of the beam section: what occludes a ray.
+class LaserView {
+ public:
+  explicit LaserView(const std::vector<Solid>& solids) : solids_(solids) {}
+
+  // True when a laser at a reachable cell sees `point` along `dir` (unit, away
+  // from the surface) within range, with nothing opaque in between.
+  bool SeenAlong(const Vec2& point, const Vec2& dir, const FreeSpace& free) const {
+    const Vec2 origin = point + 1e-4 * dir;
+    double reach = -1.0;
+    for (double t = 0.5 * kCellM; t <= kLaserRangeM; t += 0.5 * kCellM) {
+      std::size_t i;
+      if (!free.CellOf(origin + t * dir, &i)) break;  // left the floor
+      if (free.reachable(i)) {
+        reach = t;
+        break;
+      }
+    }
+    if (reach < 0.0) return false;
+    const Vec2 end = origin + reach * dir;
+    const Box2 ray = SegmentBox(origin, end);
+    for (const Solid& s : solids_) {
+      if (!s.box.Overlaps(ray, 0.0)) continue;
+      for (const auto& seg : s.outline) {
+        if (RaySegmentHit(origin, end, seg.a_m, seg.b_m) <= 1.0) return false;
+      }
+      for (const auto& c : s.circles) {
+        if (PointSegmentDistance(c.center_m, origin, end) < c.radius_m) return false;
+      }
+    }
+    return true;
+  }
+
+  // Length of the samples (spaced `step`, with outward normals) that a laser
+  // sees; stops counting at kMinVisibleM.
+  double VisibleLength(const std::vector<std::pair<Vec2, Vec2>>& samples, double step,
+                       const FreeSpace& free) const {
+    double seen = 0.0;
+    for (const auto& [p, normal] : samples) {
+      for (double k = 0.0; k * kIncidenceStepRad <= kMaxIncidenceRad + 1e-9; k += 1.0) {
+        bool hit = false;
+        for (const double sign : {1.0, -1.0}) {
+          if (k == 0.0 && sign < 0.0) continue;
+          const double a = sign * k * kIncidenceStepRad;
+          const Vec2 dir(std::cos(a) * normal.x() - std::sin(a) * normal.y(),
+                         std::sin(a) * normal.x() + std::cos(a) * normal.y());
+          if (SeenAlong(p, dir, free)) {
+            hit = true;
+            break;
+          }
+        }
+        if (hit) {
+          seen += step;
+          break;
+        }
+      }
+      if (seen >= kMinVisibleM - 1e-12) return seen;
+    }
+    return seen;
+  }
+
+ private:
+  const std::vector<Solid>& solids_;
+};
+
+// Pieces of collinear faces on one infinite line (inward normal n, n . p = r).
+struct LineGroup {
+  Vec2 normal;  // unit, pointing into the solids (eq. B.4: seen from n . p < r)
+  double r = 0.0;
+  std::vector<std::pair<double, double>> spans;  // along (-n_y, n_x)
+};
+
+Vec2 AlongDir(const Vec2& n) { return {-n.y(), n.x()}; }
+
+// Total-least-squares line through points (orthogonal distances, equal
+// weights), its normal oriented like `hint`: (alpha, r) with eq. B.4's sign.
+std::pair<double, double> FitLine(const std::vector<Vec2>& pts, const Vec2& hint) {
+  Vec2 c = Vec2::Zero();
+  for (const Vec2& p : pts) c += p;
+  c /= static_cast<double>(pts.size());
+  double sxx = 0, syy = 0, sxy = 0;
+  for (const Vec2& p : pts) {
+    const Vec2 d = p - c;
+    sxx += d.x() * d.x();
+    syy += d.y() * d.y();
+    sxy += d.x() * d.y();
+  }
+  const double dir = 0.5 * std::atan2(2.0 * sxy, sxx - syy);  // of largest spread
+  Vec2 n(-std::sin(dir), std::cos(dir));
+  if (n.dot(hint) < 0.0) n = -n;
+  return {std::atan2(n.y(), n.x()), n.dot(c)};
+}
+
+// Covariance of (alpha, r) of FitLine when every coordinate has variance
+// sigma^2, by first-order propagation with a central-difference Jacobian.
+Eigen::Matrix2d FitCovariance(const std::vector<Vec2>& pts, const Vec2& hint, double sigma) {
+  const std::size_t n = pts.size();
+  Eigen::MatrixXd J(2, 2 * n);
+  constexpr double kStep = 1e-6;
+  std::vector<Vec2> q = pts;
+  for (std::size_t i = 0; i < n; ++i) {
+    for (int k = 0; k < 2; ++k) {
+      q[i](k) = pts[i](k) + kStep;
+      const auto plus = FitLine(q, hint);
+      q[i](k) = pts[i](k) - kStep;
+      const auto minus = FitLine(q, hint);
+      q[i](k) = pts[i](k);
+      J(0, 2 * i + k) = core::NormalizeAngle(plus.first - minus.first) / (2.0 * kStep);
+      J(1, 2 * i + k) = (plus.second - minus.second) / (2.0 * kStep);
+    }
+  }
+  return sigma * sigma * (J * J.transpose());
+}
+
+std::string Numbered(const std::string& prefix, int k) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%03d", k);
+  return prefix + buf;
+}
+
+bool IsOpening(const std::string& place) {
+  return place == "entrance" || place == "exit" || place.starts_with("entrance_") ||
+         place.starts_with("exit_");
+}
+
+bool IsStation(const std::string& place) {
+  return place.starts_with("station_") || place.starts_with("dock_");
+}
+
+Vec2 AreaCentroid(const core::Polygon2& poly) {
+  double area = 0.0;
+  Vec2 c = Vec2::Zero();
+  for (std::size_t i = 0; i < poly.size(); ++i) {
+    const Vec2& a = poly[i];
+    const Vec2& b = poly[(i + 1) % poly.size()];
+    const double w = Cross(a, b);
+    area += w;
+    c += w * (a + b);
+  }
+  return std::abs(area) > 1e-12 ? Vec2(c / (3.0 * area)) : poly.front();
+}
+
+// Undirected graph under construction.
+struct Graph {
+  std::vector<core::MapNode> nodes;
+  std::set<std::pair<int, int>> edges;  // i < j
+
+  void Add(int i, int j) { edges.insert(std::minmax(i, j)); }
+  Vec2 At(int i) const { return nodes[i].pose.translation(); }
+
+  std::vector<int> Components() const {
+    std::vector<int> parent(nodes.size());
+    for (std::size_t i = 0; i < parent.size(); ++i) parent[i] = static_cast<int>(i);
+    const auto find = [&](int i) {
+      while (parent[i] != i) i = parent[i] = parent[parent[i]];
+      return i;
+    };
+    for (const auto& [a, b] : edges) parent[find(a)] = find(b);
+    std::vector<int> out(nodes.size());
+    for (std::size_t i = 0; i < out.size(); ++i) out[i] = find(static_cast<int>(i));
+    return out;
+  }
+};
+
+}  // namespace
+
+void MapDerivationOptions::Validate() const {
+  const auto check = [](bool ok, const char* field, const char* range) {
+    if (!ok) throw std::invalid_argument(std::string(field) + " must be in " + range);
+  };
+  check(std::isfinite(beam_height_m) && beam_height_m > 0.0 && beam_height_m <= 10.0,
+        "beam_height_m", "(0, 10] m");
+  check(std::isfinite(low_height_m) && low_height_m > 0.0 && low_height_m < beam_height_m,
+        "low_height_m", "(0, beam_height_m) m");
+  check(std::isfinite(noise_sigma_m) && noise_sigma_m >= 0.0 && noise_sigma_m <= 0.1,
+        "noise_sigma_m", "[0, 0.1] m");
+  check(std::isfinite(robot_radius_m) && robot_radius_m >= 0.05 && robot_radius_m <= 2.0,
+        "robot_radius_m", "[0.05, 2] m");
+  check(std::isfinite(via_spacing_m) && via_spacing_m >= 0.5 && via_spacing_m <= 20.0,
+        "via_spacing_m", "[0.5, 20] m");
+  check(std::isfinite(ghost_spacing_m) && ghost_spacing_m > 0.0 &&
+            ghost_spacing_m < 2.0 * robot_radius_m,
+        "ghost_spacing_m", "(0, 2 * robot_radius_m) m");
+}
+
+double MapObstacles::Clearance(const Vec2& a, const Vec2& b) const {
+  double best = std::numeric_limits<double>::infinity();
+  const Box2 box = SegmentBox(a, b);
+  for (const auto& s : segments) {
+    const Box2 sb = SegmentBox(s.a_m, s.b_m);
+    if (!box.Overlaps(sb, best)) continue;
+    best = std::min(best, SegmentSegmentDistance(a, b, s.a_m, s.b_m));
+  }
+  for (const auto& c : circles) {
+    best = std::min(best, std::max(0.0, PointSegmentDistance(c.center_m, a, b) - c.radius_m));
+  }
+  return best;
+}
+
+MapObstacles NavigationObstacles(const sim::World& world, double beam_height_m,
+                                 double low_height_m) {
+  MapObstacles out;
+  for (const double z : {beam_height_m, low_height_m}) {
+    const core::PlanarSection s = world.SectionAt(z);
+    for (const auto& seg : s.segments) {
+      if (!s.elements[seg.element].dynamic) out.segments.push_back({seg.a_m, seg.b_m});
+    }
+    for (const auto& c : s.circles) {
+      if (!s.elements[c.element].dynamic) out.circles.push_back({c.center_m, c.radius_m});
+    }
+  }
+  return out;
+}
+
+namespace {
+
+// One derivation: the steps of docs/map_format.md ("Deriving a map") in order,
+// sharing the sections, the solids, the free space and the noise stream.
+class MapDeriver {
+ public:
+  MapDeriver(const sim::World& world, const MapDerivationOptions& options,
+             std::vector<std::string>* warnings)
+      : d_(world.description()),
+        options_(options),
+        warn_(*warnings),
+        radius_(options.robot_radius_m),
+        sigma_(options.noise_sigma_m),
+        recorded_sigma_(std::max(sigma_, kMinRecordedSigmaM)),
+        point_cov_(recorded_sigma_ * recorded_sigma_ * Eigen::Matrix2d::Identity()),
+        noise_(options.seed, core::RandomStream::StreamId("map_derive")),
+        beam_(world.SectionAt(options.beam_height_m)),
+        low_(world.SectionAt(options.low_height_m)),
+        elements_(beam_.elements),
+        obstacles_(NavigationObstacles(world, options.beam_height_m, options.low_height_m)) {}
+
+  core::RobotMap Derive() {
+    map_.name = d_.name;
+    map_.beam_height_m = options_.beam_height_m;
+    map_.description = Description();
+    CollectSolids();
+    AddGhostPoints();
+    FindReachableFloor();
+    MapFaces();
+    MapColumnsAndBeacons();
+    BuildTopology();
+    try {
+      core::ValidateRobotMap(map_);
+    } catch (const std::invalid_argument& e) {
+      throw std::runtime_error(std::string("derived map is invalid: ") + e.what());
+    }
+    return map_;
+  }
+
+ private:
+  std::string Description() const {
+    char buf[512];
+    std::snprintf(buf, sizeof buf,
+                  "Derived by 'pavilion map derive' from world '%s': section at %g m, "
+                  "tape-measure noise %g mm (seed %llu), robot radius %g m, via spacing %g m, "
+                  "low cut %g m, ghost spacing %g m.",
+                  d_.name.c_str(), options_.beam_height_m, sigma_ * 1000.0,
+                  static_cast<unsigned long long>(options_.seed), radius_, options_.via_spacing_m,
+                  options_.low_height_m, options_.ghost_spacing_m);
+    return buf;
+  }
+
+  bool Opaque(int e) const {
+    return !elements_[e].dynamic && elements_[e].laser != core::LaserResponse::kTransparent;
+  }
+
+  // A measured position: the true one plus the tape-measure error.
+  Vec2 Measure(const Vec2& p) {
+    if (sigma_ == 0.0) return p;
+    const double dx = noise_.Normal(0.0, sigma_);
+    const double dy = noise_.Normal(0.0, sigma_);
+    return {p.x() + dx, p.y() + dy};
+  }
+
+  // Solids the laser sees at the beam height, one per element.
+  void CollectSolids() {
+    std::map<int, std::size_t> solid_of;
+    const auto solid = [&](int e) -> Solid& {
+      auto [it, added] = solid_of.try_emplace(e, solids_.size());
+      if (added) solids_.push_back(Solid{e, {}, {}, {}});
+      return solids_[it->second];
+    };
+    for (const auto& s : beam_.segments) {
+      if (!Opaque(s.element)) continue;
+      Solid& so = solid(s.element);
+      so.outline.push_back({s.a_m, s.b_m});
+      so.box.Add(s.a_m);
+      so.box.Add(s.b_m);
+    }
+    for (const auto& c : beam_.circles) {
+      if (!Opaque(c.element)) continue;
+      Solid& so = solid(c.element);
+      so.circles.push_back({c.center_m, c.radius_m});
+      so.box.Add(c.center_m.array() - c.radius_m);
+      so.box.Add(c.center_m.array() + c.radius_m);
+    }
+  }
+
+  void AddGhost(const Vec2& p) {
+    for (const Vec2& g : ghosts_) {
+      if ((g - p).norm() < 0.5 * options_.ghost_spacing_m) return;
+    }
+    ghosts_.push_back(RoundPosition(p));
+  }
+
+  // Distance from `o` along `dir` to the first navigation obstacle; +inf beyond
+  // kOpeningSearchM.
+  double RayDistance(const Vec2& o, const Vec2& dir) const {
+    double best = std::numeric_limits<double>::infinity();
+    const Vec2 e = o + kOpeningSearchM * dir;
+    for (const auto& s : obstacles_.segments) {
+      best = std::min(best, kOpeningSearchM * RaySegmentHit(o, e, s.a_m, s.b_m));
+    }
+    for (const auto& c : obstacles_.circles) {
+      for (double t : LineCircleHits(o, e, c.center_m, c.radius_m)) {
+        if (t >= 0.0 && t <= 1.0) best = std::min(best, kOpeningSearchM * t);
+      }
+    }
+    return best;
+  }
+
+  void SampleOutline(const core::PlanarSection& section, int e) {
+    for (const auto& s : section.segments) {
+      if (s.element != e) continue;
+      const double len = (s.b_m - s.a_m).norm();
+      const int n = std::max(1, static_cast<int>(std::ceil(len / options_.ghost_spacing_m)));
+      for (int k = 0; k <= n; ++k) AddGhost(s.a_m + (s.b_m - s.a_m) * (double(k) / n));
+    }
+    for (const auto& c : section.circles) {
+      if (c.element != e) continue;
+      const double len = 2.0 * std::numbers::pi * c.radius_m;
+      const int n = std::max(3, static_cast<int>(std::ceil(len / options_.ghost_spacing_m)));
+      for (int k = 0; k < n; ++k) {
+        const double a = 2.0 * std::numbers::pi * k / n;
+        AddGhost(c.center_m + c.radius_m * Vec2(std::cos(a), std::sin(a)));
+      }
+    }
+  }
+
+  // Ghost points (§6.3.1): rows across openings, and the outlines of what the
+  // laser cannot see. They, and the floor's edge, join the navigation obstacles.
+  void AddGhostPoints() {
+    for (const auto& [name, place] : d_.places) {
+      if (!IsOpening(name) || !place.pose) continue;
+      const Vec2 p = place.pose->translation();
+      const Vec2 u(-std::sin(place.pose->theta_rad), std::cos(place.pose->theta_rad));
+      const double left = RayDistance(p, u), right = RayDistance(p, -u);
+      if (!std::isfinite(left) || !std::isfinite(right)) {
+        char buf[160];
+        std::snprintf(buf, sizeof buf,
+                      "opening '%s': no obstacle on both sides within %g m; not closed",
+                      name.c_str(), kOpeningSearchM);
+        warn_.push_back(buf);
+        continue;
+      }
+      const double gap = left + right;
+      const int n = std::max(1, static_cast<int>(std::ceil(gap / options_.ghost_spacing_m)));
+      for (int k = 0; k < n; ++k) AddGhost(p - right * u + (k + 0.5) * (gap / n) * u);
+    }
+    std::vector<char> seen_at_beam(elements_.size(), 0);
+    for (const auto& s : beam_.segments) seen_at_beam[s.element] |= Opaque(s.element);
+    for (const auto& c : beam_.circles) seen_at_beam[c.element] |= Opaque(c.element);
+    for (std::size_t e = 1; e < elements_.size(); ++e) {  // 0 is the floor
+      if (elements_[e].dynamic || seen_at_beam[e]) continue;
+      const int element = static_cast<int>(e);
+      bool in_low = false, in_beam = false;
+      for (const auto& s : low_.segments) in_low |= s.element == element;
+      for (const auto& c : low_.circles) in_low |= c.element == element;
+      for (const auto& s : beam_.segments) in_beam |= s.element == element;
+      for (const auto& c : beam_.circles) in_beam |= c.element == element;
+      if (in_low) {
+        SampleOutline(low_, element);
+      } else if (in_beam) {
+        SampleOutline(beam_, element);
+      }
+    }
+    for (std::size_t i = 0; i < ghosts_.size(); ++i) {
+      map_.ghost_points.push_back({Numbered("ghost_", static_cast<int>(i) + 1), ghosts_[i]});
+      obstacles_.circles.push_back({ghosts_[i], 0.0});
+    }
+    // The robot stays on the floor.
+    const Vec2 f0 = d_.floor.min_m, f1 = d_.floor.max_m;
+    const Vec2 corners[4] = {f0, {f1.x(), f0.y()}, f1, {f0.x(), f1.y()}};
+    for (int k = 0; k < 4; ++k) obstacles_.segments.push_back({corners[k], corners[(k + 1) % 4]});
+  }
+
+  // The floor a robot can reach from the places; the places that become nodes.
+  void FindReachableFloor() {
+    const double cap =
+        std::max(radius_ + kCellM, std::min(0.5 * options_.via_spacing_m, kMaxClearanceM));
+    free_ = std::make_unique<FreeSpace>(d_.floor.min_m, d_.floor.max_m, obstacles_, cap);
+    std::vector<std::size_t> seeds;
+    for (const auto& [name, place] : d_.places) {
+      if (IsOpening(name)) continue;
+      const Vec2 p = place.pose ? place.pose->translation() : AreaCentroid(*place.area);
+      std::size_t i;
+      const bool free_here = free_->CellOf(p, &i) && free_->clearance(i) >= radius_;
+      if (free_here) seeds.push_back(i);
+      if (place.pose) {
+        node_places_.emplace_back(name, p);
+        if (!free_here) {
+          warn_.push_back("place '" + name + "' is closer than the robot radius to an obstacle");
+        }
+      } else if (free_here) {
+        node_places_.emplace_back(name, p);
+      } else {
+        warn_.push_back("area '" + name + "': its centroid is not free; no node there");
+      }
+    }
+    if (seeds.empty()) {
+      warn_.push_back("the world has no free place: all free floor counts as reachable");
+      for (std::size_t i = 0; i < static_cast<std::size_t>(free_->nx()) * free_->ny(); ++i) {
+        if (free_->clearance(i) < radius_) continue;
+        bool solid = false;
+        for (const Solid& so : solids_) solid = solid || so.Contains(free_->Center(i));
+        if (!solid) seeds.push_back(i);
+      }
+    }
+    free_->Flood(seeds, radius_);
+  }
+
+  // Length of a face or outline a laser sees (samples: points and outward normals).
+  double Visible(const std::vector<std::pair<Vec2, Vec2>>& samples, double step) const {
+    return LaserView(solids_).VisibleLength(samples, step, *free_);
+  }
+
+  // The pieces of one face outside every other opaque solid (checked
+  // kClipOffsetM in front of it), as parameter spans along a -> b.
+  std::vector<std::pair<double, double>> Unburied(const core::SectionSegment& s,
+                                                  const Vec2& out_normal) const {
+    const Vec2 a = s.a_m + kClipOffsetM * out_normal, b = s.b_m + kClipOffsetM * out_normal;
+    const Box2 box = SegmentBox(a, b);
+    std::vector<double> cuts = {0.0, 1.0};
+    std::vector<const Solid*> near;
+    for (const Solid& other : solids_) {
+      if (other.element == s.element || !other.box.Overlaps(box, 0.0)) continue;
+      near.push_back(&other);
+      for (const auto& o : other.outline) {
+        const double t = RaySegmentHit(a, b, o.a_m, o.b_m);
+        if (t > 0.0 && t < 1.0) cuts.push_back(t);
+      }
+      for (const auto& c : other.circles) {
+        for (double t : LineCircleHits(a, b, c.center_m, c.radius_m)) {
+          if (t > 0.0 && t < 1.0) cuts.push_back(t);
+        }
+      }
+    }
+    std::sort(cuts.begin(), cuts.end());
+    std::vector<std::pair<double, double>> spans;
+    for (std::size_t k = 0; k + 1 < cuts.size(); ++k) {
+      if (cuts[k + 1] - cuts[k] <= 0.0) continue;
+      const Vec2 mid = a + (b - a) * (0.5 * (cuts[k] + cuts[k + 1]));
+      bool hidden = false;
+      for (const Solid* o : near) hidden = hidden || o->Contains(mid);
+      if (hidden) continue;
+      if (!spans.empty() && spans.back().second == cuts[k]) {
+        spans.back().second = cuts[k + 1];
+      } else {
+        spans.emplace_back(cuts[k], cuts[k + 1]);
+      }
+    }
+    return spans;
+  }
+
+  // Faces -> visible pieces -> groups on one line -> segments and
+  // multi-segment lines with tape-measure noise (eq. 5.17, eq. B.4).
+  void MapFaces() {
+    element_seen_.assign(elements_.size(), 0);
+    std::vector<LineGroup> groups;
+    for (const auto& s : beam_.segments) {
+      if (!Opaque(s.element)) continue;
+      const Vec2 ab = s.b_m - s.a_m;
+      const double len = ab.norm();
+      if (len < kMinPieceM) continue;
+      const Vec2 out_normal(ab.y() / len, -ab.x() / len);  // solid on the left of a -> b
+      for (const auto& [t0, t1] : Unburied(s, out_normal)) {
+        const Vec2 pa = s.a_m + t0 * ab, pb = s.a_m + t1 * ab;
+        const double piece = (pb - pa).norm();
+        if (piece < kMinPieceM) continue;
+        std::vector<std::pair<Vec2, Vec2>> samples;
+        const int n = std::max(1, static_cast<int>(std::floor(piece / kSampleStepM)));
+        for (int k = 0; k < n; ++k)
+          samples.emplace_back(pa + (pb - pa) * ((k + 0.5) / n), out_normal);
+        if (Visible(samples, piece / n) < kMinVisibleM - 1e-12) continue;
+        element_seen_[s.element] = 1;
+        if (elements_[s.element].laser == core::LaserResponse::kRetroReflective) continue;
+        AddToGroup(&groups, pa, pb);
+      }
+    }
+    int line_count = 0;
+    for (LineGroup& g : groups) AddLineFeature(g, Numbered("line_", ++line_count));
+  }
+
+  static void AddToGroup(std::vector<LineGroup>* groups, const Vec2& a, const Vec2& b) {
+    const Vec2 ab = b - a;
+    const Vec2 normal = Vec2(-ab.y(), ab.x()).normalized();  // into the solid
+    LineGroup* group = nullptr;
+    for (LineGroup& g : *groups) {
+      if (g.normal.dot(normal) > 1.0 - 1e-9 && std::abs(g.normal.dot(a) - g.r) < kCollinearM &&
+          std::abs(g.normal.dot(b) - g.r) < kCollinearM) {
+        group = &g;
+        break;
+      }
+    }
+    if (group == nullptr) {
+      groups->push_back({normal, normal.dot(a), {}});
+      group = &groups->back();
+    }
+    const Vec2 along = AlongDir(group->normal);
+    group->spans.emplace_back(std::min(along.dot(a), along.dot(b)),
+                              std::max(along.dot(a), along.dot(b)));
+  }
+
+  void AddLineFeature(LineGroup& g, const std::string& id) {
+    std::sort(g.spans.begin(), g.spans.end());
+    std::vector<std::pair<double, double>> merged;
+    for (const auto& span : g.spans) {
+      if (!merged.empty() && span.first <= merged.back().second + kMergeGapM) {
+        merged.back().second = std::max(merged.back().second, span.second);
+      } else {
+        merged.push_back(span);
+      }
+    }
+    // Measured corners, with tape-measure noise, and the line fitted through them.
+    const Vec2 along = AlongDir(g.normal);
+    const Vec2 foot = g.r * g.normal;
+    std::vector<Vec2> corners;
+    for (const auto& [s0, s1] : merged) {
+      corners.push_back(Measure(foot + s0 * along));
+      corners.push_back(Measure(foot + s1 * along));
+    }
+    const auto [alpha_fit, r_fit] = FitLine(corners, g.normal);
+    core::Line line;
+    line.alpha_rad = RoundAlpha(alpha_fit);
+    line.r_m = RoundDecimals(r_fit, kPositionDecimals);
+    line.covariance = RoundCovariance(FitCovariance(corners, g.normal, recorded_sigma_));
+    if (line.r_m == 0.0) {
+      throw std::runtime_error("map line " + id +
+                               " passes through the world origin (r = 0), which eq. B.4 cannot "
+                               "represent; move the world's origin off the wall faces");
+    }
+    const Vec2 n = line.normal();
+    const Vec2 dir = AlongDir(n);
+    const auto project = [&](const Vec2& p) {
+      return core::Point2Uncertain{RoundPosition(p - (n.dot(p) - line.r_m) * n), point_cov_};
+    };
+    std::vector<std::pair<core::Point2Uncertain, core::Point2Uncertain>> members;
+    for (std::size_t k = 0; k < merged.size(); ++k) {
+      core::Point2Uncertain a = project(corners[2 * k]);
+      core::Point2Uncertain b = project(corners[2 * k + 1]);
+      if (dir.dot(a.position_m) > dir.dot(b.position_m)) std::swap(a, b);
+      if (!members.empty() && dir.dot(a.position_m) < dir.dot(members.back().second.position_m)) {
+        a.position_m = members.back().second.position_m;  // noise made neighbours overlap
+      }
+      if (dir.dot(b.position_m) - dir.dot(a.position_m) <= 0.0) continue;
+      members.emplace_back(a, b);
+    }
+    if (members.size() == 1) {
+      map_.segments.push_back({id, line, members[0].first, members[0].second});
+    } else if (members.size() > 1) {
+      map_.multi_segment_lines.push_back({id, line, members});
+    }
+  }
+
+  // Columns become points, retro-reflective elements beacons (§3.3, §6.3.5.1).
+  void MapColumnsAndBeacons() {
+    for (const auto& c : beam_.circles) {
+      if (!Opaque(c.element)) continue;
+      std::vector<std::pair<Vec2, Vec2>> samples;
+      const int n = std::max(
+          12, static_cast<int>(std::ceil(2.0 * std::numbers::pi * c.radius_m / kSampleStepM)));
+      for (int k = 0; k < n; ++k) {
+        const double a = 2.0 * std::numbers::pi * (k + 0.5) / n;
+        const Vec2 u(std::cos(a), std::sin(a));
+        samples.emplace_back(c.center_m + c.radius_m * u, u);
+      }
+      if (Visible(samples, 2.0 * std::numbers::pi * c.radius_m / n) < kMinVisibleM - 1e-12) {
+        continue;
+      }
+      element_seen_[c.element] = 1;
+      const core::Point2Uncertain centre{RoundPosition(Measure(c.center_m)), point_cov_};
+      if (elements_[c.element].laser == core::LaserResponse::kRetroReflective) {
+        map_.beacons.push_back({elements_[c.element].id, centre});
+      } else {
+        map_.points.push_back(
+            {elements_[c.element].id, centre, RoundDecimals(c.radius_m, kPositionDecimals)});
+      }
+    }
+    for (std::size_t e = 0; e < elements_.size(); ++e) {
+      if (!element_seen_[e] || elements_[e].laser != core::LaserResponse::kRetroReflective) {
+        continue;
+      }
+      Vec2 sum = Vec2::Zero();
+      double total = 0.0;
+      for (const auto& s : beam_.segments) {
+        if (s.element != static_cast<int>(e)) continue;
+        const double len = (s.b_m - s.a_m).norm();
+        sum += len * 0.5 * (s.a_m + s.b_m);
+        total += len;
+      }
+      if (total <= 0.0) continue;  // a retro column: done above
+      map_.beacons.push_back(
+          {elements_[e].id,
+           core::Point2Uncertain{RoundPosition(Measure(sum / total)), point_cov_}});
+    }
+  }
+
+  bool Clear(const Vec2& a, const Vec2& b) const { return obstacles_.Clearance(a, b) >= radius_; }
+
+  int AddVia(const Vec2& p) {
+    std::string id;
+    do {
+      id = Numbered("via_", ++via_count_);
+    } while (node_ids_.contains(id));
+    node_ids_.insert(id);
+    const Vec2 q = RoundPosition(p);
+    graph_.nodes.push_back({id, {q.x(), q.y(), 0.0}, false});
+    return static_cast<int>(graph_.nodes.size()) - 1;
+  }
+
+  // Topology (§6.3.1): station nodes, via nodes, collision-free edges.
+  void BuildTopology() {
+    for (const auto& [name, place] : d_.places) {
+      if (IsStation(name) && place.pose) {
+        core::Pose2 pose = *place.pose;
+        pose.x_m = RoundDecimals(pose.x_m, kPositionDecimals);
+        pose.y_m = RoundDecimals(pose.y_m, kPositionDecimals);
+        graph_.nodes.push_back({name, pose, true});
+      }
+    }
+    for (const auto& [name, p] : node_places_) {
+      if (IsStation(name) && d_.places.at(name).pose) continue;
+      const core::Pose2 pose = d_.places.at(name).pose.value_or(core::Pose2{p.x(), p.y(), 0.0});
+      graph_.nodes.push_back({name,
+                              {RoundDecimals(pose.x_m, kPositionDecimals),
+                               RoundDecimals(pose.y_m, kPositionDecimals), pose.theta_rad},
+                              false});
+    }
+    for (const auto& n : graph_.nodes) node_ids_.insert(n.id);
+    AddGridVias();
+    AddEdges();
+    JoinParts();
+    for (std::size_t k = 0; k < graph_.nodes.size(); ++k) {
+      bool linked = false;
+      for (const auto& [a, b] : graph_.edges) linked = linked || a == int(k) || b == int(k);
+      if (!linked) {
+        warn_.push_back(std::string(graph_.nodes[k].station ? "station" : "via") + " node '" +
+                        graph_.nodes[k].id + "' has no collision-free edge");
+      }
+    }
+    const std::vector<int> comp = graph_.Components();
+    const std::set<int> roots(comp.begin(), comp.end());
+    if (roots.size() > 1) {
+      warn_.push_back("the graph has " + std::to_string(roots.size()) +
+                      " separate parts (closed doors or unreachable places)");
+    }
+    map_.nodes = graph_.nodes;
+    for (const auto& [a, b] : graph_.edges) {
+      const double len = (graph_.At(a) - graph_.At(b)).norm();
+      map_.edges.push_back({graph_.nodes[a].id, graph_.nodes[b].id,
+                            std::max(RoundDecimals(len, kPositionDecimals), 1e-6)});
+    }
+  }
+
+  // One via node per grid square: its reachable cell with the most clearance
+  // (capped at half the pitch; ties to the square's centre), unless crowded.
+  void AddGridVias() {
+    const FreeSpace& free = *free_;
+    const double spacing = options_.via_spacing_m;
+    const int per = std::max(1, static_cast<int>(std::lround(spacing / kCellM)));
+    for (int cy = 0; cy * per < free.ny(); ++cy) {
+      for (int cx = 0; cx * per < free.nx(); ++cx) {
+        const Vec2 centre =
+            free.Center(cx * per, cy * per) + 0.5 * (per - 1) * Vec2(kCellM, kCellM);
+        double best_score = -1.0, best_dist = 0.0;
+        Vec2 best;
+        for (int y = cy * per; y < std::min(free.ny(), (cy + 1) * per); ++y) {
+          for (int x = cx * per; x < std::min(free.nx(), (cx + 1) * per); ++x) {
+            const std::size_t i = free.Index(x, y);
+            if (!free.reachable(i) || free.clearance(i) < Passable()) continue;
+            const double score = std::min(free.clearance(i), 0.5 * spacing);
+            const double dist = (free.Center(x, y) - centre).norm();
+            if (score > best_score + 1e-9 ||
+                (std::abs(score - best_score) <= 1e-9 && dist < best_dist)) {
+              best_score = score;
+              best_dist = dist;
+              best = free.Center(x, y);
+            }
+          }
+        }
+        if (best_score < 0.0) continue;
+        bool crowded = false;
+        for (const auto& n : graph_.nodes) {
+          crowded = crowded || (n.pose.translation() - best).norm() < kMinNodeSpacings * spacing;
+        }
+        if (!crowded) AddVia(best);
+      }
+    }
+  }
+
+  // Clear straight edges between near nodes, without the ones a two-edge
+  // detour nearly matches (longest first).
+  void AddEdges() {
+    std::vector<std::pair<double, std::pair<int, int>>> candidates;
+    const int n = static_cast<int>(graph_.nodes.size());
+    for (int i = 0; i < n; ++i) {
+      for (int j = i + 1; j < n; ++j) {
+        const double len = (graph_.At(i) - graph_.At(j)).norm();
+        if (len <= kMaxEdgeSpacings * options_.via_spacing_m && Clear(graph_.At(i), graph_.At(j))) {
+          candidates.push_back({len, {i, j}});
+          graph_.Add(i, j);
+        }
+      }
+    }
+    std::sort(candidates.begin(), candidates.end(), [](const auto& x, const auto& y) {
+      return x.first != y.first ? x.first > y.first : x.second < y.second;
+    });
+    std::vector<std::set<int>> adjacent(graph_.nodes.size());
+    for (const auto& [a, b] : graph_.edges) {
+      adjacent[a].insert(b);
+      adjacent[b].insert(a);
+    }
+    for (const auto& [len, ij] : candidates) {
+      const auto [i, j] = ij;
+      for (int k : adjacent[i]) {
+        if (k == j || !adjacent[k].contains(j)) continue;
+        if ((graph_.At(i) - graph_.At(k)).norm() + (graph_.At(k) - graph_.At(j)).norm() <=
+            kDetourRatio * len) {
+          adjacent[i].erase(j);
+          adjacent[j].erase(i);
+          graph_.edges.erase({i, j});
+          break;
+        }
+      }
+    }
+  }
+
+  // Cells a joining path may use: half a cell more than the robot radius, so
+  // that straight hops between neighbouring cells stay clear.
+  double Passable() const { return radius_ + kCellM; }
+
+  // Joins the parts of the graph that the reachable floor connects: a grid path
+  // from one part to the nearest node of another, shortened to straight
+  // collision-free hops whose corners become via nodes.
+  void JoinParts() {
+    const FreeSpace& free = *free_;
+    std::set<int> stuck;  // parts (by root) that reach no other part
+    for (;;) {
+      const std::vector<int> comp = graph_.Components();
+      const std::set<int> roots(comp.begin(), comp.end());
+      if (roots.size() <= 1) return;
+      bool joined = false;
+      for (int root : roots) {
+        if (stuck.contains(root)) continue;
+        std::map<std::size_t, int> node_at;
+        for (std::size_t k = 0; k < graph_.nodes.size(); ++k) {
+          std::size_t cell;
+          if (free.CellOf(graph_.At(static_cast<int>(k)), &cell)) node_at.try_emplace(cell, k);
+        }
+        std::vector<std::int64_t> parent(static_cast<std::size_t>(free.nx()) * free.ny(), -2);
+        std::deque<std::size_t> queue;
+        for (std::size_t k = 0; k < graph_.nodes.size(); ++k) {
+          std::size_t cell;
+          if (comp[k] == root && free.CellOf(graph_.At(static_cast<int>(k)), &cell) &&
+              parent[cell] == -2) {
+            parent[cell] = -1;
+            queue.push_back(cell);
+          }
+        }
+        std::int64_t target = -1;
+        while (!queue.empty() && target < 0) {
+          const std::size_t i = queue.front();
+          queue.pop_front();
+          const int x = static_cast<int>(i % free.nx()), y = static_cast<int>(i / free.nx());
+          for (int dy = -1; dy <= 1 && target < 0; ++dy) {
+            for (int dx = -1; dx <= 1 && target < 0; ++dx) {
+              const int u = x + dx, v = y + dy;
+              if ((dx == 0 && dy == 0) || u < 0 || v < 0 || u >= free.nx() || v >= free.ny()) {
+                continue;
+              }
+              const std::size_t j = free.Index(u, v);
+              if (parent[j] != -2) continue;
+              const auto hit = node_at.find(j);
+              if (hit != node_at.end() && comp[hit->second] != root) {
+                parent[j] = static_cast<std::int64_t>(i);
+                target = static_cast<std::int64_t>(j);
+                break;
+              }
+              if (!free.reachable(j) || free.clearance(j) < Passable()) continue;
+              parent[j] = static_cast<std::int64_t>(i);
+              queue.push_back(j);
+            }
+          }
+        }
+        if (target < 0 || !Bridge(comp, root, node_at, parent, target)) {
+          stuck.insert(root);
+          continue;
+        }
+        joined = true;
+        break;
+      }
+      if (!joined) return;
+    }
+  }
+
+  // Adds the hops of the grid path ending at `target` (found by JoinParts);
+  // false when its first hop is not clear.
+  bool Bridge(const std::vector<int>& comp, int root, const std::map<std::size_t, int>& node_at,
+              const std::vector<std::int64_t>& parent, std::int64_t target) {
+    const FreeSpace& free = *free_;
+    std::vector<std::size_t> cells;
+    for (std::int64_t c = target; c >= 0; c = parent[static_cast<std::size_t>(c)]) {
+      cells.push_back(static_cast<std::size_t>(c));
+    }
+    std::reverse(cells.begin(), cells.end());
+    int start = -1;
+    for (std::size_t k = 0; k < graph_.nodes.size() && start < 0; ++k) {
+      std::size_t cell;
+      if (comp[k] == root && free.CellOf(graph_.At(static_cast<int>(k)), &cell) &&
+          cell == cells.front()) {
+        start = static_cast<int>(k);
+      }
+    }
+    const int end = node_at.at(cells.back());
+    std::vector<Vec2> path = {graph_.At(start)};
+    for (std::size_t k = 1; k + 1 < cells.size(); ++k) path.push_back(free.Center(cells[k]));
+    path.push_back(graph_.At(end));
+    // Straight hops, each as long as it stays clear.
+    std::vector<std::size_t> hops = {0};
+    while (hops.back() + 1 < path.size()) {
+      std::size_t j = hops.back() + 1;
+      if (!Clear(path[hops.back()], path[j])) return false;
+      while (j + 1 < path.size() && Clear(path[hops.back()], path[j + 1])) ++j;
+      hops.push_back(j);
+    }
+    int previous = start;
+    for (std::size_t k = 1; k < hops.size(); ++k) {
+      const int node = hops[k] + 1 == path.size() ? end : AddVia(path[hops[k]]);
+      graph_.Add(previous, node);
+      previous = node;
+    }
+    return true;
+  }
+
+  const sim::WorldDescription& d_;
+  const MapDerivationOptions& options_;
+  std::vector<std::string>& warn_;
+  const double radius_;
+  const double sigma_;
+  const double recorded_sigma_;
+  const Eigen::Matrix2d point_cov_;
+  core::RandomStream noise_;
+  const core::PlanarSection beam_;
+  const core::PlanarSection low_;
+  const std::vector<core::SectionElement>& elements_;
+  MapObstacles obstacles_;  // navigation obstacles, then ghost points and the floor's edge
+
+  core::RobotMap map_;
+  std::vector<Solid> solids_;
+  std::vector<Vec2> ghosts_;
+  std::unique_ptr<FreeSpace> free_;
+  std::vector<std::pair<std::string, Vec2>> node_places_;  // places that become nodes
+  std::vector<char> element_seen_;
+  Graph graph_;
+  std::set<std::string> node_ids_;
+  int via_count_ = 0;
+};
+
+}  // namespace
+
+core::RobotMap DeriveRobotMap(const sim::World& world, const MapDerivationOptions& options,
+                              std::vector<std::string>* warnings) {
+  options.Validate();
+  std::vector<std::string> ignored;
+  return MapDeriver(world, options, warnings != nullptr ? warnings : &ignored).Derive();
+}
+
+core::RobotMap KeepLinesAlongDirection(const core::RobotMap& map, double direction_rad,
+                                       double tolerance_rad) {
+  if (!std::isfinite(direction_rad)) {
+    throw std::invalid_argument("direction_rad must be finite");
+  }
+  if (!(tolerance_rad > 0.0 && tolerance_rad <= 0.5 * std::numbers::pi)) {
+    throw std::invalid_argument("tolerance_rad must be in (0, pi/2]");
+  }
+  // Angle between the line's direction and `direction_rad`, as undirected lines: [0, pi/2].
+  const auto along = [&](const core::Line& line) {
+    const double d =
+        std::abs(core::NormalizeAngle(line.alpha_rad + 0.5 * std::numbers::pi - direction_rad));
+    return std::min(d, std::numbers::pi - d) <= tolerance_rad;
+  };
+  core::RobotMap kept = map;
+  std::erase_if(kept.lines, [&](const core::MapLine& l) { return !along(l.line); });
+  std::erase_if(kept.segments, [&](const core::MapSegment& s) { return !along(s.line); });
+  std::erase_if(kept.multi_segment_lines,
+                [&](const core::MapMultiSegmentLine& m) { return !along(m.line); });
+  kept.points.clear();
+  kept.beacons.clear();
+  char buf[160];
+  std::snprintf(buf, sizeof buf,
+                " Kept only the lines within %g deg of the direction %g deg "
+                "(--keep-direction); points and beacons dropped.",
+                tolerance_rad * 180.0 / std::numbers::pi, direction_rad * 180.0 / std::numbers::pi);
+  kept.description += buf;
+  return kept;
+}
+
+}  // namespace pavilion::scenarios

@@ -1,0 +1,221 @@
+#include "sim/render/top_down_view.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "sim/world/wall_geometry.h"
+
+namespace pavilion::sim {
+namespace {
+
+using Rgb = std::array<std::uint8_t, 3>;
+
+Rgb ToRgb(const std::array<double, 4>& rgba) {
+  auto c = [](double v) {
+    return static_cast<std::uint8_t>(std::clamp(v, 0.0, 1.0) * 255.0 + 0.5);
+  };
+  return {c(rgba[0]), c(rgba[1]), c(rgba[2])};
+}
+
+// Pixel drawing on an RgbImage with a metric world-to-pixel mapping.
+class Canvas {
+ public:
+  Canvas(core::RgbImage* image, Eigen::Vector2d origin_m, double px_per_m)
+      : image_(image), origin_m_(origin_m), scale_(px_per_m) {}
+
+  Eigen::Vector2d ToPx(const Eigen::Vector2d& p) const {
+    return {(p.x() - origin_m_.x()) * scale_, (origin_m_.y() - p.y()) * scale_};
+  }
+  double scale() const { return scale_; }
+
+  void Put(int x, int y, const Rgb& c, double alpha = 1.0) {
+    if (x < 0 || y < 0 || x >= image_->width || y >= image_->height) return;
+    std::uint8_t* p = &image_->pixels[(static_cast<std::size_t>(y) * image_->width + x) * 3];
+    for (int k = 0; k < 3; ++k) {
+      p[k] = static_cast<std::uint8_t>(std::lround(alpha * c[k] + (1.0 - alpha) * p[k]));
+    }
+  }
+
+  // Even-odd scanline fill of a polygon given in metres.
+  void FillPolygon(const std::vector<Eigen::Vector2d>& poly_m, const Rgb& c, double alpha = 1.0) {
+    std::vector<Eigen::Vector2d> p;
+    for (const auto& q : poly_m) p.push_back(ToPx(q));
+    double ymin = 1e18, ymax = -1e18;
+    for (const auto& q : p) {
+      ymin = std::min(ymin, q.y());
+      ymax = std::max(ymax, q.y());
+    }
+    const int y0 = std::max(0, static_cast<int>(std::floor(ymin)));
+    const int y1 = std::min(image_->height - 1, static_cast<int>(std::ceil(ymax)));
+    std::vector<double> xs;
+    for (int y = y0; y <= y1; ++y) {
+      const double yc = y + 0.5;
+      xs.clear();
+      for (std::size_t i = 0, n = p.size(); i < n; ++i) {
+        const auto& a = p[i];
+        const auto& b = p[(i + 1) % n];
+        if ((a.y() > yc) != (b.y() > yc))
+          xs.push_back(a.x() + (yc - a.y()) / (b.y() - a.y()) * (b.x() - a.x()));
+      }
+      std::sort(xs.begin(), xs.end());
+      for (std::size_t k = 0; k + 1 < xs.size(); k += 2) {
+        for (int x = static_cast<int>(std::ceil(xs[k] - 0.5));
+             x <= static_cast<int>(std::floor(xs[k + 1] - 0.5)); ++x) {
+          Put(x, y, c, alpha);
+        }
+      }
+    }
+  }
+
+  void FillCircle(const Eigen::Vector2d& centre_m, double radius_m, const Rgb& c,
+                  double alpha = 1.0) {
+    const Eigen::Vector2d q = ToPx(centre_m);
+    const double r = std::max(radius_m * scale_, 0.7);
+    for (int y = static_cast<int>(q.y() - r); y <= static_cast<int>(q.y() + r) + 1; ++y) {
+      for (int x = static_cast<int>(q.x() - r); x <= static_cast<int>(q.x() + r) + 1; ++x) {
+        const double dx = x + 0.5 - q.x(), dy = y + 0.5 - q.y();
+        if (dx * dx + dy * dy <= r * r) Put(x, y, c, alpha);
+      }
+    }
+  }
+
+  // A line of the given width in pixels, sampled densely.
+  void Line(const Eigen::Vector2d& a_m, const Eigen::Vector2d& b_m, const Rgb& c, double width_px,
+            double alpha = 1.0) {
+    const Eigen::Vector2d a = ToPx(a_m), b = ToPx(b_m);
+    const double len = (b - a).norm();
+    const int steps = std::max(1, static_cast<int>(std::ceil(len * 2.0)));
+    const double h = 0.5 * width_px;
+    for (int i = 0; i <= steps; ++i) {
+      const Eigen::Vector2d p = a + (b - a) * (static_cast<double>(i) / steps);
+      for (int y = static_cast<int>(std::floor(p.y() - h));
+           y <= static_cast<int>(std::floor(p.y() + h)); ++y) {
+        for (int x = static_cast<int>(std::floor(p.x() - h));
+             x <= static_cast<int>(std::floor(p.x() + h)); ++x) {
+          Put(x, y, c, alpha);
+        }
+      }
+    }
+  }
+
+  void Circle(const Eigen::Vector2d& centre_m, double radius_m, const Rgb& c, double width_px) {
+    const int n = std::max(12, static_cast<int>(radius_m * scale_ * 2.0));
+    for (int i = 0; i < n; ++i) {
+      const double t0 = 2.0 * std::numbers::pi * i / n, t1 = 2.0 * std::numbers::pi * (i + 1) / n;
+      Line(centre_m + radius_m * Eigen::Vector2d(std::cos(t0), std::sin(t0)),
+           centre_m + radius_m * Eigen::Vector2d(std::cos(t1), std::sin(t1)), c, width_px);
+    }
+  }
+
+ private:
+  core::RgbImage* image_;
+  Eigen::Vector2d origin_m_;  // world point at the image's top-left corner
+  double scale_;
+};
+
+constexpr Rgb kSectionColour{20, 20, 20};
+constexpr Rgb kTransparentColour{90, 170, 230};
+constexpr Rgb kPlaceColour{40, 150, 60};
+
+}  // namespace
+
+core::RgbImage RenderTopDown(const World& world, const std::vector<TopDownTrack>& tracks,
+                             const TopDownOptions& options) {
+  const WorldDescription& d = world.description();
+  const Eigen::Vector2d lo = d.floor.min_m.array() - options.margin_m;
+  const Eigen::Vector2d hi = d.floor.max_m.array() + options.margin_m;
+  const int width = std::clamp(options.width_px, 50, 8000);
+  const double scale = width / (hi.x() - lo.x());
+  const int height = std::max(1, static_cast<int>(std::lround((hi.y() - lo.y()) * scale)));
+  core::RgbImage image(width, height, 250, 250, 250);
+  Canvas canvas(&image, {lo.x(), hi.y()}, scale);
+
+  auto colour = [&](const std::string& material) { return ToRgb(d.MaterialNamed(material).rgba); };
+  auto alpha = [&](const std::string& material) { return d.MaterialNamed(material).rgba[3]; };
+
+  canvas.FillPolygon({d.floor.min_m,
+                      {d.floor.max_m.x(), d.floor.min_m.y()},
+                      d.floor.max_m,
+                      {d.floor.min_m.x(), d.floor.max_m.y()}},
+                     colour(d.floor.material));
+  for (const auto& [name, place] : d.places) {
+    if (options.draw_places && place.area) canvas.FillPolygon(*place.area, kPlaceColour, 0.15);
+  }
+  for (const Wall& w : d.walls) {
+    for (const Quad& q : WallFootprint(w))
+      canvas.FillPolygon({q.begin(), q.end()}, colour(w.material), alpha(w.material));
+  }
+  for (const Box& b : d.boxes) {
+    const Quad q = BoxFootprint(b);
+    canvas.FillPolygon({q.begin(), q.end()}, colour(b.material), alpha(b.material));
+  }
+  for (const Door& door : d.doors) {
+    const Quad q = BoxFootprint(door.AsBox());
+    canvas.FillPolygon({q.begin(), q.end()}, colour(door.material), alpha(door.material));
+  }
+  for (const Cylinder& c : d.cylinders) {
+    canvas.FillCircle(c.position_m, c.radius_m, colour(c.material), alpha(c.material));
+  }
+
+  // The cut at beam height: what a laser there can meet.
+  const core::PlanarSection section = world.SectionAt(options.section_height_m);
+  for (const auto& s : section.segments) {
+    const bool glass = section.elements[s.element].laser == core::LaserResponse::kTransparent;
+    if (section.elements[s.element].dynamic) continue;
+    canvas.Line(s.a_m, s.b_m, glass ? kTransparentColour : kSectionColour, 1.5);
+  }
+  for (const auto& c : section.circles) {
+    if (section.elements[c.element].dynamic) continue;
+    canvas.Circle(c.center_m, c.radius_m, kSectionColour, 1.5);
+  }
+
+  for (const auto& track : tracks) {
+    for (std::size_t i = 1; i < track.points_m.size(); ++i) {
+      canvas.Line(track.points_m[i - 1], track.points_m[i], track.rgb, track.width_px, track.alpha);
+    }
+  }
+  for (int b = 0; b < world.body_count(); ++b) {
+    const BodySpec& spec = world.body_spec(b);
+    const BodyState state = world.body_state(b);
+    const Rgb c = colour(spec.material);
+    if (spec.shape.type == BodyShapeType::kBox) {
+      Box box;
+      box.pose = state.pose;
+      box.size_m = spec.shape.box_size_m;
+      const Quad q = BoxFootprint(box);
+      canvas.FillPolygon({q.begin(), q.end()}, c);
+    } else {
+      canvas.FillCircle(state.pose.translation(), spec.shape.radius_m, c);
+    }
+    const double r = spec.shape.type == BodyShapeType::kBox ? 0.5 * spec.shape.box_size_m.x()
+                                                            : spec.shape.radius_m;
+    const Eigen::Vector2d heading(std::cos(state.pose.theta_rad), std::sin(state.pose.theta_rad));
+    canvas.Line(state.pose.translation(), state.pose.translation() + r * heading, {0, 0, 0}, 1.0);
+  }
+  for (int r = 0; r < world.robot_count(); ++r) {
+    const RobotSpec& spec = world.robot_spec(r);
+    const RobotState state = world.robot_state(r);
+    std::vector<Eigen::Vector2d> outline;
+    for (const Eigen::Vector2d& p : spec.model.footprint_m) outline.push_back(state.pose * p);
+    canvas.FillPolygon(outline, colour(spec.model.material));
+    for (const RobotAttachment& a : spec.attachments) {
+      canvas.FillCircle(state.pose * a.position_m, a.radius_m, colour(a.material));
+    }
+    double reach = 0.0;
+    for (const Eigen::Vector2d& p : spec.model.footprint_m) reach = std::max(reach, p.x());
+    const Eigen::Vector2d heading(std::cos(state.pose.theta_rad), std::sin(state.pose.theta_rad));
+    canvas.Line(state.pose.translation(), state.pose.translation() + reach * heading, {0, 0, 0},
+                1.5);
+  }
+  for (const auto& [name, place] : d.places) {
+    if (!options.draw_places || !place.pose) continue;
+    const Eigen::Vector2d p = place.pose->translation();
+    canvas.FillCircle(p, 3.0 / scale, kPlaceColour);
+    const Eigen::Vector2d dir(std::cos(place.pose->theta_rad), std::sin(place.pose->theta_rad));
+    canvas.Line(p, p + (10.0 / scale) * dir, kPlaceColour, 1.0);
+  }
+  return image;
+}
+
+}  // namespace pavilion::sim

@@ -1,0 +1,61 @@
+#pragma once
+
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "core/types/pose2.h"
+#include "sim/robot/robot_description.h"
+#include "sim/sensors/laser_scanner.h"
+#include "sim/sensors/robot_sensors.h"
+
+namespace pavilion::sim {
+
+// A laser scanner on a robot: its options and the pose of its (level) mount link.
+struct LaserMount {
+  std::string id;    // unique on the robot, names the sensor stream
+  std::string link;  // URDF link
+  LaserScannerOptions options;
+  core::Pose2 robot_from_sensor;  // planar pose in the base frame
+  double z_m = 0.0;               // height of the scan plane above the floor
+};
+
+// A camera on a robot; it looks along its link's +x axis (y left, z up in the image).
+struct CameraMount {
+  std::string id;
+  std::string link;
+  MountSpec mount;                         // the link's pose in the base frame
+  int width_px = 640;                      // >= 1
+  int height_px = 480;                     // >= 1
+  double hfov_rad = std::numbers::pi / 3;  // horizontal field of view, (0, π)
+  double rate_hz = 10.0;                   // images per second, > 0
+  bool grayscale = false;
+};
+
+// The odometry parameters the localization uses: the result of calibrating the
+// robot (the calibration scenario estimates them from the simulated robot).
+struct OdometryCalibration {
+  double left_wheel_radius_m = 0.1;   // > 0
+  double right_wheel_radius_m = 0.1;  // > 0
+  double wheelbase_m = 0.4;           // > 0
+  double k_left_m = 5e-6;   // §2.3 wheel-space noise per metre of travel, >= 0 (thesis: 5e-6 m)
+  double k_right_m = 5e-6;  // >= 0
+  double k_turn_m = 0.0;    // turn slip (core::WheelNoise), >= 0
+
+  void Validate() const;  // throws std::invalid_argument naming the field
+};
+
+// Everything a robot file (robots/<name>/robot.yaml) defines: the physical
+// model (from its URDF), sensors and the calibrated odometry.
+struct RobotConfig {
+  std::string source_file;  // the robot.yaml
+  RobotDescription description;
+  EncoderOptions encoders;
+  SystematicErrors systematic;  // how the simulated physical robot differs from the URDF
+  OdometryCalibration odometry;
+  std::vector<LaserMount> lasers;
+  std::vector<BumperZone> bumpers;  // at most 32 (BumperReading's bit mask)
+  std::vector<CameraMount> cameras;
+};
+
+}  // namespace pavilion::sim

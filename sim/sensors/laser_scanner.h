@@ -1,0 +1,204 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/geometry/planar_section.h"
+#include "core/random/random_stream.h"
+#include "core/types/pose2.h"
+#include "core/types/sensor_data.h"
+#include "sim/raycast/laser_hit_finder.h"
+#include "sim/world/world.h"
+
+namespace pavilion::sim {
+
+// SICK LMS 200 at 0.5° (thesis §2.2.2): the mirror turns at 75 Hz (datasheet; the
+// thesis quotes 50 Hz) and a 0.5° scan interlaces two turns at 1° each. The last
+// reading (179.5°, second turn) comes 1 + 179.5/360 turns after the first.
+inline constexpr double kLms200MirrorRateHz = 75.0;
+inline constexpr double kLms200SweepS = (1.0 + 179.5 / 360.0) / kLms200MirrorRateHz;  // ≈ 19.98 ms
+
+// Parameters of a simulated 2D laser scanner. Defaults are the SICK LMS 200 as
+// the thesis configured it (§2.2.2: 180°, 0.5°, 8 m, σ_ρ = 1 cm, 1 mm resolution).
+struct LaserScannerOptions {
+  std::string profile = "sick_lms200";             // sick_lms200 | acuity_accurange | custom
+  double fov_rad = 3.14159265358979323846;         // angular range covered, (0, 2π]
+  int beams = 361;                                 // readings per scan, [2, 100000]
+  double first_bearing_rad = -1.5707963267948966;  // bearing of the first reading, finite
+  double max_range_m = 8.0;                        // readings beyond are "no return", > 0
+  double scan_rate_hz = 10.0;                      // scans delivered per second, > 0
+  double sweep_s = kLms200SweepS;  // first to last reading in time, [0, 1/scan_rate_hz]
+  int interlaced_turns = 2;        // mirror turns a sweep spreads its readings over, [1, beams-1]
+  double timestamp_bias_s = 0.0;   // constant error added to the stamp (§2.2.1.5), finite
+  double range_sigma_m = 0.01;     // range noise σ on normal surfaces, >= 0
+  double range_resolution_m = 0.001;  // quantization of reported ranges, >= 0 (0: none)
+
+  // Acuity AccuRange amplitude model (§2.2.1.3): amplitude ∝ reflectivity·cos(incidence)/r²
+  // (RelativeAmplitude below), σ = range_sigma_m above min_amplitude, low_amplitude_sigma_m below.
+  bool amplitude_model = false;
+  double min_amplitude = 0.05;         // relative amplitude threshold s_min, [0, 1]
+  double low_amplitude_sigma_m = 0.1;  // σ of readings below s_min, >= 0
+  double outlier_probability = 0.0;    // chance of a uniform random range, [0, 1]
+
+  // Surface effects (thesis §2.2.1.6).
+  double dark_dropout_probability = 0.3;    // `dark` surfaces: chance of no return, [0, 1]
+  double dark_sigma_factor = 5.0;           // ... and range σ multiplied by this, >= 1
+  double specular_max_incidence_rad = 1.0;  // `specular`: no return beyond this incidence, [0, π/2]
+  double beam_divergence_rad = 0.0087;      // full footprint width for mixed pixels, [0, 0.1]
+  double mixed_pixel_min_gap_m = 0.05;      // depth jump that can produce a mixed pixel, > 0
+
+  // noise=false: no range noise, outliers or dark dropouts. effects=false: every
+  // surface answers as `normal` (no dark/specular behaviour, no mixed pixels);
+  // the reflector flag is still reported. Both off: the geometric range, quantized.
+  bool noise = true;
+  bool effects = true;
+
+  // Throws std::invalid_argument naming the field.
+  void Validate() const;
+  // Named profiles: "sick_lms200", "acuity_accurange", and "custom" (the
+  // defaults, to be edited). Throws std::invalid_argument for other names.
+  static LaserScannerOptions Profile(const std::string& name);
+};
+
+// Amplitude model (§2.2.1.3). The relative amplitude of a return is
+// reflectivity·cos(incidence)/(r/kAmplitudeReferenceRangeM)²: 1 for the white
+// reference target met head-on at the reference range.
+inline constexpr double kAmplitudeReferenceRangeM = 2.0;
+// Reflectivity of a laser response relative to the white reference: normal 1,
+// retro-reflective 10, dark 0.05, specular 1 (within its incidence limit),
+// transparent 0.
+double LaserReflectivity(core::LaserResponse response);
+double RelativeAmplitude(double reflectivity, double range_m, double cos_incidence);
+
+// A laser scanner mounted on a robot, casting rays in its horizontal beam plane
+// through a LaserHitFinder (Bullet or the planar caster) and applying its error
+// models to the hits.
+// A sweep spans several physics ticks: the runner calls Cast() every tick
+// with the robot pose at the start and end of the tick, and each reading is
+// cast in the tick its time falls in, from the pose interpolated to its time
+// (so a moving robot gets the distorted scans of §2.2.1.4).
+//
+// Reading i has bearing first_bearing_rad + i·Δ (Δ = fov/(beams-1), or
+// fov/beams for a full turn). With k interlaced turns of period T, reading i is
+// taken in turn i mod k when the mirror passes its bearing: at
+// T·((i mod k) + i·Δ/2π) after the first, T chosen so that the last is sweep_s
+// after the first. For k = 1 that is i·sweep_s/(beams-1).
+//
+// Mixed pixels (§2.2.1.6 "A"): the beam has an angular footprint of width
+// beam_divergence_rad with uniform intensity. Where a depth edge lies inside it,
+// the reading is the amplitude-weighted mean of the ranges of the surfaces it
+// covers (phase/frequency-to-range sensors average the returned signals). Edges
+// are looked for only where needed: the readings taken one after the other in
+// a mirror turn are compared, and only across a depth discontinuity are edge
+// rays cast (at ±divergence/2) and the edge located by bisection. Readings at
+// the ends of a turn always check their outer side; when the footprint is wider
+// than the spacing of a turn, every reading checks both sides. (A gap narrower
+// than that spacing, with one surface on both sides, can go unnoticed.)
+class LaserScanner {
+ public:
+  // `stream` draws every random number of this sensor. Throws
+  // std::invalid_argument for invalid options.
+  LaserScanner(std::string id, LaserScannerOptions options, core::Pose2 robot_from_sensor,
+               double mount_height_m, core::RandomStream stream);
+
+  const std::string& id() const { return id_; }
+  // Rays this scanner has cast (central and edge rays), by either hit finder.
+  std::int64_t rays_cast() const { return rays_cast_; }
+  const LaserScannerOptions& options() const { return options_; }
+  // Bearing and time after the sweep start of reading i.
+  double bearing_rad(int i) const { return bearings_rad_[i]; }
+  double time_offset_s(int i) const { return offsets_s_[i]; }
+
+  // Starts a new sweep whose first reading is taken at `start_s`; the scan's
+  // stamp is start_s + timestamp_bias_s.
+  void BeginSweep(double start_s);
+  // Casts the readings whose times lie in [t0_s, t1_s), the robot moving
+  // linearly from world_from_robot_t0 to world_from_robot_t1 (readings due
+  // before t0_s are cast from world_from_robot_t0). Rays ignore the elements of
+  // `ignore_group` (the robot's own body). Does nothing without a sweep.
+  // `finder` gives the geometric hits (Bullet or the planar caster); the
+  // World overload casts with Bullet.
+  void Cast(const LaserHitFinder& finder, double t0_s, const core::Pose2& world_from_robot_t0,
+            double t1_s, const core::Pose2& world_from_robot_t1, int ignore_group);
+  void Cast(const World& world, double t0_s, const core::Pose2& world_from_robot_t0, double t1_s,
+            const core::Pose2& world_from_robot_t1, int ignore_group);
+  // True when every reading of the current sweep has been cast.
+  bool SweepComplete() const;
+  // The finished scan and its ground truth; valid after SweepComplete().
+  const core::LaserScan& scan() const { return scan_; }
+  const core::LaserScanTruth& truth() const { return truth_; }
+
+  // Casts a whole scan at once from a fixed robot pose (the `pavilion scan`
+  // command); `start_s` is the time of the first reading, as for BeginSweep.
+  // Leaves a sweep in progress untouched (though it draws from the same stream);
+  // `truth` may be null.
+  core::LaserScan ScanFrom(const LaserHitFinder& finder, const core::Pose2& world_from_robot,
+                           double start_s, int ignore_group, core::LaserScanTruth* truth);
+  core::LaserScan ScanFrom(const World& world, const core::Pose2& world_from_robot, double start_s,
+                           int ignore_group, core::LaserScanTruth* truth);
+
+  double mount_height_m() const { return mount_height_m_; }
+  const core::Pose2& robot_from_sensor() const { return robot_from_sensor_; }
+
+ private:
+  // What one ray met.
+  struct RaySample {
+    bool hit = false;
+    double range_m = 0.0;
+    Eigen::Vector3d point_m{0, 0, 0};
+    Eigen::Vector3d normal{0, 0, 0};  // unit, facing the ray
+    double cos_incidence = 1.0;
+    int element = -1;
+    core::LaserResponse response = core::LaserResponse::kNormal;
+  };
+  // The rays of one reading: the central ray, and per side (0: clockwise,
+  // 1: counter-clockwise) the fraction of the footprint beyond a depth edge
+  // and the surface seen there.
+  struct ReadingGeometry {
+    RaySample centre;
+    std::array<double, 2> edge_fraction{0.0, 0.0};
+    std::array<RaySample, 2> edge;
+  };
+  struct Sweep {
+    double start_s = 0.0;
+    int next = 0;  // position in order_ of the next reading to cast
+    std::vector<ReadingGeometry> geometry;
+    core::LaserScanTruth truth;
+  };
+
+  Sweep NewSweep(double start_s) const;
+  // Sets `sweep` up for a new sweep starting at start_s, keeping its buffers.
+  void ResetSweep(double start_s, Sweep* sweep) const;
+  RaySample CastBeam(const LaserHitFinder& finder, const core::Pose2& world_from_sensor,
+                     double bearing_rad, int ignore_group) const;
+  Eigen::Vector3d RayOrigin(const core::Pose2& world_from_sensor) const;
+  bool Explains(const RaySample& surface, const core::Pose2& world_from_sensor, double bearing_rad,
+                const RaySample& sample) const;
+  void CastReading(const LaserHitFinder& finder, int i, const core::Pose2& world_from_robot,
+                   int ignore_group, Sweep* sweep) const;
+  void CheckEdge(const LaserHitFinder& finder, int i, int side, int ignore_group,
+                 Sweep* sweep) const;
+  double Amplitude(const RaySample& sample) const;
+  core::LaserScan Finalize(const Sweep& sweep);
+
+  std::string id_;
+  LaserScannerOptions options_;
+  core::Pose2 robot_from_sensor_;
+  double mount_height_m_;
+  core::RandomStream stream_;
+  std::vector<double> bearings_rad_;
+  std::vector<double> offsets_s_;
+  std::vector<int> order_;  // reading indices in the order they are taken
+  bool check_edges_ = false;
+  bool check_every_edge_ = false;
+  bool in_sweep_ = false;
+  Sweep sweep_;
+  core::LaserScan scan_;
+  core::LaserScanTruth truth_;
+  mutable std::int64_t rays_cast_ = 0;  // counted in CastBeam (const: a geometric query)
+};
+
+}  // namespace pavilion::sim

@@ -1,0 +1,84 @@
+#include "sim/sensors/robot_sensors.h"
+
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+namespace pavilion::sim {
+
+void EncoderOptions::Validate() const {
+  if (ticks_per_revolution < 1) throw std::invalid_argument("ticks_per_revolution must be >= 1");
+  if (!(rate_hz > 0.0) || !std::isfinite(rate_hz))
+    throw std::invalid_argument("rate_hz must be > 0");
+  if (!(k_left_m >= 0.0) || !std::isfinite(k_left_m))
+    throw std::invalid_argument("k_left_m must be >= 0");
+  if (!(k_right_m >= 0.0) || !std::isfinite(k_right_m))
+    throw std::invalid_argument("k_right_m must be >= 0");
+}
+
+void SystematicErrors::Validate() const {
+  if (!(wheel_radius_ratio > 0.5 && wheel_radius_ratio < 2.0)) {
+    throw std::invalid_argument("wheel_radius_ratio must be in (0.5, 2)");
+  }
+  if (!(wheelbase_factor > 0.5 && wheelbase_factor < 2.0)) {
+    throw std::invalid_argument("wheelbase_factor must be in (0.5, 2)");
+  }
+}
+
+WheelEncoders::WheelEncoders(EncoderOptions options, double left_radius_m, double right_radius_m,
+                             core::RandomStream stream)
+    : options_(options), radius_m_{left_radius_m, right_radius_m}, stream_(stream) {
+  options_.Validate();
+  if (!(left_radius_m > 0.0 && right_radius_m > 0.0)) {
+    throw std::invalid_argument("encoder wheel radii must be > 0");
+  }
+}
+
+core::EncoderReading WheelEncoders::Read(double stamp_s, double left_wheel_rad,
+                                         double right_wheel_rad) {
+  const double true_rad[2] = {left_wheel_rad, right_wheel_rad};
+  const double k_m[2] = {options_.k_left_m, options_.k_right_m};
+  if (!started_) {
+    // Counters start at zero wherever the wheels are.
+    for (int side = 0; side < 2; ++side) last_true_rad_[side] = true_rad[side];
+    started_ = true;
+  }
+  core::EncoderReading reading;
+  reading.stamp_s = stamp_s;
+  reading.ticks_per_revolution = options_.ticks_per_revolution;
+  std::int64_t ticks[2];
+  for (int side = 0; side < 2; ++side) {
+    double delta = true_rad[side] - last_true_rad_[side];
+    last_true_rad_[side] = true_rad[side];
+    if (options_.noise && k_m[side] > 0.0) {
+      // Cov(u) = diag(k_R|s_r|, k_L|s_l|), eq. 2.9: σ² grows with the travel.
+      const double travel_m = std::abs(delta) * radius_m_[side];
+      delta += stream_.Normal(0.0, std::sqrt(k_m[side] * travel_m)) / radius_m_[side];
+    }
+    measured_rad_[side] += delta;
+    ticks[side] = static_cast<std::int64_t>(
+        std::floor(measured_rad_[side] / (2.0 * std::numbers::pi) * options_.ticks_per_revolution));
+  }
+  reading.left_ticks = ticks[0];
+  reading.right_ticks = ticks[1];
+  return reading;
+}
+
+std::uint32_t PressedBumperZones(const std::vector<BumperZone>& zones,
+                                 const std::vector<Eigen::Vector2d>& contact_points_m) {
+  std::uint32_t pressed = 0;
+  for (const Eigen::Vector2d& p : contact_points_m) {
+    const double bearing = std::atan2(p.y(), p.x());
+    for (std::size_t i = 0; i < zones.size() && i < 32; ++i) {
+      // Zones run counter-clockwise from `from` to `to` and may cross ±π.
+      const double span = std::remainder(zones[i].to_rad - zones[i].from_rad, 2 * std::numbers::pi);
+      const double width = span <= 0.0 ? span + 2 * std::numbers::pi : span;
+      double offset = std::remainder(bearing - zones[i].from_rad, 2 * std::numbers::pi);
+      if (offset < 0.0) offset += 2 * std::numbers::pi;
+      if (offset <= width) pressed |= 1u << i;
+    }
+  }
+  return pressed;
+}
+
+}  // namespace pavilion::sim

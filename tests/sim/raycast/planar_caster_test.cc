@@ -1,0 +1,257 @@
+// The planar laser caster's corner cases against hand-computed geometry:
+// ranges, normals and elements of segments and circles, parallel rays, rays
+// starting on or inside a circle, the casting robot's ignored group,
+// transparent elements, doors re-sliced when they move, tilted bodies, and
+// agreement of whole scans with the Bullet hit finder.
+#include "sim/raycast/planar_caster.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "sim/sensors/laser_scanner.h"
+
+namespace pavilion::sim {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kBeamM = 0.3;
+constexpr double kExactM = 1e-12;  // double-precision arithmetic on metre-sized inputs
+
+Material MaterialWith(core::LaserResponse response) {
+  Material m;
+  m.laser = response;
+  return m;
+}
+
+// A 6 m × 4 m room (inner faces x = 0.05 and 5.95, y = 0.05 and 3.95), a
+// column at (4, 2) r 0.3, a glass pane at x = 2, and a door in the top wall.
+WorldDescription Room() {
+  WorldDescription w;
+  w.name = "room";
+  w.materials["paint"] = MaterialWith(core::LaserResponse::kNormal);
+  w.materials["glass"] = MaterialWith(core::LaserResponse::kTransparent);
+  w.floor = {{-1, -1}, {7, 5}, "paint"};
+  Wall room;
+  room.id = "room";
+  room.points_m = {{0, 0}, {6, 0}, {6, 4}, {0, 4}};
+  room.closed = true;
+  room.thickness_m = 0.1;
+  room.height_m = 2.0;
+  room.material = "paint";
+  w.walls.push_back(room);
+  Box pane;
+  pane.id = "pane";
+  pane.pose = {2.0, 1.0, 0.0};
+  pane.size_m = {0.02, 1.0, 1.5};
+  pane.material = "glass";
+  w.boxes.push_back(pane);
+  Cylinder column;
+  column.id = "column";
+  column.position_m = {4.0, 2.0};
+  column.radius_m = 0.3;
+  column.height_m = 2.0;
+  column.material = "paint";
+  w.cylinders.push_back(column);
+  Door door;
+  door.id = "door";
+  door.hinge_m = {1.0, 3.5};
+  door.closed_yaw_rad = 0.0;
+  door.open_yaw_rad = kPi / 2;
+  door.width_m = 0.8;
+  door.thickness_m = 0.04;
+  door.material = "paint";
+  w.doors.push_back(door);
+  return w;
+}
+
+int ElementIndex(const World& world, const std::string& id) {
+  const auto& elements = world.elements();
+  for (std::size_t i = 0; i < elements.size(); ++i) {
+    if (elements[i].id == id) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+Eigen::Vector2d Dir(double angle_rad) { return {std::cos(angle_rad), std::sin(angle_rad)}; }
+
+// A ray straight at a wall face meets it at the analytic range with the face's normal.
+TEST(PlanarCasterTest, HitsWallFaceAtAnalyticRangeAndNormal) {
+  World world(Room(), {});
+  PlanarCaster caster(&world, {});
+  const PlanarSlice& slice = caster.SliceAt(kBeamM);
+  const RayHit hit = slice.Cast({1.0, 0.5, kBeamM}, Dir(-kPi / 2), 8.0, -1);
+  ASSERT_TRUE(hit.hit);
+  EXPECT_NEAR(hit.distance_m, 0.45, kExactM);
+  EXPECT_EQ(hit.element, ElementIndex(world, "room"));
+  EXPECT_NEAR(hit.normal.y(), 1.0, kExactM);
+  EXPECT_NEAR(hit.point_m.z(), kBeamM, 0.0);
+  // An oblique ray: range 0.45 / sin(30°).
+  const RayHit oblique = slice.Cast({1.0, 0.5, kBeamM}, Dir(-kPi / 6), 8.0, -1);
+  ASSERT_TRUE(oblique.hit);
+  EXPECT_NEAR(oblique.distance_m, 0.9, kExactM);
+}
+
+// A ray parallel to a face, along it, does not hit that face; it meets the
+// wall that closes the room.
+TEST(PlanarCasterTest, RayAlongAFaceHitsTheWallAhead) {
+  World world(Room(), {});
+  PlanarCaster caster(&world, {});
+  const PlanarSlice& slice = caster.SliceAt(kBeamM);
+  // 0.05 is the bottom wall's inner face.
+  const RayHit along = slice.Cast({1.0, 0.05, kBeamM}, Dir(0.0), 8.0, -1);
+  ASSERT_TRUE(along.hit);
+  EXPECT_NEAR(along.distance_m, 4.95, kExactM);
+  EXPECT_NEAR(along.normal.x(), -1.0, kExactM);
+}
+
+// Circles: a head-on hit at centre distance minus radius, a tangent miss, no
+// hit from inside or from the circle's boundary outwards.
+TEST(PlanarCasterTest, CircleHitsMissesAndRaysFromInside) {
+  World world(Room(), {});
+  PlanarCaster caster(&world, {});
+  const PlanarSlice& slice = caster.SliceAt(kBeamM);
+  const int column = ElementIndex(world, "column");
+  const RayHit head_on = slice.Cast({2.5, 2.0, kBeamM}, Dir(0.0), 8.0, -1);
+  ASSERT_TRUE(head_on.hit);
+  EXPECT_EQ(head_on.element, column);
+  EXPECT_NEAR(head_on.distance_m, 1.2, kExactM);
+  EXPECT_NEAR(head_on.normal.x(), -1.0, kExactM);
+  // Off the centre by 0.2: range 1.5 − √(0.09 − 0.04).
+  const RayHit off = slice.Cast({2.5, 2.2, kBeamM}, Dir(0.0), 8.0, -1);
+  ASSERT_TRUE(off.hit);
+  EXPECT_NEAR(off.distance_m, 1.5 - std::sqrt(0.05), kExactM);
+  // Just past the tangent: the wall behind.
+  const RayHit past = slice.Cast({2.5, 2.3 + 1e-9, kBeamM}, Dir(0.0), 8.0, -1);
+  ASSERT_TRUE(past.hit);
+  EXPECT_EQ(past.element, ElementIndex(world, "room"));
+  // From inside the column, and from its boundary outwards: not the column.
+  for (const double x : {4.0, 4.3}) {
+    const Eigen::Vector3d from(x, 2.0, kBeamM);
+    const RayHit inside = slice.Cast(from, Dir(0.0), 8.0, -1);
+    ASSERT_TRUE(inside.hit);
+    EXPECT_EQ(inside.element, ElementIndex(world, "room"));
+    EXPECT_NEAR(inside.distance_m, 5.95 - from.x(), kExactM);
+  }
+  // Short of the column: no hit within the range.
+  EXPECT_FALSE(slice.Cast({2.5, 2.0, kBeamM}, Dir(0.0), 1.1, -1).hit);
+}
+
+// Transparent elements are not seen (the glass pane at x = 2).
+TEST(PlanarCasterTest, TransparentElementsAreSkipped) {
+  World world(Room(), {});
+  PlanarCaster caster(&world, {});
+  const PlanarSlice& slice = caster.SliceAt(kBeamM);
+  const RayHit hit = slice.Cast({1.0, 1.0, kBeamM}, Dir(0.0), 8.0, -1);
+  ASSERT_TRUE(hit.hit);
+  EXPECT_EQ(hit.element, ElementIndex(world, "room"));
+  EXPECT_NEAR(hit.distance_m, 4.95, kExactM);
+}
+
+// A door is re-sliced when it swings: closed it blocks the ray, open it does not.
+TEST(PlanarCasterTest, DoorIsResliceWhenItMoves) {
+  World world(Room(), {});
+  PlanarCaster caster(&world, {});
+  // The closed door panel spans x in [1, 1.8] around y = 3.5.
+  const Eigen::Vector3d from(1.4, 2.5, kBeamM);
+  const RayHit closed = caster.SliceAt(kBeamM).Cast(from, Dir(kPi / 2), 8.0, -1);
+  ASSERT_TRUE(closed.hit);
+  EXPECT_EQ(closed.element, ElementIndex(world, "door"));
+  world.SetDoorOpen("door", true);
+  caster.Update();
+  const RayHit open = caster.SliceAt(kBeamM).Cast(from, Dir(kPi / 2), 8.0, -1);
+  ASSERT_TRUE(open.hit);
+  EXPECT_EQ(open.element, ElementIndex(world, "room"));
+  EXPECT_NEAR(open.distance_m, 3.95 - 2.5, kExactM);
+}
+
+RobotSpec Robot(const std::string& id, const core::Pose2& pose) {
+  RobotSpec spec;
+  spec.id = id;
+  RobotDescription& m = spec.model;
+  m.material = "paint";
+  m.footprint_m = {{-0.2, -0.2}, {0.2, -0.2}, {0.2, 0.2}, {-0.2, 0.2}};
+  m.chassis_height_m = 0.5;
+  m.chassis_base_z_m = 0.05;
+  m.chassis_mass_kg = 20.0;
+  m.left_wheel = {"left", 0.05, 0.03, 0.5, {0.0, 0.15}};
+  m.right_wheel = {"right", 0.05, 0.03, 0.5, {0.0, -0.15}};
+  m.casters = {{"front", {0.15, 0.0}, 0.02}};
+  spec.pose = pose;
+  return spec;
+}
+
+// The casting robot's own parts are ignored; another robot's are not.
+TEST(PlanarCasterTest, IgnoresTheCastingRobotsGroup) {
+  World world(Room(), {});
+  const int a = world.AddRobot(Robot("a", {1.0, 1.0, 0.0}));
+  world.AddRobot(Robot("b", {3.0, 1.0, 0.0}));
+  PlanarCaster caster(&world, {});
+  const PlanarSlice& slice = caster.SliceAt(kBeamM);
+  const Eigen::Vector3d from(1.0, 1.0, kBeamM);  // inside robot a
+  const RayHit own_ignored = slice.Cast(from, Dir(0.0), 8.0, world.robot_group(a));
+  ASSERT_TRUE(own_ignored.hit);
+  EXPECT_EQ(own_ignored.element, ElementIndex(world, "b"));
+  EXPECT_NEAR(own_ignored.distance_m, 1.8, 1e-9);
+  // Cast backwards from outside robot a towards it, without ignoring: it is hit.
+  const RayHit other = slice.Cast({1.5, 1.0, kBeamM}, Dir(kPi), 8.0, -1);
+  ASSERT_TRUE(other.hit);
+  EXPECT_EQ(other.element, ElementIndex(world, "a"));
+  EXPECT_NEAR(other.distance_m, 0.3, 1e-9);
+}
+
+// A box body is cut over [bottom, top) of its faces, as the static section
+// cuts boxes: just below its top four segments, at the top nothing, and
+// nothing is left uncut. (Tilted chassis cut through their sides are checked
+// against Bullet in planar_caster_conformance_test: the robots settle tilted.)
+TEST(PlanarCasterTest, BoxBodyIsCutUpToItsTopFace) {
+  World world(Room(), {});
+  BodySpec crate;
+  crate.id = "crate";
+  crate.shape.type = BodyShapeType::kBox;
+  crate.shape.box_size_m = {0.4, 0.4, 0.4};
+  crate.pose = {3.0, 1.0, 0.0};
+  crate.material = "paint";
+  crate.upright = false;
+  world.AddBody(crate);
+  PlanarCaster caster(&world, {});
+  EXPECT_TRUE(caster.SliceAt(kBeamM).Covers({3.0, 1.0}, 8.0, -1));
+  for (const auto& [height, segments] : {std::pair{0.4 - 1e-12, 4u}, std::pair{0.4, 0u}}) {
+    std::vector<UncutElement> uncut;
+    core::PlanarSection section;
+    world.AppendDynamicSection(height, 0.01, &section, &uncut);
+    EXPECT_TRUE(uncut.empty());
+    EXPECT_EQ(section.segments.size(), segments) << height;
+  }
+  const RayHit hit = caster.SliceAt(kBeamM).Cast({1.0, 1.0, kBeamM}, Dir(0.0), 8.0, -1);
+  ASSERT_TRUE(hit.hit);
+  EXPECT_EQ(hit.element, ElementIndex(world, "crate"));
+  EXPECT_NEAR(hit.distance_m, 1.8, kExactM);
+}
+
+// Whole scans with every error model give the same readings through either
+// hit finder (same draws from the same stream), for a scanner in the room.
+TEST(PlanarCasterTest, ScansMatchTheBulletHitFinder) {
+  World world(Room(), {});
+  world.AddRobot(Robot("b", {3.0, 1.0, 0.4}));
+  for (int i = 0; i < 10; ++i) world.Step();  // Bullet's broadphase learns the robot's bounds
+  PlanarCaster caster(&world, {});
+  LaserScannerOptions options = LaserScannerOptions::Profile("sick_lms200");
+  const core::Pose2 pose{1.0, 2.0, 0.3};
+  LaserScanner a("l", options, {}, kBeamM, core::RandomStream(5, 6));
+  LaserScanner b = a;
+  core::LaserScanTruth ta, tb;
+  const core::LaserScan sa = a.ScanFrom(caster.SliceAt(kBeamM), pose, 0.0, -1, &ta);
+  const core::LaserScan sb = b.ScanFrom(WorldHitFinder(world), pose, 0.0, -1, &tb);
+  ASSERT_EQ(sa.readings.size(), sb.readings.size());
+  for (std::size_t i = 0; i < sa.readings.size(); ++i) {
+    EXPECT_EQ(ta.element[i], tb.element[i]) << i;
+    EXPECT_NEAR(ta.true_range_m[i], tb.true_range_m[i], 1e-9) << i;
+    EXPECT_EQ(sa.readings[i].valid, sb.readings[i].valid) << i;
+    EXPECT_NEAR(sa.readings[i].range_m, sb.readings[i].range_m, 1.0001e-3) << i;
+  }
+}
+
+}  // namespace
+}  // namespace pavilion::sim
