@@ -39,4 +39,12 @@ WheelTravel WheelTravelFromEncoders(const EncoderReading& previous, const Encode
               options.right_wheel_radius_m};
 }
 
+void DeadReckoning::Update(const EncoderReading& reading) {
+  if (last_) {
+    pose_ = DiffDriveStep(pose_, WheelTravelFromEncoders(*last_, reading, options_),
+                          options_.wheelbase_m);
+  }
+  last_ = reading;
+}
+
 }  // namespace pavilion::core

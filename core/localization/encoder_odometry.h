@@ -3,6 +3,8 @@
 // Wheel travels from encoder counts with the robot's calibrated odometry
 // parameters (thesis §2.3): the input u = [s_r, s_l] of eqs. 2.5-2.13.
 
+#include <optional>
+
 #include "core/odometry/diff_drive.h"
 #include "core/types/sensor_data.h"
 
@@ -29,5 +31,21 @@ struct EncoderOdometryOptions {
 // a reading's ticks_per_revolution is not positive or the two differ.
 WheelTravel WheelTravelFromEncoders(const EncoderReading& previous, const EncoderReading& current,
                                     const EncoderOdometryOptions& options);
+
+// Dead reckoning from cumulative encoder readings with the calibrated odometry
+// model (eqs. 2.5-2.8): what a robot believes without any other sensor. The
+// first reading only sets the reference counts.
+class DeadReckoning {
+ public:
+  DeadReckoning(const EncoderOdometryOptions& options, const Pose2& start)
+      : options_(options), pose_(start) {}
+  void Update(const EncoderReading& reading);
+  const Pose2& pose() const { return pose_; }
+
+ private:
+  EncoderOdometryOptions options_;
+  Pose2 pose_;
+  std::optional<EncoderReading> last_;
+};
 
 }  // namespace pavilion::core

@@ -5,8 +5,10 @@
 #include <string>
 #include <vector>
 
+#include "nav/control/drive_profile.h"
 #include "nav/control/path_follower.h"
 #include "nav/control/wander_controller.h"
+#include "scenarios/events/event.h"
 #include "sim/bodies/body_motion.h"
 #include "sim/raycast/planar_caster.h"
 #include "sim/robot/robot_config.h"
@@ -33,11 +35,7 @@ struct BodyEntry {
 
 // One step of a robot's scripted drive: wheel speeds held from `at_s` until
 // the next step (rad/s, positive forward).
-struct DriveCommand {
-  double at_s = 0.0;
-  double left_radps = 0.0;
-  double right_radps = 0.0;
-};
+using DriveCommand = nav::DriveStep;
 
 // A robot's EKF pose tracking (thesis §4.4): the map it is given, how often it
 // localizes and where its estimate starts.
@@ -93,16 +91,6 @@ struct RobotEntry {
   std::optional<WanderEntry> wander;
 };
 
-// A scripted event of the timeline.
-struct ScriptedEvent {
-  enum class Type { kPush, kTeleport, kDoor } type = Type::kPush;
-  double at_s = 0.0;
-  std::string target;  // body or robot id (push, teleport) or door id
-  Eigen::Vector2d impulse_ns{0, 0};
-  core::Pose2 pose;
-  bool open = false;
-};
-
 struct OutputOptions {
   double trajectory_rate_hz = 10.0;  // rows of trajectories.csv per body per s
   double section_height_m = 0.5;     // height of the top-down picture's cut
@@ -133,7 +121,7 @@ struct Scenario {
   sim::WorldDescription world;
   std::vector<BodyEntry> bodies;
   std::vector<RobotEntry> robots;
-  std::vector<ScriptedEvent> events;  // sorted by time, stable
+  std::vector<TimedEvent> events;  // sorted by time, stable
   OutputOptions outputs;
 };
 

@@ -10,6 +10,7 @@
 #include "scenarios/config/scenario.h"
 #include "scenarios/config/world_loader.h"
 #include "scenarios/config/yaml_reader.h"
+#include "scenarios/events/event_registry.h"
 #include "scenarios/maps/map_derivation.h"
 
 namespace pavilion::scenarios {
@@ -460,39 +461,27 @@ void ReadEvents(YamlDocument* doc, MapReader& top, Scenario* s) {
     doc->Error(list, "events", "expected a list");
     return;
   }
-  std::set<std::string> bodies;
-  for (const auto& b : s->bodies) bodies.insert(b.spec.id);
-  for (const auto& r : s->robots) bodies.insert(r.id);
-  std::set<std::string> doors;
-  for (const auto& d : s->world.doors) doors.insert(d.id);
+  EventTargets targets;
+  for (const auto& b : s->bodies) targets.bodies.insert(b.spec.id);
+  for (const auto& r : s->robots) {
+    targets.bodies.insert(r.id);
+    targets.robots.insert(r.id);
+  }
+  for (const auto& d : s->world.doors) targets.doors.insert(d.id);
+  const EventRegistry& registry = EventRegistry::Global();
   for (std::size_t i = 0; i < list.size(); ++i) {
     MapReader r(doc, list[i], IndexPath("events", i));
     if (!r.valid()) continue;
-    ScriptedEvent e;
+    TimedEvent e;
     e.at_s = r.RequiredNumber("at_s", 0.0, kMaxDurationS).value_or(0.0);
-    const std::string type = r.Choice("type", {"push", "teleport", "door"}, "push", true);
-    const std::string target_key = type == "door" ? "door" : "body";
-    e.target = r.RequiredString(target_key).value_or("");
-    const auto& known = type == "door" ? doors : bodies;
-    if (!e.target.empty() && !known.contains(e.target)) {
-      doc->Error(r.Child(target_key), r.PathOf(target_key),
-                 "no " + target_key + " '" + e.target + "'");
-    }
-    if (type == "push") {
-      e.type = ScriptedEvent::Type::kPush;
-      if (auto v = r.Numbers("impulse", 2, true)) e.impulse_ns = {(*v)[0], (*v)[1]};
-    } else if (type == "teleport") {
-      e.type = ScriptedEvent::Type::kTeleport;
-      if (auto p = r.Numbers("pose", 3, true)) e.pose = {(*p)[0], (*p)[1], (*p)[2]};
-    } else {
-      e.type = ScriptedEvent::Type::kDoor;
-      e.open = r.Choice("state", {"open", "closed"}, "closed", true) == "open";
-    }
+    const std::vector<std::string> types = registry.types();
+    const std::string type = r.Choice("type", types, types.front(), true);
+    if (const EventReader* read = registry.Find(type)) e.event = (*read)(r, targets);
     r.Finish();
-    s->events.push_back(e);
+    if (e.event) s->events.push_back(e);
   }
   std::stable_sort(s->events.begin(), s->events.end(),
-                   [](const ScriptedEvent& a, const ScriptedEvent& b) { return a.at_s < b.at_s; });
+                   [](const TimedEvent& a, const TimedEvent& b) { return a.at_s < b.at_s; });
 }
 
 }  // namespace

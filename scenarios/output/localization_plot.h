@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "core/types/image.h"
-#include "scenarios/run/localization_run.h"
+#include "scenarios/metrics/localization_tracker.h"
 
 namespace pavilion::scenarios {
 

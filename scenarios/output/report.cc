@@ -1,5 +1,6 @@
 #include "scenarios/output/report.h"
 
+#include <algorithm>
 #include <sstream>
 
 #include "scenarios/output/png.h"
@@ -34,83 +35,72 @@ void Row(std::ostringstream& html, const std::string& name, const std::string& v
   html << "<tr><th>" << Escape(name) << "</th><td>" << Escape(value) << "</td></tr>\n";
 }
 
-}  // namespace
+// A figure as metrics.json writes it.
+std::string Num(double v, int decimals = 6) {
+  return nlohmann::json(RoundForJson(v, decimals)).dump();
+}
+std::string Raw(double v) { return nlohmann::json(v).dump(); }
+std::string Int(std::int64_t v) { return std::to_string(v); }
 
-std::string RenderReportHtml(const Scenario& scenario, const nlohmann::ordered_json& metrics,
-                             const std::vector<std::uint8_t>& topdown_png,
-                             const std::vector<LocalizationPlot>& localization_plots) {
-  std::ostringstream html;
-  html
-      << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n"
-      << "<title>Pavilion run: " << Escape(scenario.name) << "</title>\n"
-      << "<style>body{font-family:sans-serif;max-width:1000px;margin:2em auto;color:#222}"
-         "table{border-collapse:collapse;margin:1em 0}th,td{border:1px solid #ccc;padding:4px 10px;"
-         "text-align:left}th{background:#f3f3f3}img{max-width:100%;border:1px solid #ccc}"
-         ".note{color:#666;font-size:90%}</style></head><body>\n";
-  html << "<h1>Pavilion run: " << Escape(scenario.name) << "</h1>\n";
-  if (!scenario.description.empty()) html << "<p>" << Escape(scenario.description) << "</p>\n";
+void RunTable(std::ostringstream& html, const Scenario& scenario, const RunMetrics& m) {
   html << "<table>\n";
   Row(html, "scenario file", scenario.source_file);
   Row(html, "world", scenario.world.name);
   Row(html, "seed", std::to_string(scenario.seed));
-  Row(html, "simulated time (s)", metrics["sim_duration_s"].dump());
-  Row(html, "physics rate (Hz)", metrics["physics"]["rate_hz"].dump());
-  Row(html, "pavilion version", metrics["pavilion_version"].get<std::string>());
-  if (metrics.contains("bodies_summary")) {
-    const auto& b = metrics["bodies_summary"];
-    Row(html, "bodies", b["count"].dump());
-    Row(html, "distance travelled by all bodies (m)", b["distance_m"].dump());
+  Row(html, "simulated time (s)", Raw(m.sim_duration_s));
+  Row(html, "physics rate (Hz)", Raw(m.physics_rate_hz));
+  Row(html, "pavilion version", m.pavilion_version);
+  if (!m.bodies.empty()) {
+    Row(html, "bodies", Int(static_cast<std::int64_t>(m.bodies.size())));
+    Row(html, "distance travelled by all bodies (m)", Num(m.bodies_distance_m()));
     Row(html, "collision begins per body, summed (a body-body contact counts for both)",
-        b["collisions"].dump());
+        Int(m.bodies_collisions()));
   }
   html << "</table>\n";
-  if (metrics.contains("robots")) {
-    html << "<h2>Robots</h2>\n<table>\n<tr><th>robot</th><th>model</th><th>distance (m)</th>"
-            "<th>collisions</th><th>bumper presses</th><th>scans</th>"
-            "<th>odometry error at the end: position (m)</th><th>heading (rad)</th></tr>\n";
-    for (const auto& [id, r] : metrics["robots"].items()) {
-      const auto& e = r["odometry_final_error"];
-      html << "<tr><td>" << Escape(id) << "</td><td>" << Escape(r["model"].get<std::string>())
-           << "</td><td>" << r["distance_m"].dump() << "</td><td>" << r["collisions"].dump()
-           << "</td><td>" << r["bumper_presses"].dump() << "</td><td>" << r["scans"].dump()
-           << "</td><td>" << e["position_m"].dump() << "</td><td>" << e["heading_rad"].dump()
-           << "</td></tr>\n";
-    }
-    html << "</table>\n<p class=\"note\">Odometry: the encoder counts integrated with the "
-            "robot's calibrated model from its start pose; it misses the slip of collisions "
-            "and pushes.</p>\n";
-    bool any_localization = false;
-    for (const auto& [id, r] : metrics["robots"].items()) {
-      any_localization = any_localization || r.contains("localization");
-    }
-    if (any_localization) {
-      html << "<h2>Localization</h2>\n<table>\n<tr><th>robot</th><th>cycles</th>"
-              "<th>position RMSE (m)</th><th>heading RMSE (deg)</th><th>2&sigma; frontal "
-              "(m)</th><th>2&sigma; lateral (m)</th><th>2&sigma; heading (deg)</th>"
-              "<th>ANEES</th><th>matched lines per cycle</th><th>lost situations</th></tr>\n";
-      for (const auto& [id, r] : metrics["robots"].items()) {
-        if (!r.contains("localization")) continue;
-        const auto& l = r["localization"];
-        html << "<tr><td>" << Escape(id) << "</td>";
-        for (const char* key :
-             {"cycles", "position_rmse_m", "heading_rmse_deg", "two_sigma_frontal_m",
-              "two_sigma_lateral_m", "two_sigma_heading_deg", "anees", "matched_lines_per_cycle",
-              "lost_situations"}) {
-          html << "<td>" << l[key].dump() << "</td>";
-        }
-        html << "</tr>\n";
-      }
-      html << "</table>\n<p class=\"note\">Against ground truth, per localization cycle "
-              "(localization.csv; metrics.md). A consistent filter has ANEES near 3; the "
-              "thesis' Table 4.2 (laser only) gives 2&sigma; of 13.1 mm frontal, 13.5 mm "
-              "lateral, 0.92&deg; and 2.73 matched lines per cycle.</p>\n";
-    }
+}
+
+void RobotTable(std::ostringstream& html, const RunMetrics& m) {
+  html << "<h2>Robots</h2>\n<table>\n<tr><th>robot</th><th>model</th><th>distance (m)</th>"
+          "<th>collisions</th><th>bumper presses</th><th>scans</th>"
+          "<th>odometry error at the end: position (m)</th><th>heading (rad)</th></tr>\n";
+  for (const RobotMetrics& r : m.robots) {
+    html << "<tr><td>" << Escape(r.id) << "</td><td>" << Escape(r.model) << "</td><td>"
+         << Num(r.distance_m) << "</td><td>" << r.collisions << "</td><td>" << r.bumper_presses
+         << "</td><td>" << r.scans << "</td><td>" << Num(r.odometry_final_position_error_m)
+         << "</td><td>" << Num(r.odometry_final_heading_error_rad) << "</td></tr>\n";
   }
-  html << "<h2>Events</h2>\n<table>\n<tr><th>type</th><th>count</th></tr>\n";
-  for (const auto& [type, n] : metrics["events"].items()) {
-    html << "<tr><td>" << Escape(type) << "</td><td>" << n.dump() << "</td></tr>\n";
+  html << "</table>\n<p class=\"note\">Odometry: the encoder counts integrated with the "
+          "robot's calibrated model from its start pose; it misses the slip of collisions "
+          "and pushes.</p>\n";
+}
+
+void LocalizationTable(std::ostringstream& html, const RunMetrics& m) {
+  html << "<h2>Localization</h2>\n<table>\n<tr><th>robot</th><th>cycles</th>"
+          "<th>position RMSE (m)</th><th>heading RMSE (deg)</th><th>2&sigma; frontal "
+          "(m)</th><th>2&sigma; lateral (m)</th><th>2&sigma; heading (deg)</th>"
+          "<th>ANEES</th><th>matched lines per cycle</th><th>lost situations</th></tr>\n";
+  for (const RobotMetrics& r : m.robots) {
+    if (!r.localization) continue;
+    const LocalizationFigures& l = *r.localization;
+    html << "<tr><td>" << Escape(r.id) << "</td>";
+    for (const std::string& cell :
+         {Int(l.cycles), Num(l.position_rmse_m), Num(l.heading_rmse_deg),
+          Num(l.two_sigma_frontal_m), Num(l.two_sigma_lateral_m), Num(l.two_sigma_heading_deg),
+          Num(l.anees), Num(l.matched_lines_per_cycle), Int(l.lost_situations)}) {
+      html << "<td>" << cell << "</td>";
+    }
+    html << "</tr>\n";
   }
-  html << "</table>\n<h2>Top-down view at the end of the run</h2>\n"
+  html << "</table>\n<p class=\"note\">Against ground truth, per localization cycle "
+          "(localization.csv; metrics.md). A consistent filter has ANEES near 3; the "
+          "thesis' Table 4.2 (laser only) gives 2&sigma; of 13.1 mm frontal, 13.5 mm "
+          "lateral, 0.92&deg; and 2.73 matched lines per cycle.</p>\n";
+}
+
+void Pictures(std::ostringstream& html, const Scenario& scenario,
+              const std::vector<std::uint8_t>& topdown_png,
+              const std::vector<LocalizationPlot>& localization_plots) {
+  html << "<h2>Top-down view at the end of the run</h2>\n"
        << "<p class=\"note\">Footprints in material colours; black outline: the world cut at "
        << scenario.outputs.section_height_m
        << " m, what a laser at that height can meet (light blue: glass, which it cannot); "
@@ -126,6 +116,37 @@ std::string RenderReportHtml(const Scenario& scenario, const nlohmann::ordered_j
          << "<img alt=\"2 sigma of " << Escape(plot.robot_id) << "\" src=\"data:image/png;base64,"
          << Base64(plot.png) << "\">\n";
   }
+}
+
+}  // namespace
+
+std::string RenderReportHtml(const Scenario& scenario, const RunMetrics& metrics,
+                             const std::vector<std::uint8_t>& topdown_png,
+                             const std::vector<LocalizationPlot>& localization_plots) {
+  std::ostringstream html;
+  html
+      << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n"
+      << "<title>Pavilion run: " << Escape(scenario.name) << "</title>\n"
+      << "<style>body{font-family:sans-serif;max-width:1000px;margin:2em auto;color:#222}"
+         "table{border-collapse:collapse;margin:1em 0}th,td{border:1px solid #ccc;padding:4px 10px;"
+         "text-align:left}th{background:#f3f3f3}img{max-width:100%;border:1px solid #ccc}"
+         ".note{color:#666;font-size:90%}</style></head><body>\n";
+  html << "<h1>Pavilion run: " << Escape(scenario.name) << "</h1>\n";
+  if (!scenario.description.empty()) html << "<p>" << Escape(scenario.description) << "</p>\n";
+  RunTable(html, scenario, metrics);
+  if (!metrics.robots.empty()) {
+    RobotTable(html, metrics);
+    const bool any_localization =
+        std::any_of(metrics.robots.begin(), metrics.robots.end(),
+                    [](const RobotMetrics& r) { return r.localization.has_value(); });
+    if (any_localization) LocalizationTable(html, metrics);
+  }
+  html << "<h2>Events</h2>\n<table>\n<tr><th>type</th><th>count</th></tr>\n";
+  for (const auto& [type, n] : metrics.event_counts) {
+    html << "<tr><td>" << Escape(type) << "</td><td>" << n << "</td></tr>\n";
+  }
+  html << "</table>\n";
+  Pictures(html, scenario, topdown_png, localization_plots);
   html << "<p class=\"note\">Files: metrics.json, performance.json (wall-clock figures), "
           "events.jsonl, trajectories.csv, localization.csv, scans.bin (robots' laser scans with "
           "ground truth), "

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "scenarios/config/scenario.h"
+#include "scenarios/metrics/run_metrics.h"
 
 namespace pavilion::scenarios {
 
@@ -17,7 +18,7 @@ struct LocalizationPlot {
 
 // A self-contained HTML page for a run: scenario, the figures of metrics.json,
 // the top-down snapshot and the robots' localization plots embedded as PNGs.
-std::string RenderReportHtml(const Scenario& scenario, const nlohmann::ordered_json& metrics,
+std::string RenderReportHtml(const Scenario& scenario, const RunMetrics& metrics,
                              const std::vector<std::uint8_t>& topdown_png,
                              const std::vector<LocalizationPlot>& localization_plots = {});
 

@@ -11,6 +11,7 @@
 
 #include "scenarios/config/input_error.h"
 #include "scenarios/config/scenario.h"
+#include "scenarios/events/scripted_events.h"
 #include "scenarios/config/validate.h"
 #include "tests/support/test_files.h"
 
@@ -153,12 +154,14 @@ TEST(ScenarioLoaderTest, LoadsScenarioWithWorldBodiesAndEvents) {
   EXPECT_TRUE(cart.motion.scripted.body_frame);
 
   ASSERT_EQ(s.events.size(), 2u);
-  EXPECT_EQ(s.events[0].type, ScriptedEvent::Type::kDoor);  // at 1 s, listed second
-  EXPECT_EQ(s.events[0].target, "door_1");
-  EXPECT_TRUE(s.events[0].open);
-  EXPECT_EQ(s.events[1].type, ScriptedEvent::Type::kPush);
-  EXPECT_EQ(s.events[1].target, "visitor_001");
-  EXPECT_EQ(s.events[1].impulse_ns, Eigen::Vector2d(10, 0));
+  const auto* door = dynamic_cast<const DoorEvent*>(s.events[0].event.get());
+  ASSERT_NE(door, nullptr);  // at 1 s, listed second
+  EXPECT_EQ(door->door(), "door_1");
+  EXPECT_TRUE(door->open());
+  const auto* push = dynamic_cast<const PushEvent*>(s.events[1].event.get());
+  ASSERT_NE(push, nullptr);
+  EXPECT_EQ(push->target(), "visitor_001");
+  EXPECT_EQ(push->impulse_ns(), Eigen::Vector2d(10, 0));
 }
 
 // Confirms that a group expands into bodies <id>_000, <id>_001, ... sharing its fields.

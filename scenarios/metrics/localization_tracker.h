@@ -1,18 +1,17 @@
 #pragma once
 
-// A robot's localization inside a scenario run: feeds its encoder readings and
-// laser scans to the core's EKF pose tracking (core/localization/localizer.h)
-// at the scenario's rate, compares every cycle with ground truth and keeps the
-// figures of metrics.md, "Localization".
+// A robot's localization judged against ground truth: every estimation cycle
+// of its robot stack (nav::PoseEstimator) compared with the true pose, and the
+// run's figures of metrics.md, "Localization". Ground truth stays here, on the
+// runner's side: the robot stack never sees it.
 
 #include <Eigen/Core>
 #include <memory>
 #include <string>
 #include <vector>
 
-#include "core/localization/localizer.h"
-#include "core/types/sensor_data.h"
-#include "scenarios/config/scenario.h"
+#include "core/types/pose2.h"
+#include "nav/stack/pose_estimator.h"
 
 namespace pavilion::scenarios {
 
@@ -62,46 +61,27 @@ inline constexpr double kLostHeadingErrorRad = 10.0 * 3.14159265358979323846 / 1
 // One-sided 95% bound of chi^2(3).
 inline constexpr double kNees95Bound3 = 7.814727903251178;
 
-// The map a robot localizes and plans with: its map file (default: the
-// world's map.yaml), or for `map: derive` a map derived from `world` (static
-// geometry only: call before bodies and robots are added) with the entry's
-// tape-measure noise drawn from the scenario's seed. Throws InputError naming
-// the scenario key for a bad map.
-core::RobotMap LoadRobotMap(const RobotEntry& robot, const Scenario& scenario,
-                            const sim::World& world);
-
-class LocalizationRun {
+class LocalizationTracker {
  public:
-  // Takes `map` (the robot's map file, loaded by LoadRobotMap), sets the
-  // localizer up from the robot's calibrated odometry and lasers, and
-  // initializes it at the true start pose plus the entry's offset.
-  LocalizationRun(const RobotEntry& robot, core::RobotMap map);
+  // Records the cycle `cycle` of `estimator` that ended at `now_s` with the
+  // robot at `truth`; returns it (a row of localization.csv).
+  const LocalizationCycle& Record(const nav::EstimatorCycle& cycle,
+                                  const nav::PoseEstimator& estimator, const core::Pose2& truth,
+                                  double now_s);
 
-  // The tick's sensor outputs in time order; `truth` is the robot's true pose
-  // at the end of the tick (time `now_s`). Returns true when a localization
-  // cycle completed in this tick (then last_cycle() holds it).
-  bool Update(const std::vector<core::EncoderReading>& encoders,
-              const std::vector<const core::LaserScan*>& scans, const core::Pose2& truth,
-              double now_s);
-
-  const core::Localizer& localizer() const { return *localizer_; }
-  bool tracking() const;
   const LocalizationCycle& last_cycle() const { return cycles_.back(); }
   const std::vector<LocalizationCycle>& cycles() const { return cycles_; }
-  // Newly started lost situations in the last Update (for events).
+  // A lost situation began with the last recorded cycle (for events).
   bool lost_started() const { return lost_started_; }
-  const char* lost_reason() const;
+  // Why: the estimator's reason, or "true_error" when only the truth says so.
+  const std::string& lost_reason() const { return lost_reason_; }
   LocalizationFigures Figures() const;
 
  private:
-  std::unique_ptr<core::Localizer> localizer_;
-  LocalizationEntry entry_;
-  std::vector<double> next_due_s_;  // per laser id in entry order
-  std::vector<std::string> laser_ids_;
   std::vector<LocalizationCycle> cycles_;
-  long last_cycles_ = 0;
   bool in_lost_situation_ = false;
   bool lost_started_ = false;
+  std::string lost_reason_ = "none";
   int lost_situations_ = 0;
 };
 

@@ -1,0 +1,81 @@
+#include "nav/stack/ekf_pose_estimator.h"
+
+#include <algorithm>
+#include <stdexcept>
+#include <utility>
+
+namespace pavilion::nav {
+namespace {
+// Scan stamps are compared with a laser's due time up to this rounding (s).
+constexpr double kDueToleranceS = 1e-9;
+}  // namespace
+
+void EkfPoseEstimatorOptions::Validate() const {
+  if (!(rate_hz > 0.0)) throw std::invalid_argument("EkfPoseEstimatorOptions.rate_hz must be > 0");
+}
+
+EkfPoseEstimator::EkfPoseEstimator(core::RobotMap map, const EkfPoseEstimatorOptions& options)
+    : options_(options), next_due_s_(options.lasers.size(), 0.0) {
+  options_.Validate();
+  localizer_ = std::make_unique<core::Localizer>(std::move(map), options_.localizer);
+  localizer_->Initialize(options_.initial_pose, options_.initial_covariance, 0.0);
+}
+
+std::optional<EstimatorCycle> EkfPoseEstimator::Update(
+    const std::vector<core::EncoderReading>& encoders,
+    const std::vector<const core::LaserScan*>& scans) {
+  const long matches_before = localizer_->counters().matches;
+  for (const core::EncoderReading& e : encoders) localizer_->AddEncoders(e);
+  // Scans in the order they finished; each laser's at most rate_hz times per s.
+  for (const core::LaserScan* scan : scans) {
+    const auto it = std::find(options_.lasers.begin(), options_.lasers.end(), scan->sensor_id);
+    if (it == options_.lasers.end()) continue;
+    double& next = next_due_s_[static_cast<std::size_t>(it - options_.lasers.begin())];
+    if (scan->stamp_s + kDueToleranceS < next) continue;
+    next = std::max(next + 1.0 / options_.rate_hz, scan->stamp_s);
+    localizer_->AddScan(*scan);
+  }
+  const long cycles = localizer_->counters().cycles;
+  if (cycles == last_cycles_) return std::nullopt;
+  last_cycles_ = cycles;
+  return ReportCycle(matches_before);
+}
+
+EstimatorCycle EkfPoseEstimator::ReportCycle(long matches_before) const {
+  EstimatorCycle c;
+  const core::CycleReport& report = localizer_->last_cycle();
+  c.predictions = report.predictions;
+  c.observations = report.observations;
+  for (const core::FeatureMatch& m : report.matches) {
+    if (m.type == core::ObservationType::kLine) {
+      ++c.matched_lines;
+    } else if (m.type == core::ObservationType::kBeacon) {
+      ++c.matched_beacons;
+    } else {
+      ++c.matched_other;
+    }
+  }
+  // Batches before the last one of this tick: their matches count as lines
+  // (lasers give lines and beacons; the last report says how many of each).
+  const long matched = localizer_->counters().matches - matches_before;
+  c.matched_lines += static_cast<int>(
+      std::max(0L, matched - (c.matched_lines + c.matched_beacons + c.matched_other)));
+  c.lost = localizer_->status().state == core::LocalizationState::kLost;
+  return c;
+}
+
+std::string EkfPoseEstimator::lost_reason() const {
+  switch (localizer_->status().reason) {
+    case core::LostReason::kNone:
+      return "none";
+    case core::LostReason::kNoMatchTimeout:
+      return "no_match_timeout";
+    case core::LostReason::kRepeatedGateFailures:
+      return "repeated_gate_failures";
+    case core::LostReason::kUncertaintyTooLarge:
+      return "uncertainty_too_large";
+  }
+  return "unknown";
+}
+
+}  // namespace pavilion::nav

@@ -1,0 +1,45 @@
+#pragma once
+
+// EKF pose tracking (thesis §4.4, core/localization/localizer.h) as the robot
+// stack's estimator: the encoders at their own rate, each laser's scans at
+// most `rate_hz` times per second (the thesis localized at 2 Hz, §4.5.2).
+
+#include <Eigen/Core>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/localization/localizer.h"
+#include "nav/stack/pose_estimator.h"
+
+namespace pavilion::nav {
+
+struct EkfPoseEstimatorOptions {
+  core::LocalizerOptions localizer;
+  double rate_hz = 2.0;             // localization cycles per laser and second, > 0
+  std::vector<std::string> lasers;  // lasers whose scans are used, in the robot's order
+  core::Pose2 initial_pose;         // the estimate at time 0
+  Eigen::Matrix3d initial_covariance = Eigen::Matrix3d::Identity() * 1e-4;
+
+  void Validate() const;  // throws std::invalid_argument naming the field
+};
+
+class EkfPoseEstimator : public PoseEstimator {
+ public:
+  EkfPoseEstimator(core::RobotMap map, const EkfPoseEstimatorOptions& options);
+  std::optional<EstimatorCycle> Update(const std::vector<core::EncoderReading>& encoders,
+                                       const std::vector<const core::LaserScan*>& scans) override;
+  const core::PoseWithCovariance& estimate() const override { return localizer_->estimate(); }
+  std::string lost_reason() const override;
+  const core::Localizer& localizer() const { return *localizer_; }
+
+ private:
+  EstimatorCycle ReportCycle(long matches_before) const;
+
+  std::unique_ptr<core::Localizer> localizer_;
+  EkfPoseEstimatorOptions options_;
+  std::vector<double> next_due_s_;  // per entry of options_.lasers
+  long last_cycles_ = 0;
+};
+
+}  // namespace pavilion::nav

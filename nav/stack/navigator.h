@@ -1,0 +1,68 @@
+#pragma once
+
+// One robot's software: what runs on the robot, given only what a real robot
+// gets — timestamped sensor readings, its map (inside its estimator) and its
+// mission (inside its controller) — never ground truth. It dead-reckons from
+// its encoders, keeps a pose estimate when it has an estimator, and turns its
+// belief and scans into wheel speeds through its controller.
+//
+// Each tick of a run calls Control() before the physics step and Sense() after
+// it (architecture.md: the robot-stack tasks run on multiples of the physics
+// step). Sense() touches only this navigator, so the robots of a fleet may
+// sense on several threads at once.
+
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "core/localization/encoder_odometry.h"
+#include "core/types/sensor_data.h"
+#include "nav/control/controller.h"
+#include "nav/stack/pose_estimator.h"
+
+namespace pavilion::nav {
+
+struct NavigatorOptions {
+  core::EncoderOdometryOptions odometry;  // the robot's calibrated odometry model
+  core::Pose2 start_pose;                 // where its dead reckoning starts
+};
+
+// The readings of one tick, in the order the sensors produced them.
+struct SensorFrame {
+  double now_s = 0.0;  // end of the tick
+  const std::vector<core::EncoderReading>* encoders = nullptr;
+  std::vector<const core::LaserScan*> scans;
+};
+
+// What the stack did with a tick's readings.
+struct SenseResult {
+  std::optional<EstimatorCycle> cycle;  // an estimation cycle completed
+  std::optional<WheelSpeeds> command;   // the controller reacted to a scan
+};
+
+class Navigator {
+ public:
+  // `estimator` and `controller` may be null: a robot without localization
+  // believes its odometry; one without a controller keeps its wheels still.
+  Navigator(const NavigatorOptions& options, std::unique_ptr<PoseEstimator> estimator,
+            std::unique_ptr<Controller> controller);
+
+  // Before the physics step `tick` at `now_s`: the controller's new command.
+  std::optional<WheelSpeeds> Control(std::int64_t tick, double now_s);
+  // After the step: the tick's readings update odometry and estimate; the
+  // controller sees the scans.
+  SenseResult Sense(const SensorFrame& frame);
+
+  // The pose the robot believes: its estimate, or its odometry without one.
+  core::Pose2 belief() const;
+  const core::Pose2& odometry_pose() const { return odometry_.pose(); }
+  const PoseEstimator* estimator() const { return estimator_.get(); }
+  const Controller* controller() const { return controller_.get(); }
+
+ private:
+  core::DeadReckoning odometry_;
+  std::unique_ptr<PoseEstimator> estimator_;
+  std::unique_ptr<Controller> controller_;
+};
+
+}  // namespace pavilion::nav

@@ -1,0 +1,46 @@
+#pragma once
+
+// Event types by name: the scenario loader reads each `events:` entry with the
+// reader registered for its `type`. Built in: push, teleport, door.
+
+#include <functional>
+#include <memory>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "scenarios/config/yaml_reader.h"
+#include "scenarios/events/event.h"
+
+namespace pavilion::scenarios {
+
+// The ids an event of the scenario may name.
+struct EventTargets {
+  std::set<std::string> bodies;  // bodies and robots (push, teleport)
+  std::set<std::string> robots;
+  std::set<std::string> doors;
+};
+
+// Reads one entry's type-specific keys (`at_s` and `type` are read already);
+// reports problems through the reader's document and returns null for them.
+using EventReader =
+    std::function<std::shared_ptr<const ScenarioEvent>(MapReader& entry, const EventTargets&)>;
+
+class EventRegistry {
+ public:
+  // The registry the scenario loader uses, with the built-in types.
+  static EventRegistry& Global();
+
+  // Adds a type; throws std::invalid_argument if the name is taken.
+  void Register(const std::string& type, EventReader reader);
+  // Null for an unknown type.
+  const EventReader* Find(const std::string& type) const;
+  // Registered names in registration order.
+  std::vector<std::string> types() const;
+
+ private:
+  std::vector<std::pair<std::string, EventReader>> readers_;
+};
+
+}  // namespace pavilion::scenarios

@@ -1,0 +1,71 @@
+#pragma once
+
+// The figures a run reports (../shared/docs/metrics.md): one typed value that
+// the runner fills, metrics.json serializes (schema 1, in one place), and the
+// report, the tests, scenario expectations and sweeps read.
+
+#include <cstdint>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "scenarios/metrics/localization_tracker.h"
+
+namespace pavilion::scenarios {
+
+struct BodyMetrics {
+  std::string id;
+  double distance_m = 0.0;      // path length of the body's centre
+  std::int64_t collisions = 0;  // contact begins with anything
+};
+
+struct RouteMetrics {
+  std::vector<std::string> stops;
+  double length_m = 0.0;
+  bool done = false;
+  double done_at_s = 0.0;  // the run's end when not done
+};
+
+struct RobotMetrics {
+  std::string id;
+  std::string model;
+  double distance_m = 0.0;
+  std::int64_t collisions = 0;
+  std::int64_t bumper_presses = 0;  // bumper readings with a zone pressed
+  std::int64_t scans = 0;
+  std::int64_t fallback_scans = 0;  // planar backend: scans cast partly with Bullet
+  double odometry_final_position_error_m = 0.0;
+  double odometry_final_heading_error_rad = 0.0;  // |wrapped|
+  std::optional<LocalizationFigures> localization;
+  std::optional<RouteMetrics> route;
+};
+
+struct RunMetrics {
+  static constexpr int kSchemaVersion = 1;
+  std::string scenario;
+  std::uint64_t seed = 0;
+  std::string pavilion_version;
+  std::string world;
+  double sim_duration_s = 0.0;
+  double physics_rate_hz = 0.0;
+  std::int64_t ticks = 0;
+  std::vector<BodyMetrics> bodies;   // in world order
+  std::vector<RobotMetrics> robots;  // in scenario order
+  std::string laser_backend;
+  std::map<std::string, std::int64_t> event_counts;  // by type
+
+  double bodies_distance_m() const;
+  std::int64_t bodies_collisions() const;
+  std::int64_t scans() const;
+  std::int64_t fallback_scans() const;
+  std::int64_t events() const;
+};
+
+// metrics.json (schema 1): numbers rounded as the file has always had them.
+nlohmann::ordered_json MetricsToJson(const RunMetrics& metrics);
+// A number as metrics.json holds it: rounded to `decimals` places.
+double RoundForJson(double value, int decimals = 6);
+
+}  // namespace pavilion::scenarios

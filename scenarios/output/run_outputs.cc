@@ -1,0 +1,80 @@
+#include "scenarios/output/run_outputs.h"
+
+#include <nlohmann/json.hpp>
+
+#include "scenarios/output/localization_plot.h"
+#include "scenarios/output/output_files.h"
+#include "scenarios/output/png.h"
+#include "scenarios/output/report.h"
+#include "sim/render/top_down_view.h"
+
+namespace pavilion::scenarios {
+
+void WriteSnapshotsAndReport(const std::filesystem::path& out, const Scenario& scenario,
+                             const sim::World& world,
+                             const std::vector<std::vector<Eigen::Vector2d>>& body_tracks,
+                             const std::vector<RobotTracks>& robot_tracks,
+                             const std::vector<RobotLocalization>& localizations,
+                             const RunMetrics& metrics) {
+  std::vector<sim::TopDownTrack> top_tracks;
+  for (const auto& t : body_tracks) top_tracks.push_back({t, {200, 40, 40}, 0.4});
+  for (const RobotTracks& r : robot_tracks) {
+    top_tracks.push_back({r.odometry, {230, 150, 20}, 0.8});  // what the encoders believe
+    top_tracks.push_back({r.truth, {20, 60, 220}, 0.9});      // the true path
+    if (!r.estimate.empty()) {
+      top_tracks.push_back({r.estimate, {30, 160, 60}, 0.7});  // the localization estimate
+    }
+  }
+  sim::TopDownOptions view;
+  view.width_px = scenario.outputs.image_width_px;
+  view.section_height_m = scenario.outputs.section_height_m;
+  const std::vector<std::uint8_t> png = EncodePng(sim::RenderTopDown(world, top_tracks, view));
+  WriteFileAtomically((out / "snapshots" / "topdown_final.png").string(),
+                      std::string(png.begin(), png.end()));
+  std::vector<LocalizationPlot> plots;
+  for (const RobotLocalization& l : localizations) {
+    LocalizationPlot plot{l.robot_id, EncodePng(PlotTwoSigmaOverTime(l.tracker->cycles()))};
+    WriteFileAtomically((out / "snapshots" / ("two_sigma_" + l.robot_id + ".png")).string(),
+                        std::string(plot.png.begin(), plot.png.end()));
+    plots.push_back(std::move(plot));
+  }
+  WriteFileAtomically((out / "report.html").string(),
+                      RenderReportHtml(scenario, metrics, png, plots));
+}
+
+void WritePerformanceJson(const std::filesystem::path& out, const RunSummary& s, int threads,
+                          const std::string& laser_backend) {
+  nlohmann::ordered_json perf;
+  perf["schema_version"] = 1;
+  perf["wall_time_s"] = s.wall_time_s;
+  perf["startup_s"] = s.startup_s;
+  perf["real_time_factor"] = s.real_time_factor;
+  perf["loop_cpu_s"] = s.loop_cpu_s;
+  perf["peak_rss_mb"] = s.peak_rss_mb;
+  perf["threads"] = threads;
+  perf["physics_steps_per_s"] = s.physics_s > 0 ? static_cast<double>(s.ticks) / s.physics_s : 0.0;
+  perf["laser_backend"] = laser_backend;
+  perf["laser_rays"] = s.laser_rays;
+  perf["laser_fallback_scans"] = s.laser_fallback_scans;
+  if (s.estimator_cycles > 0) {
+    // A localization cycle: deskewing, line extraction, matching and the
+    // update of every scan it integrates (with that tick's odometry).
+    perf["localization_us_per_cycle"] =
+        1e6 * s.estimator_cycle_s / static_cast<double>(s.estimator_cycles);
+  }
+  if (s.estimator_ticks > 0) {
+    // Every other tick of a localizing robot: the odometry prediction.
+    perf["localization_us_per_odometry_tick"] =
+        1e6 * s.estimator_tick_s / static_cast<double>(s.estimator_ticks);
+  }
+  perf["laser_rays_per_s"] =
+      s.sensors_s > 0 ? static_cast<double>(s.laser_rays) / s.sensors_s : 0.0;
+  perf["stages_s"] = {{"startup", s.startup_s},
+                      {"physics", s.physics_s},
+                      {"sensors", s.sensors_s},
+                      {"loop_other", s.loop_s - s.physics_s - s.sensors_s},
+                      {"outputs", s.wall_time_s - s.startup_s - s.loop_s}};
+  WriteFileAtomically((out / "performance.json").string(), perf.dump(2) + "\n");
+}
+
+}  // namespace pavilion::scenarios

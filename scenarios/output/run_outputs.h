@@ -1,0 +1,44 @@
+#pragma once
+
+// The files a run writes at its end: snapshots/topdown_final.png, one
+// snapshots/two_sigma_<robot>.png per robot that localizes, report.html and
+// performance.json (the one file with wall-clock figures).
+
+#include <Eigen/Core>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "scenarios/config/scenario.h"
+#include "scenarios/metrics/localization_tracker.h"
+#include "scenarios/metrics/run_metrics.h"
+#include "scenarios/run/scenario_runner.h"
+#include "sim/world/world.h"
+
+namespace pavilion::scenarios {
+
+// What a robot's trajectory looked like, for the top-down picture.
+struct RobotTracks {
+  std::vector<Eigen::Vector2d> truth;
+  std::vector<Eigen::Vector2d> odometry;  // what its encoders believe
+  std::vector<Eigen::Vector2d> estimate;  // its localization (robots that localize)
+};
+
+// A robot's localization record for its 2-sigma plot.
+struct RobotLocalization {
+  std::string robot_id;
+  const LocalizationTracker* tracker = nullptr;
+};
+
+void WriteSnapshotsAndReport(const std::filesystem::path& out, const Scenario& scenario,
+                             const sim::World& world,
+                             const std::vector<std::vector<Eigen::Vector2d>>& body_tracks,
+                             const std::vector<RobotTracks>& robot_tracks,
+                             const std::vector<RobotLocalization>& localizations,
+                             const RunMetrics& metrics);
+
+// performance.json from the run's summary.
+void WritePerformanceJson(const std::filesystem::path& out, const RunSummary& summary, int threads,
+                          const std::string& laser_backend);
+
+}  // namespace pavilion::scenarios

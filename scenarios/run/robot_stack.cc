@@ -1,0 +1,154 @@
+#include "scenarios/run/robot_stack.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <string>
+
+#include "core/random/random_stream.h"
+#include "nav/control/drive_profile.h"
+#include "nav/control/route_controller.h"
+#include "nav/control/wander_scan_controller.h"
+#include "nav/route/route_planner.h"
+#include "nav/stack/ekf_pose_estimator.h"
+#include "scenarios/config/input_error.h"
+#include "scenarios/maps/map_derivation.h"
+#include "scenarios/maps/map_file.h"
+
+namespace pavilion::scenarios {
+namespace {
+
+core::LocalizerOptions LocalizerOptionsFor(const RobotEntry& robot) {
+  core::LocalizerOptions o;
+  o.odometry = OdometryOptions(robot.config.odometry);
+  // The calibration measured the physics' own error with encoder noise off;
+  // injected encoder noise is independent of it, so the variances add (§2.3:
+  // Var = k|s| per wheel, hence the k add).
+  const sim::EncoderOptions& encoders = robot.config.encoders;
+  if (encoders.noise) {
+    o.odometry.k_left_m += encoders.k_left_m;
+    o.odometry.k_right_m += encoders.k_right_m;
+  }
+  o.significance = robot.localization.significance;
+  for (const sim::LaserMount& mount : robot.config.lasers) {
+    core::LaserSensorOptions laser;
+    laser.id = mount.id;
+    o.lasers.push_back(laser);
+  }
+  return o;
+}
+
+std::unique_ptr<nav::PoseEstimator> MakeEstimator(const RobotEntry& robot, core::RobotMap map) {
+  const LocalizationEntry& entry = robot.localization;
+  nav::EkfPoseEstimatorOptions options;
+  options.localizer = LocalizerOptionsFor(robot);
+  options.rate_hz = entry.rate_hz;
+  for (const sim::LaserMount& mount : robot.config.lasers) {
+    if (entry.lasers.empty() ||
+        std::find(entry.lasers.begin(), entry.lasers.end(), mount.id) != entry.lasers.end()) {
+      options.lasers.push_back(mount.id);
+    }
+  }
+  options.initial_pose = {
+      robot.pose.x_m + entry.initial_offset.x_m, robot.pose.y_m + entry.initial_offset.y_m,
+      core::NormalizeAngle(robot.pose.theta_rad + entry.initial_offset.theta_rad)};
+  const Eigen::Vector3d var = entry.initial_sigma.cwiseProduct(entry.initial_sigma);
+  options.initial_covariance = var.asDiagonal().toDenseMatrix();
+  return std::make_unique<nav::EkfPoseEstimator>(std::move(map), options);
+}
+
+// The path of a robot's route over its map's topology, from its start pose.
+std::vector<Eigen::Vector2d> RoutePath(const Scenario& scenario, std::size_t index,
+                                       const core::RobotMap& map) {
+  const RobotEntry& entry = scenario.robots[index];
+  const std::string key = "robots[" + std::to_string(index) + "].route.stops";
+  try {
+    std::vector<Eigen::Vector2d> path = nav::TourPath(map, entry.route->stops);
+    path.insert(path.begin(), entry.pose.translation());
+    return path;
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw InputError(Diagnostic{scenario.source_file, 0, key, e.what()});
+  }
+}
+
+std::unique_ptr<nav::Controller> MakeController(const Scenario& scenario, std::size_t index,
+                                                const std::optional<core::RobotMap>& map) {
+  const RobotEntry& entry = scenario.robots[index];
+  const core::EncoderOdometryOptions odometry = OdometryOptions(entry.config.odometry);
+  if (entry.route) {
+    nav::RouteControllerOptions options;
+    options.follower = entry.route->follower;
+    options.start_s = entry.route->start_s;
+    options.period_ticks = std::max<std::int64_t>(
+        1, std::llround(scenario.physics.physics_rate_hz / entry.route->control_rate_hz));
+    options.step_s = 1.0 / scenario.physics.physics_rate_hz;
+    options.odometry = odometry;
+    return std::make_unique<nav::RouteController>(RoutePath(scenario, index, *map), options);
+  }
+  if (entry.wander) {
+    nav::WanderController wander(
+        entry.wander->options,
+        core::RandomStream(scenario.seed,
+                           core::RandomStream::StreamId((entry.id + "/wander").c_str())));
+    return std::make_unique<nav::WanderScanController>(std::move(wander), entry.wander->laser,
+                                                       odometry);
+  }
+  if (!entry.drive.empty()) return std::make_unique<nav::DriveProfileController>(entry.drive);
+  return nullptr;
+}
+
+}  // namespace
+
+core::EncoderOdometryOptions OdometryOptions(const sim::OdometryCalibration& c) {
+  core::EncoderOdometryOptions o;
+  o.left_wheel_radius_m = c.left_wheel_radius_m;
+  o.right_wheel_radius_m = c.right_wheel_radius_m;
+  o.wheelbase_m = c.wheelbase_m;
+  o.k_left_m = c.k_left_m;
+  o.k_right_m = c.k_right_m;
+  o.k_turn_m = c.k_turn_m;
+  return o;
+}
+
+bool NeedsMap(const RobotEntry& robot) {
+  return robot.localization.enabled || robot.route.has_value();
+}
+
+core::RobotMap LoadRobotMap(const RobotEntry& robot, const Scenario& scenario,
+                            const sim::World& world) {
+  const LocalizationEntry& entry = robot.localization;
+  try {
+    if (entry.derive_map_noise_m) {
+      MapDerivationOptions options;
+      options.noise_sigma_m = *entry.derive_map_noise_m;
+      options.seed = scenario.seed;
+      return DeriveRobotMap(world, options);
+    }
+    std::string file = entry.map_file;
+    if (file.empty()) {
+      file = (std::filesystem::path(scenario.world_file).parent_path() / "map.yaml").string();
+    }
+    return LoadMapFile(file);
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw InputError(
+        Diagnostic{scenario.source_file, 0, "robots." + robot.id + ".localization.map", e.what()});
+  }
+}
+
+std::unique_ptr<nav::Navigator> MakeNavigator(const Scenario& scenario, std::size_t index,
+                                              const std::optional<core::RobotMap>& map) {
+  const RobotEntry& entry = scenario.robots[index];
+  nav::NavigatorOptions options;
+  options.odometry = OdometryOptions(entry.config.odometry);
+  options.start_pose = entry.pose;
+  std::unique_ptr<nav::PoseEstimator> estimator;
+  if (entry.localization.enabled) estimator = MakeEstimator(entry, *map);
+  return std::make_unique<nav::Navigator>(options, std::move(estimator),
+                                          MakeController(scenario, index, map));
+}
+
+}  // namespace pavilion::scenarios
