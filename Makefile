@@ -1,7 +1,7 @@
 # Pavilion quick start (Debian 12):
 #   make demo   installs dependencies, builds, runs the default scenario headless
-#   make test   installs dependencies, builds, runs the test suite
-# Other targets: build, format, format-check, asan-test, bench, clean.
+#   make test   installs dependencies, builds, runs the test suite (all but the acceptance runs)
+# Other targets: build, acceptance, format, format-check, asan-test, bench, clean.
 
 BUILD      ?= build
 ASAN_BUILD ?= build-asan
@@ -9,7 +9,7 @@ JOBS       ?= $(shell nproc)
 SCENARIO   ?= scenarios/expo_visitors.yaml
 DEMO_OUT   ?= out/demo
 
-.PHONY: deps configure build demo test format format-check asan-test bench clean
+.PHONY: deps configure build demo test acceptance format format-check asan-test bench clean
 
 deps:
 	bash scripts/install-deps.sh
@@ -24,7 +24,12 @@ demo: build
 	./$(BUILD)/pavilion run $(SCENARIO) --out $(DEMO_OUT)
 
 test: build
-	ctest --test-dir $(BUILD) --output-on-failure -j $(JOBS)
+	ctest --test-dir $(BUILD) --output-on-failure -j $(JOBS) -LE acceptance
+
+# The long acceptance runs (full-length scenarios, many seeds): not in CI;
+# their figures go to docs/benchmarks.md with this command.
+acceptance: build
+	ctest --test-dir $(BUILD) --output-on-failure -j $(JOBS) -L acceptance
 
 format: configure
 	cmake --build $(BUILD) --target format
@@ -37,7 +42,7 @@ asan-test: deps
 	cmake -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPAVILION_SANITIZE=ON \
 	  -DPAVILION_BUILD_BENCHMARKS=OFF
 	cmake --build $(ASAN_BUILD) -j $(JOBS)
-	ctest --test-dir $(ASAN_BUILD) --output-on-failure -j $(JOBS) -L unit
+	ctest --test-dir $(ASAN_BUILD) --output-on-failure -j $(JOBS) -L unit -LE 'acceptance|integration'
 
 bench: build
 	./$(BUILD)/tests/bench/physics_bench --benchmark_counters_tabular=true

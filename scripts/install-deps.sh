@@ -5,7 +5,7 @@
 set -euo pipefail
 
 PACKAGES=(
-  build-essential cmake pkg-config git clang-format
+  build-essential cmake pkg-config git clang-format ccache python3
   libbullet-dev libbullet-extras-dev libeigen3-dev
   libosmesa6-dev libompl-dev
   libboost-serialization-dev libboost-filesystem-dev libboost-system-dev

@@ -91,7 +91,7 @@ struct TickWork {
 // A scenario run: built by the constructor, stepped by Run(), written by Finish().
 class ScenarioRun {
  public:
-  ScenarioRun(const Scenario& scenario, const RunOptions& options);
+  ScenarioRun(const Scenario& scenario, const RunOptions& options, const RunExtensions& extensions);
   void Run();
   RunSummary Finish();
 
@@ -113,6 +113,7 @@ class ScenarioRun {
 
   const Scenario& scenario_;
   const RunOptions& options_;
+  const RunExtensions& extensions_;
   std::filesystem::path out_;
   Clock::time_point t_start_;
   std::unique_ptr<sim::World> world_;
@@ -140,8 +141,13 @@ class ScenarioRun {
   RunSummary summary_;
 };
 
-ScenarioRun::ScenarioRun(const Scenario& scenario, const RunOptions& options)
-    : scenario_(scenario), options_(options), out_(options.out_dir), t_start_(Clock::now()) {
+ScenarioRun::ScenarioRun(const Scenario& scenario, const RunOptions& options,
+                         const RunExtensions& extensions)
+    : scenario_(scenario),
+      options_(options),
+      extensions_(extensions),
+      out_(options.out_dir),
+      t_start_(Clock::now()) {
   std::filesystem::create_directories(out_);
   // Robots bring their own materials into the world description.
   sim::WorldDescription description = scenario.world;
@@ -184,7 +190,7 @@ void ScenarioRun::BuildRobots(std::vector<sim::SimRobotSetup> setups,
       throw InputError(
           Diagnostic{scenario_.source_file, 0, "robots[" + std::to_string(k) + "]", e.what()});
     }
-    if (options_.add_sensors) options_.add_sensors(entry, run.robot.get());
+    if (extensions_.add_sensors) extensions_.add_sensors(entry, run.robot.get());
     robot_index_[entry.id] = run.robot->index();
     run.navigator = MakeNavigator(scenario_, k, maps[k]);
     if (run.navigator->estimator()) run.tracker.emplace();
@@ -402,7 +408,7 @@ void ScenarioRun::MergeRobot(std::size_t k, const sim::TickSnapshot& next, doubl
       ++summary_.estimator_ticks;
     }
   }
-  for (RunObserver* observer : options_.observers) {
+  for (RunObserver* observer : extensions_.observers) {
     observer->OnRobotOutputs(*r.entry, w.outputs, t_after);
   }
 }
@@ -505,8 +511,9 @@ RunSummary ScenarioRun::Finish() {
 
 }  // namespace
 
-RunSummary RunScenario(const Scenario& scenario, const RunOptions& options) {
-  ScenarioRun run(scenario, options);
+RunSummary RunScenario(const Scenario& scenario, const RunOptions& options,
+                       const RunExtensions& extensions) {
+  ScenarioRun run(scenario, options, extensions);
   run.Run();
   return run.Finish();
 }

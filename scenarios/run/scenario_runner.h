@@ -19,9 +19,12 @@ struct RunOptions {
   // calling thread included; 0: every hardware thread. Outputs do not depend
   // on it (same scenario and seed, same bytes; performance.json aside).
   int threads = 0;
-  // Extensions from outside the runner: called for each robot after it is
-  // built (e.g. to add a sensor with SimRobot::AddSensor), and observers of
-  // every tick's sensor outputs. Both may be empty.
+};
+
+// Additions to a run from outside the runner (tests, tools): called for each
+// robot after it is built (e.g. to add a sensor with SimRobot::AddSensor), and
+// observers of every tick's sensor outputs. Both may be empty.
+struct RunExtensions {
   std::function<void(const RobotEntry&, sim::SimRobot*)> add_sensors;
   std::vector<RunObserver*> observers;
 };
@@ -56,6 +59,7 @@ struct RunSummary {
 // performance.json is a function of the scenario and seed alone. Throws
 // InputError for problems found while setting up (e.g. a spawn area too
 // crowded) and std::runtime_error for I/O failures.
-RunSummary RunScenario(const Scenario& scenario, const RunOptions& options);
+RunSummary RunScenario(const Scenario& scenario, const RunOptions& options,
+                       const RunExtensions& extensions = {});
 
 }  // namespace pavilion::scenarios
