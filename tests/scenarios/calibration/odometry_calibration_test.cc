@@ -118,21 +118,6 @@ TEST(OdometryCalibrationTest, FormulasRecoverAKinematicRobotsModel) {
   EXPECT_LT(report.e_max_syst_after_m, 1e-3);
 }
 
-// A wider true wheelbase under-turns every corner (a < 0) and a larger right
-// wheel curves every leg to the left (γ > 0): the signs of (C2) and (C3).
-TEST(OdometryCalibrationTest, UmbmarkSignsFollowTheErrorTypes) {
-  const double side = 4.0;
-  // ε_ccw = 2L(γ + a)(1, −1), ε_cw = 2L(a − γ)(1, 1) with a = −0.01, γ = 0.004.
-  const double a = -0.01, g = 0.004;
-  const Eigen::Vector3d ccw(2 * side * (g + a), -2 * side * (g + a), 0);
-  const Eigen::Vector3d cw(2 * side * (a - g), 2 * side * (a - g), 0);
-  const UmbmarkResult u = EstimateUmbmark({ccw}, {cw}, side, 1.0, 0.4);
-  EXPECT_NEAR(u.corner_overturn_rad, a, 1e-12);
-  EXPECT_NEAR(u.leg_curvature_rad, g, 1e-12);
-  EXPECT_LT(u.turn_factor, 1.0);
-  EXPECT_GT(u.radius_ratio_factor, 1.0);
-}
-
 // A kinematic robot (the nominal model exactly) whose encoders add the §2.3
 // noise of `k_m` to the true travels of the ideal path of `run`, in 2 mm steps.
 RecordedRun NoisyKinematicRun(const DriveRun& run, const sim::OdometryCalibration& model,
