@@ -11,6 +11,7 @@
 #include <numbers>
 
 #include "core/random/random_stream.h"
+#include "scenarios/calibration/calibration_report.h"
 #include "scenarios/config/robot_loader.h"
 
 namespace pavilion::scenarios {
