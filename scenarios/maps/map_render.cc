@@ -151,18 +151,15 @@ Extent MapExtent(const core::RobotMap& map) {
   return e;
 }
 
-}  // namespace
-
-core::RgbImage RenderRobotMap(const core::RobotMap& map, const sim::World* world,
-                              const MapRenderOptions& options) {
-  const int width = std::clamp(options.width_px, 50, 8000);
-  const double margin = std::max(0.0, options.margin_m);
+// The picture's area lo-hi (m) and its background: the world from above,
+// faded to grey, or white around the map's extent.
+core::RgbImage Background(const core::RobotMap& map, const sim::World* world, int width,
+                          double margin, Vec2* lo, Vec2* hi) {
   core::RgbImage image;
-  Vec2 lo, hi;
   if (world != nullptr) {
     const auto& floor = world->description().floor;
-    lo = floor.min_m.array() - margin;
-    hi = floor.max_m.array() + margin;
+    *lo = floor.min_m.array() - margin;
+    *hi = floor.max_m.array() + margin;
     sim::TopDownOptions view;
     view.width_px = width;
     view.margin_m = margin;
@@ -181,29 +178,30 @@ core::RgbImage RenderRobotMap(const core::RobotMap& map, const sim::World* world
     if (e.empty()) e.Add(Vec2::Zero());
     const Vec2 centre = 0.5 * (e.lo + e.hi);
     const Vec2 half = (0.5 * (e.hi - e.lo)).cwiseMax(Vec2(0.5, 0.5));
-    lo = centre - half - Vec2(margin, margin);
-    hi = centre + half + Vec2(margin, margin);
+    *lo = centre - half - Vec2(margin, margin);
+    *hi = centre + half + Vec2(margin, margin);
   }
-  const double scale = width / (hi.x() - lo.x());
-  const int height = std::max(1, static_cast<int>(std::lround((hi.y() - lo.y()) * scale)));
-  if (image.width != width || image.height != height) {
-    image = core::RgbImage(width, height, 255, 255, 255);
-  }
-  Canvas canvas(&image, {lo.x(), hi.y()}, scale);
+  return image;
+}
 
-  // Infinite lines: across the drawn area, ticked every 80 px.
+// Infinite lines: across the drawn area lo-hi, ticked every 80 px.
+void DrawInfiniteLines(const core::RobotMap& map, const Vec2& lo, const Vec2& hi, Canvas* canvas) {
   for (const auto& l : map.lines) {
     const Vec2 n = l.line.normal(), dir(-n.y(), n.x());
     const Vec2 foot = l.line.r_m * n;
     const double reach = (hi - lo).norm() + foot.norm();
     const Vec2 a = foot - reach * dir, b = foot + reach * dir;
-    canvas.Line(a, b, kInfiniteColour, 1.0);
-    const double step_m = 80.0 / scale;
+    canvas->Line(a, b, kInfiniteColour, 1.0);
+    const double step_m = 80.0 / canvas->scale();
     for (double s = -reach; s <= reach; s += step_m) {
-      const Vec2 p = canvas.ToPx(foot + s * dir);
-      canvas.LinePx(p, p + kTickPx * Vec2(-n.x(), n.y()), kInfiniteColour, 1.0);
+      const Vec2 p = canvas->ToPx(foot + s * dir);
+      canvas->LinePx(p, p + kTickPx * Vec2(-n.x(), n.y()), kInfiniteColour, 1.0);
     }
   }
+}
+
+// Edges, then ghost points as crosses.
+void DrawEdgesAndGhosts(const core::RobotMap& map, Canvas* canvas) {
   for (const auto& e : map.edges) {
     const core::MapNode* from = nullptr;
     const core::MapNode* to = nullptr;
@@ -212,38 +210,66 @@ core::RgbImage RenderRobotMap(const core::RobotMap& map, const sim::World* world
       if (n.id == e.to) to = &n;
     }
     if (from != nullptr && to != nullptr) {
-      canvas.Line(from->pose.translation(), to->pose.translation(), kEdgeColour, 1.0);
+      canvas->Line(from->pose.translation(), to->pose.translation(), kEdgeColour, 1.0);
     }
   }
   for (const auto& g : map.ghost_points) {
-    const Vec2 q = canvas.ToPx(g.position_m);
-    canvas.LinePx(q - Vec2(2.5, 2.5), q + Vec2(2.5, 2.5), kGhostColour, 1.0);
-    canvas.LinePx(q - Vec2(2.5, -2.5), q + Vec2(2.5, -2.5), kGhostColour, 1.0);
+    const Vec2 q = canvas->ToPx(g.position_m);
+    canvas->LinePx(q - Vec2(2.5, 2.5), q + Vec2(2.5, 2.5), kGhostColour, 1.0);
+    canvas->LinePx(q - Vec2(2.5, -2.5), q + Vec2(2.5, -2.5), kGhostColour, 1.0);
   }
+}
+
+// Segments and multi-segment lines with their visibility ticks, points, beacons.
+void DrawFeatures(const core::RobotMap& map, Canvas* canvas) {
   for (const auto& s : map.segments) {
-    DrawSegment(&canvas, s.line, s.first_endpoint.position_m, s.second_endpoint.position_m);
+    DrawSegment(canvas, s.line, s.first_endpoint.position_m, s.second_endpoint.position_m);
   }
   for (const auto& m : map.multi_segment_lines) {
-    for (const auto& [a, b] : m.segments) DrawSegment(&canvas, m.line, a.position_m, b.position_m);
+    for (const auto& [a, b] : m.segments) DrawSegment(canvas, m.line, a.position_m, b.position_m);
   }
   for (const auto& p : map.points) {
-    const Vec2 q = canvas.ToPx(p.point.position_m);
-    canvas.RingPx(q, std::max(3.0, p.radius_m * scale), kPointColour, 2.0);
-    canvas.DiscPx(q, 2.0, kPointColour);
+    const Vec2 q = canvas->ToPx(p.point.position_m);
+    canvas->RingPx(q, std::max(3.0, p.radius_m * canvas->scale()), kPointColour, 2.0);
+    canvas->DiscPx(q, 2.0, kPointColour);
   }
   for (const auto& b : map.beacons) {
-    canvas.DiamondPx(canvas.ToPx(b.point.position_m), 7.0, kBeaconColour, kBlack);
+    canvas->DiamondPx(canvas->ToPx(b.point.position_m), 7.0, kBeaconColour, kBlack);
   }
+}
+
+// Stations as squares with their heading, via nodes as discs.
+void DrawNodes(const core::RobotMap& map, Canvas* canvas) {
   for (const auto& n : map.nodes) {
-    const Vec2 q = canvas.ToPx(n.pose.translation());
+    const Vec2 q = canvas->ToPx(n.pose.translation());
     if (n.station) {
-      canvas.SquarePx(q, 4.0, kStationColour);
+      canvas->SquarePx(q, 4.0, kStationColour);
       const Vec2 heading(std::cos(n.pose.theta_rad), -std::sin(n.pose.theta_rad));
-      canvas.LinePx(q, q + 11.0 * heading, kStationColour, 2.0);
+      canvas->LinePx(q, q + 11.0 * heading, kStationColour, 2.0);
     } else {
-      canvas.DiscPx(q, 3.0, kViaColour);
+      canvas->DiscPx(q, 3.0, kViaColour);
     }
   }
+}
+
+}  // namespace
+
+core::RgbImage RenderRobotMap(const core::RobotMap& map, const sim::World* world,
+                              const MapRenderOptions& options) {
+  const int width = std::clamp(options.width_px, 50, 8000);
+  const double margin = std::max(0.0, options.margin_m);
+  Vec2 lo, hi;
+  core::RgbImage image = Background(map, world, width, margin, &lo, &hi);
+  const double scale = width / (hi.x() - lo.x());
+  const int height = std::max(1, static_cast<int>(std::lround((hi.y() - lo.y()) * scale)));
+  if (image.width != width || image.height != height) {
+    image = core::RgbImage(width, height, 255, 255, 255);
+  }
+  Canvas canvas(&image, {lo.x(), hi.y()}, scale);
+  DrawInfiniteLines(map, lo, hi, &canvas);
+  DrawEdgesAndGhosts(map, &canvas);
+  DrawFeatures(map, &canvas);
+  DrawNodes(map, &canvas);
   return image;
 }
 
