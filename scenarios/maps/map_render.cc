@@ -6,12 +6,12 @@
 #include <limits>
 #include <numbers>
 
+#include "scenarios/output/canvas.h"
 #include "sim/render/top_down_view.h"
 
 namespace pavilion::scenarios {
 namespace {
 
-using Rgb = std::array<std::uint8_t, 3>;
 using Vec2 = Eigen::Vector2d;
 
 // Colours of the map items (docs/map_format.md, "Rendering").
@@ -27,87 +27,6 @@ constexpr Rgb kBlack{0, 0, 0};
 // How light the world underneath is drawn: 0 unchanged, 1 white.
 constexpr double kWorldFade = 0.6;
 constexpr double kTickPx = 7.0;  // visibility tick length
-
-class Canvas {
- public:
-  Canvas(core::RgbImage* image, Vec2 top_left_m, double px_per_m)
-      : image_(image), top_left_m_(top_left_m), scale_(px_per_m) {}
-
-  Vec2 ToPx(const Vec2& p) const {
-    return {(p.x() - top_left_m_.x()) * scale_, (top_left_m_.y() - p.y()) * scale_};
-  }
-  double scale() const { return scale_; }
-
-  void Put(int x, int y, const Rgb& c) {
-    if (x < 0 || y < 0 || x >= image_->width || y >= image_->height) return;
-    std::uint8_t* p = &image_->pixels[(static_cast<std::size_t>(y) * image_->width + x) * 3];
-    for (int k = 0; k < 3; ++k) p[k] = c[k];
-  }
-
-  // A line between two pixel positions, `width_px` wide.
-  void LinePx(const Vec2& a, const Vec2& b, const Rgb& c, double width_px) {
-    const double len = (b - a).norm();
-    const int steps = std::max(1, static_cast<int>(std::ceil(len * 2.0)));
-    const double h = 0.5 * width_px;
-    for (int i = 0; i <= steps; ++i) {
-      const Vec2 p = a + (b - a) * (static_cast<double>(i) / steps);
-      for (int y = static_cast<int>(std::floor(p.y() - h + 0.5));
-           y <= static_cast<int>(std::floor(p.y() + h - 0.5)); ++y) {
-        for (int x = static_cast<int>(std::floor(p.x() - h + 0.5));
-             x <= static_cast<int>(std::floor(p.x() + h - 0.5)); ++x) {
-          Put(x, y, c);
-        }
-      }
-    }
-  }
-  void Line(const Vec2& a_m, const Vec2& b_m, const Rgb& c, double width_px) {
-    LinePx(ToPx(a_m), ToPx(b_m), c, width_px);
-  }
-
-  void DiscPx(const Vec2& q, double r, const Rgb& c) {
-    for (int y = static_cast<int>(std::floor(q.y() - r)); y <= static_cast<int>(q.y() + r); ++y) {
-      for (int x = static_cast<int>(std::floor(q.x() - r)); x <= static_cast<int>(q.x() + r); ++x) {
-        const double dx = x + 0.5 - q.x(), dy = y + 0.5 - q.y();
-        if (dx * dx + dy * dy <= r * r) Put(x, y, c);
-      }
-    }
-  }
-
-  void RingPx(const Vec2& q, double r, const Rgb& c, double width_px) {
-    const int n = std::max(16, static_cast<int>(r * 2.0));
-    for (int i = 0; i < n; ++i) {
-      const double t0 = 2.0 * std::numbers::pi * i / n, t1 = 2.0 * std::numbers::pi * (i + 1) / n;
-      LinePx(q + r * Vec2(std::cos(t0), std::sin(t0)), q + r * Vec2(std::cos(t1), std::sin(t1)), c,
-             width_px);
-    }
-  }
-
-  void SquarePx(const Vec2& q, double half, const Rgb& c) {
-    for (int y = static_cast<int>(std::floor(q.y() - half));
-         y <= static_cast<int>(std::floor(q.y() + half)); ++y) {
-      for (int x = static_cast<int>(std::floor(q.x() - half));
-           x <= static_cast<int>(std::floor(q.x() + half)); ++x) {
-        Put(x, y, c);
-      }
-    }
-  }
-
-  void DiamondPx(const Vec2& q, double half, const Rgb& fill, const Rgb& outline) {
-    for (int y = static_cast<int>(std::floor(q.y() - half));
-         y <= static_cast<int>(std::floor(q.y() + half)); ++y) {
-      for (int x = static_cast<int>(std::floor(q.x() - half));
-           x <= static_cast<int>(std::floor(q.x() + half)); ++x) {
-        const double m = std::abs(x + 0.5 - q.x()) + std::abs(y + 0.5 - q.y());
-        if (m <= half) Put(x, y, m > half - 1.5 ? outline : fill);
-      }
-    }
-  }
-
- private:
-  core::RgbImage* image_;
-  Vec2 top_left_m_;
-  double scale_;
-};
 
 // A segment with a tick from its middle towards the side it is seen from.
 void DrawSegment(Canvas* canvas, const core::Line& line, const Vec2& a, const Vec2& b) {
