@@ -13,6 +13,8 @@
 #include <string>
 #include <utility>
 
+#include "core/features/cluster_cuts.h"
+#include "core/features/line_fidelity.h"
 #include "core/features/line_fit.h"
 #include "core/features/segment_builder.h"
 #include "core/math/chi_square.h"
@@ -34,19 +36,6 @@ constexpr int kRangeFitIterations = 6;
 constexpr double kSparseSpanMarginM = 0.1;
 constexpr double kMinRangeFitCosine = 1e-3;
 
-// The standard normal quantile z_p: Newton on Phi(z) = erfc(-z / sqrt 2) / 2.
-double NormalQuantile(double p) {
-  double z = 0.0;
-  for (int i = 0; i < 100; ++i) {
-    const double phi = 0.5 * std::erfc(-z / std::numbers::sqrt2);
-    const double density = std::exp(-0.5 * z * z) / std::sqrt(2.0 * std::numbers::pi);
-    const double step = std::clamp((phi - p) / density, -1.0, 1.0);
-    z -= step;
-    if (std::abs(step) < 1e-12) break;
-  }
-  return z;
-}
-
 // NormalQuantile(p), remembered per thread for the last p: every scan of a
 // sensor asks for the same consistency_significance.
 double CachedNormalQuantile(double p) {
@@ -57,15 +46,6 @@ double CachedNormalQuantile(double p) {
     last_p = p;
   }
   return last_z;
-}
-
-// The chi^2(dof) quantile whose normal quantile is z, by the Wilson-Hilferty
-// cube approximation.
-double WilsonHilferty(int dof, double z) {
-  const double k = dof;
-  const double h = 2.0 / (9.0 * k);
-  const double c = 1.0 - h + z * std::sqrt(h);
-  return k * c * c * c;
 }
 
 // A segment candidate or cluster: indices into the valid readings (sorted), the
@@ -82,109 +62,6 @@ Cluster Unfitted(std::vector<int> points) {
   Cluster c;
   c.points = std::move(points);
   return c;
-}
-
-void Require(bool ok, const char* field, const std::string& expected) {
-  if (!ok) {
-    throw std::invalid_argument(std::string("LineExtractionOptions.") + field + ": expected " +
-                                expected);
-  }
-}
-
-// NormalizeAngle with its common case, an angle already in (-pi, pi] (the
-// difference of two nearby lines' angles), inline; the same result.
-double WrapAngle(double angle_rad) {
-  if (angle_rad > -std::numbers::pi && angle_rad <= std::numbers::pi) return angle_rad;
-  return NormalizeAngle(angle_rad);
-}
-
-// A symmetric 2x2 matrix [a b; b c] of (alpha, r) with the closed-form algebra
-// the fidelity and collinearity tests need.
-struct Sym2 {
-  double a = 0.0, b = 0.0, c = 0.0;
-
-  static Sym2 Of(const Eigen::Matrix2d& m) { return {m(0, 0), 0.5 * (m(0, 1) + m(1, 0)), m(1, 1)}; }
-  double Determinant() const { return a * c - b * b; }
-  Sym2 Inverse() const {  // requires Determinant() != 0
-    const double inv = 1.0 / Determinant();
-    return {c * inv, -b * inv, a * inv};
-  }
-  Sym2 operator+(const Sym2& o) const { return {a + o.a, b + o.b, c + o.c}; }
-  // v^T M^-1 v for v = (x, y), without forming the inverse.
-  double InverseQuadratic(double x, double y) const {
-    return (c * x * x - 2.0 * b * x * y + a * y * y) / Determinant();
-  }
-};
-
-// A window's fit as the fidelity test uses it.
-struct WindowFit {
-  double alpha_rad = 0.0;
-  double r_m = 0.0;
-  Sym2 covariance;
-  Sym2 information;  // covariance^-1
-};
-
-// The model fidelity test d_i <= d_m (eq. 3.15) with the distance d_i of eq.
-// 3.12 for the model points (the window fits at i - 1, i, i + 1) and their
-// information-filter mean (eqs. 3.13-3.14). Angles are taken relative to the
-// middle window's, so differences never wrap.
-bool FidelityPasses(const WindowFit* windows, double threshold) {
-  const double ref = windows[1].alpha_rad;
-  const double da[3] = {WrapAngle(windows[0].alpha_rad - ref), 0.0,
-                        WrapAngle(windows[2].alpha_rad - ref)};
-  Sym2 info;
-  double info_x = 0.0;  // information times (alpha - ref, r), summed
-  double info_y = 0.0;
-  for (int j = 0; j < 3; ++j) {
-    const Sym2& i = windows[j].information;
-    info = info + i;
-    info_x += i.a * da[j] + i.b * windows[j].r_m;
-    info_y += i.b * da[j] + i.c * windows[j].r_m;
-  }
-  const Sym2 cw = info.Inverse();                     // eq. 3.14
-  const double xw_a = cw.a * info_x + cw.b * info_y;  // eq. 3.13
-  const double xw_r = cw.b * info_x + cw.c * info_y;
-  // Eq. 3.12, sum_j e_j^T (C_j + C_w)^-1 e_j = sum_j q_j / det_j with q_j the
-  // quadratic form of the adjugate, as one fraction. Its denominator is
-  // positive for positive-definite covariances, and then the test needs no
-  // division.
-  double numerator = 0.0;
-  double denominator = 1.0;
-  for (int j = 0; j < 3; ++j) {
-    const Sym2 s = windows[j].covariance + cw;
-    const double x = da[j] - xw_a;
-    const double y = windows[j].r_m - xw_r;
-    const double det = s.Determinant();
-    numerator = numerator * det + (s.c * x * x - 2.0 * s.b * x * y + s.a * y * y) * denominator;
-    denominator *= det;
-  }
-  if (denominator > 0.0) return numerator <= threshold * denominator;
-  return numerator / denominator <= threshold;
-}
-
-// Squared Mahalanobis distance of two lines, eq. 3.16 (alpha relative to a's).
-double CollinearityDistance(const Line& a, const Line& b) {
-  const double ea = -WrapAngle(b.alpha_rad - a.alpha_rad);
-  const double er = a.r_m - b.r_m;
-  const Sym2 s = Sym2::Of(a.covariance) + Sym2::Of(b.covariance);
-  if (!(s.Determinant() > 0.0)) return std::numeric_limits<double>::infinity();
-  return s.InverseQuadratic(ea, er);
-}
-
-// Whether two sorted index lists have an element in common.
-bool SharePoints(const std::vector<int>& a, const std::vector<int>& b) {
-  if (a.empty() || b.empty() || a.back() < b.front() || b.back() < a.front()) return false;
-  auto ia = a.begin();
-  auto ib = b.begin();
-  while (ia != a.end() && ib != b.end()) {
-    if (*ia == *ib) return true;
-    if (*ia < *ib) {
-      ++ia;
-    } else {
-      ++ib;
-    }
-  }
-  return false;
 }
 
 // What Agglomerate knows of a pair of clusters.
@@ -553,7 +430,7 @@ class Extractor {
   // chi^2(n - 2).
   bool Consistent(std::size_t n, double residual_sum) const {
     if (!options_.fit_consistency || n <= 2) return true;
-    return residual_sum <= WilsonHilferty(static_cast<int>(n) - 2, consistency_z_);
+    return residual_sum <= ChiSquareQuantileWilsonHilferty(static_cast<int>(n) - 2, consistency_z_);
   }
   bool Consistent(const Cluster& c) const { return Consistent(c.points.size(), c.residual_sum); }
 
@@ -579,7 +456,7 @@ class Extractor {
         result.push_back(std::move(c));
         continue;
       }
-      const int cut = BestCut(c.points);
+      const int cut = BestTwoLineCut(prepared_, c.points);
       // Right piece first on the stack bottom: pieces come out in scan order.
       Cluster parts[2] = {Unfitted({c.points.begin(), c.points.begin() + cut}),
                           Unfitted({c.points.begin() + cut, c.points.end()})};
@@ -589,52 +466,6 @@ class Extractor {
       }
     }
     return result;
-  }
-
-  // The cut k in [1, n) minimizing the residual sums of the two best lines
-  // through members[0, k) and members[k, n); each residual is the smaller
-  // eigenvalue of the weighted scatter matrix about the weighted mean (the
-  // minimum of eqs. 3.4-3.5's objective), from running moment sums in O(n).
-  int BestCut(const std::vector<int>& members) const {
-    struct Moments {
-      double w = 0, x = 0, y = 0, xx = 0, yy = 0, xy = 0;
-      void Add(const FitPoint& p) {
-        const double px = p.range_m * p.cos_bearing;
-        const double py = p.range_m * p.sin_bearing;
-        w += p.weight;
-        x += p.weight * px;
-        y += p.weight * py;
-        xx += p.weight * px * px;
-        yy += p.weight * py * py;
-        xy += p.weight * px * py;
-      }
-      double MinResidual() const {
-        if (!(w > 0.0)) return 0.0;
-        const double a = xx - x * x / w;
-        const double c = yy - y * y / w;
-        const double b = xy - x * y / w;
-        return std::max(0.0, 0.5 * (a + c) - std::hypot(0.5 * (a - c), b));
-      }
-    };
-    const int n = static_cast<int>(members.size());
-    std::vector<double> suffix(n + 1, 0.0);
-    Moments m;
-    for (int k = n - 1; k >= 0; --k) {
-      m.Add(prepared_[members[k]]);
-      suffix[k] = m.MinResidual();
-    }
-    Moments prefix;
-    int best = 1;
-    double best_sum = std::numeric_limits<double>::infinity();
-    for (int k = 1; k < n; ++k) {
-      prefix.Add(prepared_[members[k - 1]]);
-      const double sum = prefix.MinResidual() + suffix[k];
-      if (sum < best_sum) {
-        best_sum = sum;
-        best = k;
-      }
-    }
-    return best;
   }
 
   static std::vector<int> Union(const Cluster& a, const Cluster& b) {
@@ -657,108 +488,140 @@ class Extractor {
   // first in) and renewed for the fused cluster's pairs only.
   void Agglomerate(std::vector<Cluster>& clusters) {
     const double gate = ChiSquare2Quantile(options_.significance);
-    enum Level { kOverlap, kAdjacency, kCollinearity };
-    const int stride = static_cast<int>(clusters.size());
-    std::vector<PairState>& pairs = scratch_.pairs;  // [a * stride + b] for slots a < b
-    std::vector<int>& slot = scratch_.slot;          // slot of the cluster at each position
-    pairs.assign(stride * stride, PairState{});
-    std::vector<Cluster>& unions = scratch_.unions;
-    unions.clear();
-    slot.resize(stride);
+    stride_ = static_cast<int>(clusters.size());
+    scratch_.pairs.assign(stride_ * stride_, PairState{});
+    scratch_.unions.clear();
+    std::vector<int>& slot = scratch_.slot;
+    slot.resize(stride_);
     std::iota(slot.begin(), slot.end(), 0);
-    // Slots increase with positions, so the pair of positions i < j is:
-    const auto pair = [&](int i, int j) -> PairState& { return pairs[slot[i] * stride + slot[j]]; };
-    // Measured when first needed: the collinearity level, which needs all
-    // pairs, is mostly reached when few clusters are left.
-    const auto distance = [&](int i, int j) {
-      PairState& ij = pair(i, j);
-      if (!ij.measured) {
-        ij.distance = CollinearityDistance(clusters[i].line, clusters[j].line);
-        ij.measured = 1;
-      }
-      return ij.distance;
-    };
-    const auto share = [&](int i, int j) {
-      char& s = pair(i, j).shares;
-      if (s == PairState::kUnknown) s = SharePoints(clusters[i].points, clusters[j].points);
-      return s != 0;
-    };
     while (clusters.size() > 1) {
-      int best_i = -1;
-      int best_j = -1;
-      std::optional<Cluster> fused;  // set when the union was already fitted
       const int m = static_cast<int>(clusters.size());
-      for (Level level : {kOverlap, kAdjacency, kCollinearity}) {
-        double best_d = gate;
-        for (int i = 0; i < m; ++i) {
-          for (int j = i + 1; j < m; ++j) {
-            if (level != kCollinearity && j != i + 1) break;
-            const double d = distance(i, j);
-            if (d > best_d || pair(i, j).refused) continue;
-            if (level == kOverlap && !share(i, j)) continue;
-            best_d = d;
-            best_i = i;
-            best_j = j;
-          }
-        }
-        if (best_i >= 0) break;
-        // Overlapping and adjacent fragments of one wall estimate their lines
-        // from shared or neighbouring readings: eq. 3.16, which assumes two
-        // independent estimates, rejects fragments a noisy reading biased
-        // (short ones, whose alpha and r are strongly correlated). For them
-        // the readings decide, by the likelihood-ratio test of one line
-        // against two: with the union split into a's readings and the rest,
-        // the residual sum of the joint fit exceeds the two separate fits' by
-        // a chi^2(2) variable when all lie on one line. Of the pairs passing it
-        // (and the fit consistency test) the one nearest by eq. 3.16 is fused.
-        if (level == kCollinearity || !options_.fit_consistency) continue;
-        // A union that passed is kept until its pair is fused or renewed: the
-        // test depends on the two clusters only.
-        double best_union_d = std::numeric_limits<double>::infinity();
-        int best_union = -1;
-        for (int i = 0; i + 1 < m; ++i) {
-          const int j = i + 1;
-          PairState& ij = pair(i, j);
-          if (ij.refused) continue;
-          if (level == kOverlap && !share(i, j)) continue;
-          const double d = distance(i, j);
-          if (d >= best_union_d) continue;
-          if (ij.union_index < 0) {
-            Cluster candidate = Unfitted(Union(clusters[i], clusters[j]));
-            if (!OneLine(clusters[i], &candidate, gate)) {
-              ij.refused = 1;
-              continue;
-            }
-            ij.union_index = static_cast<int>(unions.size());
-            unions.push_back(std::move(candidate));
-          }
-          best_union_d = d;
-          best_i = i;
-          best_j = j;
-          best_union = ij.union_index;
-        }
-        if (best_i >= 0) {
-          fused = std::move(unions[best_union]);
-          break;
-        }
-      }
-      if (best_i < 0) return;
-      if (!fused) {
-        fused = Unfitted(Union(clusters[best_i], clusters[best_j]));
-        if (!Refit(*fused)) return;  // cannot happen for two non-degenerate sets; stop merging
-        if (!Consistent(*fused)) {
-          pair(best_i, best_j).refused = 1;
+      Fusion f = NextFusion(clusters, gate);
+      if (f.i < 0) return;
+      if (!f.fused) {
+        f.fused = Unfitted(Union(clusters[f.i], clusters[f.j]));
+        if (!Refit(*f.fused)) return;  // cannot happen for two non-degenerate sets; stop merging
+        if (!Consistent(*f.fused)) {
+          Pair(f.i, f.j).refused = 1;
           continue;
         }
       }
-      clusters[best_i] = std::move(*fused);
-      clusters.erase(clusters.begin() + best_j);
-      slot.erase(slot.begin() + best_j);
+      clusters[f.i] = std::move(*f.fused);
+      clusters.erase(clusters.begin() + f.j);
+      slot.erase(slot.begin() + f.j);
       // The fused cluster's pairs are new.
       for (int q = 0; q + 1 < m; ++q) {
-        if (q != best_i) pair(std::min(q, best_i), std::max(q, best_i)) = PairState{};
+        if (q != f.i) Pair(std::min(q, f.i), std::max(q, f.i)) = PairState{};
       }
     }
+  }
+
+  enum class Level { kOverlap, kAdjacency, kCollinearity };
+
+  // The pair Agglomerate fuses next: positions i < j (i < 0: none) and their
+  // union when it was already fitted.
+  struct Fusion {
+    int i = -1;
+    int j = -1;
+    std::optional<Cluster> fused;
+  };
+
+  // Agglomerate's pair table entry of positions i < j (slots increase with positions).
+  PairState& Pair(int i, int j) const {
+    const std::vector<int>& slot = scratch_.slot;
+    return scratch_.pairs[slot[i] * stride_ + slot[j]];
+  }
+
+  // Eq. 3.16 for positions i < j, measured when first needed: the
+  // collinearity level, which needs all pairs, is mostly reached when few
+  // clusters are left.
+  double Distance(const std::vector<Cluster>& clusters, int i, int j) const {
+    PairState& ij = Pair(i, j);
+    if (!ij.measured) {
+      ij.distance = CollinearityDistance(clusters[i].line, clusters[j].line);
+      ij.measured = 1;
+    }
+    return ij.distance;
+  }
+
+  bool Share(const std::vector<Cluster>& clusters, int i, int j) const {
+    char& s = Pair(i, j).shares;
+    if (s == PairState::kUnknown) s = SharePoints(clusters[i].points, clusters[j].points);
+    return s != 0;
+  }
+
+  // The level's nearest pair passing eq. 3.16 (neighbours only below the
+  // collinearity level); false when there is none.
+  bool NearestCollinearPair(const std::vector<Cluster>& clusters, Level level, double gate,
+                            Fusion* f) const {
+    const int m = static_cast<int>(clusters.size());
+    double best_d = gate;
+    for (int i = 0; i < m; ++i) {
+      for (int j = i + 1; j < m; ++j) {
+        if (level != Level::kCollinearity && j != i + 1) break;
+        const double d = Distance(clusters, i, j);
+        if (d > best_d || Pair(i, j).refused) continue;
+        if (level == Level::kOverlap && !Share(clusters, i, j)) continue;
+        best_d = d;
+        f->i = i;
+        f->j = j;
+      }
+    }
+    return f->i >= 0;
+  }
+
+  // Overlapping and adjacent fragments of one wall estimate their lines from
+  // shared or neighbouring readings: eq. 3.16, which assumes two independent
+  // estimates, rejects fragments a noisy reading biased (short ones, whose
+  // alpha and r are strongly correlated). For them the readings decide, by the
+  // likelihood-ratio test of one line against two (OneLine). Of the
+  // neighbouring pairs passing it (and the fit consistency test) the one
+  // nearest by eq. 3.16 is fused; false when there is none. A union that
+  // passed is kept until its pair is fused or renewed: the test depends on the
+  // two clusters only.
+  bool NearestOneLinePair(const std::vector<Cluster>& clusters, Level level, double gate,
+                          Fusion* f) const {
+    std::vector<Cluster>& unions = scratch_.unions;
+    const int m = static_cast<int>(clusters.size());
+    double best_union_d = std::numeric_limits<double>::infinity();
+    int best_union = -1;
+    for (int i = 0; i + 1 < m; ++i) {
+      const int j = i + 1;
+      PairState& ij = Pair(i, j);
+      if (ij.refused) continue;
+      if (level == Level::kOverlap && !Share(clusters, i, j)) continue;
+      const double d = Distance(clusters, i, j);
+      if (d >= best_union_d) continue;
+      if (ij.union_index < 0) {
+        Cluster candidate = Unfitted(Union(clusters[i], clusters[j]));
+        if (!OneLine(clusters[i], &candidate, gate)) {
+          ij.refused = 1;
+          continue;
+        }
+        ij.union_index = static_cast<int>(unions.size());
+        unions.push_back(std::move(candidate));
+      }
+      best_union_d = d;
+      f->i = i;
+      f->j = j;
+      best_union = ij.union_index;
+    }
+    if (f->i < 0) return false;
+    f->fused = std::move(unions[best_union]);
+    return true;
+  }
+
+  // The next fusion: by level, the nearest pair passing eq. 3.16, else (below
+  // the collinearity level, with the fit consistency test on) the nearest
+  // neighbours passing the likelihood-ratio test.
+  Fusion NextFusion(const std::vector<Cluster>& clusters, double gate) const {
+    Fusion f;
+    for (Level level : {Level::kOverlap, Level::kAdjacency, Level::kCollinearity}) {
+      if (NearestCollinearPair(clusters, level, gate, &f)) break;
+      if (level == Level::kCollinearity || !options_.fit_consistency) continue;
+      if (NearestOneLinePair(clusters, level, gate, &f)) break;
+    }
+    return f;
   }
 
   // The likelihood-ratio test of Agglomerate for `a` and the union `joined`
@@ -813,38 +676,13 @@ class Extractor {
           continue;
         }
         // a ends where b begins: shared[0, cut) stay with a, the rest go to b.
-        const int m = static_cast<int>(shared.size());
-        const Eigen::Vector2d normal_a = a.line.normal();
-        const Eigen::Vector2d normal_b = b.line.normal();
-        std::vector<double> to_a(m);
-        std::vector<double> to_b(m);
-        for (int k = 0; k < m; ++k) {
-          const Eigen::Vector2d p = Cartesian(shared[k]);
-          to_a[k] = std::pow(normal_a.dot(p) - a.line.r_m, 2);  // Line::SignedDistance
-          to_b[k] = std::pow(normal_b.dot(p) - b.line.r_m, 2);
-        }
-        double cost = 0.0;
-        for (double v : to_b) cost += v;
-        double best_cost = cost;
-        int best_cut = 0;
-        for (int cut = 1; cut <= m; ++cut) {
-          cost += to_a[cut - 1] - to_b[cut - 1];
-          if (cost < best_cost) {
-            best_cost = cost;
-            best_cut = cut;
-          }
-        }
+        const int best_cut = CornerCut(prepared_, shared, a.line, b.line);
         RemovePoints(a, std::span<const int>(shared).subspan(best_cut));
         RemovePoints(b, std::span<const int>(shared).first(best_cut));
       }
     }
     const std::size_t min_points = static_cast<std::size_t>(options_.window_size);
     std::erase_if(clusters, [&](const Cluster& c) { return c.points.size() < min_points; });
-  }
-
-  Eigen::Vector2d Cartesian(int k) const {
-    const FitPoint& p = prepared_[k];
-    return p.range_m * Eigen::Vector2d(p.cos_bearing, p.sin_bearing);
   }
 
   void RemovePoints(Cluster& cluster, std::span<const int> removed) const {
@@ -918,96 +756,10 @@ class Extractor {
   // Regions of readings whose range sigma was estimated from their scatter
   // (adaptive_range_sigma), in scan order.
   std::vector<NoisyRegion> noisy_surfaces_;
+  int stride_ = 0;  // Agglomerate: clusters at its start, the pair table's row length
 };
 
 }  // namespace
-
-void LineExtractionOptions::Validate() const {
-  Require(window_size >= 3 && window_size % 2 == 1, "window_size", "an odd integer >= 3");
-  Require(std::isfinite(fidelity_threshold) && fidelity_threshold > 0.0, "fidelity_threshold",
-          "a finite value > 0");
-  Require(std::isfinite(significance) && significance > 0.0 && significance < 1.0, "significance",
-          "a value in (0, 1)");
-  Require(std::isfinite(range_sigma_m) && range_sigma_m > 0.0, "range_sigma_m",
-          "a finite value > 0");
-  Require(min_points >= 2, "min_points", "an integer >= 2");
-  Require(std::isfinite(consistency_significance) && consistency_significance > 0.0 &&
-              consistency_significance < 1.0,
-          "consistency_significance", "a value in (0, 1)");
-  Require(min_gap_readings >= 1, "min_gap_readings", "an integer >= 1");
-  Require(std::isfinite(min_length_m) && min_length_m >= 0.0, "min_length_m",
-          "a finite value >= 0");
-  Require(std::isfinite(alpha_sigma_floor_rad) && alpha_sigma_floor_rad >= 0.0,
-          "alpha_sigma_floor_rad", "a finite value >= 0");
-  Require(std::isfinite(r_sigma_floor_m) && r_sigma_floor_m >= 0.0, "r_sigma_floor_m",
-          "a finite value >= 0");
-  Require(std::isfinite(endpoint_bearing_sigma_rad) && endpoint_bearing_sigma_rad >= 0.0,
-          "endpoint_bearing_sigma_rad", "a finite value >= 0");
-  Require(sparse_min_points == 0 || sparse_min_points >= 3, "sparse_min_points",
-          "0 (off) or an integer >= 3");
-  Require(max_alpha_sigma_rad > 0.0, "max_alpha_sigma_rad", "a value > 0 (infinity: no limit)");
-  Require(max_r_sigma_m > 0.0, "max_r_sigma_m", "a value > 0 (infinity: no limit)");
-  range_noise.Validate();
-}
-
-// SICK PLS 100: 0.5 deg on 180 deg, 5 cm radial quantization (§3.2.4), i.e. a
-// uniform error of sigma = 5 cm / sqrt(12); n_f = 7 as in the thesis.
-LineExtractionOptions LineExtractionOptions::SickPls100() {
-  LineExtractionOptions o;
-  o.window_size = 7;
-  o.range_sigma_m = 0.05 / std::sqrt(12.0);
-  return o;
-}
-
-// Acuity AccuRange 3000 LV: 1 deg on 360 deg, "relatively big radial noise"
-// (fig. 3.1); the thesis gives no figure, 3 cm is assumed. n_f = 7 as in the thesis.
-LineExtractionOptions LineExtractionOptions::AccuRange3000() {
-  LineExtractionOptions o;
-  o.window_size = 7;
-  o.range_sigma_m = 0.03;
-  return o;
-}
-
-// Leuze RS3: 0.25 deg on 180 deg, low noise (§3.2.4); 5 mm assumed. n_f = 15
-// as in the thesis.
-LineExtractionOptions LineExtractionOptions::LeuzeRs3() {
-  LineExtractionOptions o;
-  o.window_size = 15;
-  o.range_sigma_m = 0.005;
-  return o;
-}
-
-// SICK LMS 200: 0.5 deg on 180 deg, sigma = 1 cm. See the struct default of
-// window_size for the choice of n_f.
-//
-// Covariance floor (§2.2.1.3) of 1 mm and 0.35 mrad (0.02 deg): the simulated
-// LMS 200's white range noise is not its only error. Mixed pixels at segment
-// ends, the beam footprint and quantization leave a small error that repeats
-// from scan to scan (extracted r is 0.4-0.5 mm short on average against
-// ground truth), and eqs. 3.8-3.10 alone put only 92.4% (office_floor) and
-// 91.6% (expo_hall) of the (alpha, r) errors inside their 95% gate
-// (tests/scenarios/scoring/extraction_scoring_test.cc, 900 and 600 scans with
-// visitors). With the floor: 96.4% and 95.7%; 0.5 mm / 0.2 mrad gives 95.0%
-// and 93.6%. Error that repeats does not average out over the hundreds of
-// cycles a localizer integrates: without the floor the office tour's filter is
-// overconfident (five-seed pooled ANEES 3.25, 88.9% of cycles in the NEES
-// band; with it 2.96 and 93.9%, docs/benchmarks.md).
-//
-// Sparse lines from 4 readings, and lines reported only when sigma_alpha <=
-// 1.5 deg and sigma_r <= 3.5 cm: without the limits the sparse lines and the
-// velvet booth's noisy faces more than double the false positives (expo_hall
-// FP 0.073, office 0.036; TP 0.974 / 0.995), most of them short far pieces
-// of real walls whose r, 5 m from the sensor, is off by more than 5 cm.
-// Figures for each part in docs/benchmarks.md ("Line extraction per scan").
-LineExtractionOptions LineExtractionOptions::SickLms200() {
-  LineExtractionOptions o;
-  o.r_sigma_floor_m = 0.001;
-  o.alpha_sigma_floor_rad = 0.00035;
-  o.sparse_min_points = 4;
-  o.max_alpha_sigma_rad = 1.5 * std::numbers::pi / 180.0;
-  o.max_r_sigma_m = 0.035;
-  return o;
-}
 
 std::vector<Segment> ExtractLines(const LaserScan& scan, const LineExtractionOptions& options) {
   options.Validate();

@@ -96,21 +96,14 @@ void RangeNoiseOptions::Validate() const {
   Require(std::isfinite(max_factor) && max_factor >= 1.0, "max_factor", "a finite value >= 1");
 }
 
-std::vector<NoisyRegion> EstimateRangeSigmas(std::span<const FitPoint> points,
-                                             double nominal_sigma_m,
-                                             const RangeNoiseOptions& options,
-                                             std::vector<double>& sigmas) {
-  const int n = static_cast<int>(points.size());
-  sigmas.clear();
-  std::vector<NoisyRegion> regions;
-  const int m = options.window_readings;
-  if (n < m) return regions;
-  thread_local std::vector<char> exceed;
-  thread_local std::vector<double> sample;
+namespace {
 
-  // Running count of pseudo-residuals above the threshold in [c - h, c + h];
-  // runs of centres where they are the majority.
-  const double threshold = options.detection_factor * nominal_sigma_m;
+// Runs of centres c where the pseudo-residuals above `threshold` are the
+// majority of the window [c - h, c + h] of m readings (a running count).
+std::vector<NoisyRegion> MajorityRuns(std::span<const FitPoint> points, double threshold, int m) {
+  const int n = static_cast<int>(points.size());
+  std::vector<NoisyRegion> regions;
+  thread_local std::vector<char> exceed;
   exceed.assign(n, 0);
   int total = 0;
   for (int i = 1; i + 1 < n; ++i) total += exceed[i] = Exceeds(points, i, threshold);
@@ -119,7 +112,6 @@ std::vector<NoisyRegion> EstimateRangeSigmas(std::span<const FitPoint> points,
   const auto exceeds = [&](int i) { return i >= 0 && i < n ? exceed[i] : 0; };
   int count = 0;
   for (int i = 0; i < h; ++i) count += exceeds(i);
-  const auto z = [&](int i) { return PseudoResidual(points, i); };
   int run_first = -1;
   for (int c = 0; c < n; ++c) {
     count += exceeds(c + h) - exceeds(c - h - 1);
@@ -130,41 +122,49 @@ std::vector<NoisyRegion> EstimateRangeSigmas(std::span<const FitPoint> points,
       run_first = -1;
     }
   }
+  return regions;
+}
 
-  // Each run's sigma from its own readings; then the run is widened by up to a
-  // quarter window into readings its noise explains (|z| <= 3 sigma: not
-  // across a depth edge).
-  const int widen = m / 4;
-  for (NoisyRegion& region : regions) {
-    sample.clear();
-    for (int i = region.first; i <= region.last; ++i) {
-      if (const double v = z(i); !std::isnan(v)) sample.push_back(v);
-    }
-    if (sample.empty()) {
-      region.clutter = true;
-      continue;
-    }
-    const auto middle = sample.begin() + static_cast<std::ptrdiff_t>(sample.size() / 2);
-    std::nth_element(sample.begin(), middle, sample.end());
-    // Once more without the depth edges the first estimate shows (the chord
-    // across an edge at either end of the run).
-    const double first_estimate = kMadToSigma * *middle;
-    std::erase_if(sample, [&](double v) { return v > kEdgeSigmas * first_estimate; });
-    const auto centre = sample.begin() + static_cast<std::ptrdiff_t>(sample.size() / 2);
-    std::nth_element(sample.begin(), centre, sample.end());
-    region.sigma_m = std::max(kMadToSigma * *centre, nominal_sigma_m);
-    region.clutter = !(region.sigma_m <= options.max_factor * nominal_sigma_m);
-    if (region.clutter) continue;
-    const double explained = kExplainedSigmas * region.sigma_m;
-    for (int k = 0; k < widen && region.first > 0 && !(z(region.first - 1) > explained); ++k) {
-      --region.first;
-    }
-    for (int k = 0; k < widen && region.last + 1 < n && !(z(region.last + 1) > explained); ++k) {
-      ++region.last;
-    }
+// The region's sigma from its own readings (clutter when it has none or more
+// than max_factor nominal); then the region is widened by up to `widen`
+// readings at each end into readings its noise explains (|z| <= 3 sigma: not
+// across a depth edge).
+void EstimateRegion(std::span<const FitPoint> points, double nominal_sigma_m,
+                    const RangeNoiseOptions& options, int widen, NoisyRegion& region) {
+  const int n = static_cast<int>(points.size());
+  const auto z = [&](int i) { return PseudoResidual(points, i); };
+  thread_local std::vector<double> sample;
+  sample.clear();
+  for (int i = region.first; i <= region.last; ++i) {
+    if (const double v = z(i); !std::isnan(v)) sample.push_back(v);
   }
-  // Surface regions that now touch are one surface: the larger sigma (the
-  // conservative weight).
+  if (sample.empty()) {
+    region.clutter = true;
+    return;
+  }
+  const auto middle = sample.begin() + static_cast<std::ptrdiff_t>(sample.size() / 2);
+  std::nth_element(sample.begin(), middle, sample.end());
+  // Once more without the depth edges the first estimate shows (the chord
+  // across an edge at either end of the run).
+  const double first_estimate = kMadToSigma * *middle;
+  std::erase_if(sample, [&](double v) { return v > kEdgeSigmas * first_estimate; });
+  const auto centre = sample.begin() + static_cast<std::ptrdiff_t>(sample.size() / 2);
+  std::nth_element(sample.begin(), centre, sample.end());
+  region.sigma_m = std::max(kMadToSigma * *centre, nominal_sigma_m);
+  region.clutter = !(region.sigma_m <= options.max_factor * nominal_sigma_m);
+  if (region.clutter) return;
+  const double explained = kExplainedSigmas * region.sigma_m;
+  for (int k = 0; k < widen && region.first > 0 && !(z(region.first - 1) > explained); ++k) {
+    --region.first;
+  }
+  for (int k = 0; k < widen && region.last + 1 < n && !(z(region.last + 1) > explained); ++k) {
+    ++region.last;
+  }
+}
+
+// Surface regions that touch are one surface: the larger sigma (the
+// conservative weight).
+std::vector<NoisyRegion> MergeTouching(const std::vector<NoisyRegion>& regions) {
   std::vector<NoisyRegion> merged;
   for (const NoisyRegion& region : regions) {
     if (!merged.empty() && !region.clutter && !merged.back().clutter &&
@@ -175,10 +175,18 @@ std::vector<NoisyRegion> EstimateRangeSigmas(std::span<const FitPoint> points,
     }
     merged.push_back(region);
   }
-  // A surface ends at a depth edge: a reading its neighbours' chord misses by
-  // more than kEdgeSigmas of the region's sigma (a chance of 6e-5 per reading
-  // on the surface) separates two surfaces — the velvet and a visitor in
-  // front of it. Such readings keep the region's sigma but belong to no piece.
+  return merged;
+}
+
+// A surface ends at a depth edge: a reading its neighbours' chord misses by
+// more than kEdgeSigmas of the region's sigma (a chance of 6e-5 per reading
+// on the surface) separates two surfaces — the velvet and a visitor in
+// front of it. Such readings keep the region's sigma but belong to no piece.
+// Sets the surfaces' readings' sigmas.
+std::vector<NoisyRegion> SplitAtDepthEdges(std::span<const FitPoint> points,
+                                           const std::vector<NoisyRegion>& merged,
+                                           double nominal_sigma_m, std::vector<double>& sigmas) {
+  const int n = static_cast<int>(points.size());
   std::vector<NoisyRegion> pieces;
   for (const NoisyRegion& region : merged) {
     if (region.clutter) {
@@ -190,12 +198,32 @@ std::vector<NoisyRegion> EstimateRangeSigmas(std::span<const FitPoint> points,
     const double edge = kEdgeSigmas * region.sigma_m;
     int first = region.first;
     for (int i = region.first; i <= region.last + 1; ++i) {
-      if (i <= region.last && !(z(i) > edge)) continue;
+      if (i <= region.last && !(PseudoResidual(points, i) > edge)) continue;
       if (i > first) pieces.push_back({first, i - 1, region.sigma_m, false});
       first = i + 1;
     }
   }
   return pieces;
+}
+
+}  // namespace
+
+std::vector<NoisyRegion> EstimateRangeSigmas(std::span<const FitPoint> points,
+                                             double nominal_sigma_m,
+                                             const RangeNoiseOptions& options,
+                                             std::vector<double>& sigmas) {
+  const int n = static_cast<int>(points.size());
+  sigmas.clear();
+  const int m = options.window_readings;
+  if (n < m) return {};
+  std::vector<NoisyRegion> regions =
+      MajorityRuns(points, options.detection_factor * nominal_sigma_m, m);
+  if (regions.empty()) return regions;
+  const int widen = m / 4;
+  for (NoisyRegion& region : regions) {
+    EstimateRegion(points, nominal_sigma_m, options, widen, region);
+  }
+  return SplitAtDepthEdges(points, MergeTouching(regions), nominal_sigma_m, sigmas);
 }
 
 }  // namespace pavilion::core

@@ -3,12 +3,10 @@
 #include <algorithm>
 #include <cstddef>
 
+#include "core/geometry/segment2.h"
+
 namespace pavilion::core {
 namespace {
-
-double Cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-  return a.x() * b.y() - a.y() * b.x();
-}
 
 // Proper or touching intersection of closed segments p1p2 and q1q2.
 bool SegmentsIntersect(const Eigen::Vector2d& p1, const Eigen::Vector2d& p2,

@@ -61,10 +61,41 @@ bool IsPositiveDefinite(const Eigen::Matrix2d& c) {
   return c(0, 0) > 0.0 && c(1, 1) > 0.0 && c(0, 0) * c(1, 1) - c(0, 1) * c(1, 0) > 0.0;
 }
 
-void ValidateRobotMap(const RobotMap& map) {
-  if (!(std::isfinite(map.beam_height_m) && map.beam_height_m > 0.0)) {
-    throw std::invalid_argument("map: beam_height: must be finite and > 0");
+namespace {
+
+void CheckSegment(const MapSegment& s) {
+  CheckLine(s.line, "segment", s.id);
+  CheckPoint(s.first_endpoint, "segment", s.id, "from");
+  CheckPoint(s.second_endpoint, "segment", s.id, "to");
+  CheckOnLine(s.line, s.first_endpoint, "segment", s.id, "from");
+  CheckOnLine(s.line, s.second_endpoint, "segment", s.id, "to");
+  if (!(Along(s.line, s.first_endpoint.position_m) < Along(s.line, s.second_endpoint.position_m))) {
+    Fail("segment", s.id, "to", "must lie after 'from' along the line's direction");
   }
+}
+
+void CheckMultiSegmentLine(const MapMultiSegmentLine& m) {
+  CheckLine(m.line, "multi_segment_line", m.id);
+  if (m.segments.empty()) Fail("multi_segment_line", m.id, "segments", "must not be empty");
+  double last = -std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < m.segments.size(); ++i) {
+    const std::string field = "segments[" + std::to_string(i) + "]";
+    const auto& [a, b] = m.segments[i];
+    CheckPoint(a, "multi_segment_line", m.id, field + ".from");
+    CheckPoint(b, "multi_segment_line", m.id, field + ".to");
+    CheckOnLine(m.line, a, "multi_segment_line", m.id, field + ".from");
+    CheckOnLine(m.line, b, "multi_segment_line", m.id, field + ".to");
+    const double sa = Along(m.line, a.position_m), sb = Along(m.line, b.position_m);
+    if (!(sa < sb) || sa < last - kMapEndpointToleranceM) {
+      Fail("multi_segment_line", m.id, field,
+           "segments must run along the line's direction (-sin alpha, cos alpha), in order");
+    }
+    last = sb;
+  }
+}
+
+// Lines, segments, multi-segment lines, points and beacons, with ids unique among them.
+void CheckFeatures(const RobotMap& map) {
   std::set<std::string> feature_ids;
   auto unique_feature = [&](const std::string& what, const std::string& id) {
     if (id.empty()) Fail(what, id, "id", "must not be empty");
@@ -76,35 +107,11 @@ void ValidateRobotMap(const RobotMap& map) {
   }
   for (const MapSegment& s : map.segments) {
     unique_feature("segment", s.id);
-    CheckLine(s.line, "segment", s.id);
-    CheckPoint(s.first_endpoint, "segment", s.id, "from");
-    CheckPoint(s.second_endpoint, "segment", s.id, "to");
-    CheckOnLine(s.line, s.first_endpoint, "segment", s.id, "from");
-    CheckOnLine(s.line, s.second_endpoint, "segment", s.id, "to");
-    if (!(Along(s.line, s.first_endpoint.position_m) <
-          Along(s.line, s.second_endpoint.position_m))) {
-      Fail("segment", s.id, "to", "must lie after 'from' along the line's direction");
-    }
+    CheckSegment(s);
   }
   for (const MapMultiSegmentLine& m : map.multi_segment_lines) {
     unique_feature("multi_segment_line", m.id);
-    CheckLine(m.line, "multi_segment_line", m.id);
-    if (m.segments.empty()) Fail("multi_segment_line", m.id, "segments", "must not be empty");
-    double last = -std::numeric_limits<double>::infinity();
-    for (std::size_t i = 0; i < m.segments.size(); ++i) {
-      const std::string field = "segments[" + std::to_string(i) + "]";
-      const auto& [a, b] = m.segments[i];
-      CheckPoint(a, "multi_segment_line", m.id, field + ".from");
-      CheckPoint(b, "multi_segment_line", m.id, field + ".to");
-      CheckOnLine(m.line, a, "multi_segment_line", m.id, field + ".from");
-      CheckOnLine(m.line, b, "multi_segment_line", m.id, field + ".to");
-      const double sa = Along(m.line, a.position_m), sb = Along(m.line, b.position_m);
-      if (!(sa < sb) || sa < last - kMapEndpointToleranceM) {
-        Fail("multi_segment_line", m.id, field,
-             "segments must run along the line's direction (-sin alpha, cos alpha), in order");
-      }
-      last = sb;
-    }
+    CheckMultiSegmentLine(m);
   }
   for (const MapPoint& p : map.points) {
     unique_feature("point", p.id);
@@ -117,6 +124,10 @@ void ValidateRobotMap(const RobotMap& map) {
     unique_feature("beacon", b.id);
     CheckPoint(b.point, "beacon", b.id, "position");
   }
+}
+
+// Nodes with unique ids and finite poses; undirected edges between two known nodes.
+void CheckTopology(const RobotMap& map) {
   std::set<std::string> node_ids;
   for (const MapNode& n : map.nodes) {
     if (n.id.empty()) Fail("node", n.id, "id", "must not be empty");
@@ -139,6 +150,9 @@ void ValidateRobotMap(const RobotMap& map) {
       Fail("edge", id, "from/to", "duplicate edge (edges are undirected)");
     }
   }
+}
+
+void CheckGhostPoints(const RobotMap& map) {
   std::set<std::string> ghost_ids;
   for (const MapGhostPoint& g : map.ghost_points) {
     if (g.id.empty()) Fail("ghost point", g.id, "id", "must not be empty");
@@ -147,6 +161,17 @@ void ValidateRobotMap(const RobotMap& map) {
     }
     if (!Finite(g.position_m)) Fail("ghost point", g.id, "position", "must be finite");
   }
+}
+
+}  // namespace
+
+void ValidateRobotMap(const RobotMap& map) {
+  if (!(std::isfinite(map.beam_height_m) && map.beam_height_m > 0.0)) {
+    throw std::invalid_argument("map: beam_height: must be finite and > 0");
+  }
+  CheckFeatures(map);
+  CheckTopology(map);
+  CheckGhostPoints(map);
 }
 
 }  // namespace pavilion::core

@@ -1,7 +1,9 @@
 #include "core/math/chi_square.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <stdexcept>
 
 namespace pavilion::core {
@@ -69,6 +71,25 @@ double ChiSquareQuantile(double p, int dof) {
     (ChiSquareCdf(mid, dof) < p ? lo : hi) = mid;
   }
   return 0.5 * (lo + hi);
+}
+
+double NormalQuantile(double p) {
+  double z = 0.0;
+  for (int i = 0; i < 100; ++i) {
+    const double phi = 0.5 * std::erfc(-z / std::numbers::sqrt2);
+    const double density = std::exp(-0.5 * z * z) / std::sqrt(2.0 * std::numbers::pi);
+    const double step = std::clamp((phi - p) / density, -1.0, 1.0);
+    z -= step;
+    if (std::abs(step) < 1e-12) break;
+  }
+  return z;
+}
+
+double ChiSquareQuantileWilsonHilferty(int dof, double z) {
+  const double k = dof;
+  const double h = 2.0 / (9.0 * k);
+  const double c = 1.0 - h + z * std::sqrt(h);
+  return k * c * c * c;
 }
 
 }  // namespace pavilion::core

@@ -18,4 +18,13 @@ double ChiSquareCdf(double x, int dof);
 // relative 1e-12 (bisection on the regularized incomplete gamma function).
 double ChiSquareQuantile(double p, int dof);
 
+// The standard normal quantile z_p (Newton on Phi(z) = erfc(-z / sqrt 2) / 2);
+// p in (0, 1).
+double NormalQuantile(double p);
+
+// The Wilson-Hilferty cube approximation of the chi^2(dof) quantile whose
+// normal quantile is z: dof (1 - h + z sqrt h)^3, h = 2 / (9 dof); dof >= 1.
+// Closed form, for tests evaluated per fit (line extraction's fit consistency).
+double ChiSquareQuantileWilsonHilferty(int dof, double z);
+
 }  // namespace pavilion::core

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/odometry/diff_drive.h"
+#include "core/odometry/umbmark.h"
 #include "core/types/pose2.h"
 #include "sim/robot/robot_config.h"
 
@@ -17,7 +18,8 @@ namespace pavilion::scenarios {
 // measure the true end poses (what a tape measure gives on a real robot), and
 // estimate the systematic factors with UMBmark (Borenstein & Feng 1996) plus
 // straight runs, then the §2.3 wheel-space noise k by maximum likelihood.
-// Method and formulas: docs/calibration.md and odometry_calibration.cc.
+// Method and formulas: docs/calibration.md, core/odometry/umbmark.cc and
+// core/odometry/wheel_noise_fit.cc.
 
 // How the calibration drives.
 struct OdometryCalibrationOptions {
@@ -102,32 +104,6 @@ sim::OdometryCalibration NominalOdometry(const sim::RobotConfig& config);
 // ([x, y, θ], θ wrapped).
 Eigen::Vector3d EndPoseError(const RecordedRun& run, const core::Pose2& odometry_end);
 
-// UMBmark (Borenstein & Feng 1996) for squares of side L driven with odometry
-// feedback. The centres of gravity of the end-position errors (start frame) of
-// the clockwise and counter-clockwise runs give the turn error per corner and
-// the heading change per leg, and from them the correction factors.
-struct UmbmarkResult {
-  Eigen::Vector2d cg_ccw_m{0, 0};  // centre of gravity of CCW end-position errors
-  Eigen::Vector2d cg_cw_m{0, 0};
-  double corner_overturn_rad = 0.0;  // a: true − intended turn at each 90° corner
-  double leg_curvature_rad = 0.0;    // γ: true heading change along each leg (left positive)
-  // Correction factors of the calibrated model relative to the nominal one:
-  double radius_ratio_factor = 1.0;  // E_d: (r_R/r_L)_calibrated / (r_R/r_L)_nominal
-  double turn_factor = 1.0;          // ρ: true / odometric in-place turn angle
-  double e_max_syst_m = 0.0;         // UMBmark's measure: max(|cg_cw|, |cg_ccw|)
-};
-
-// UMBmark's one-step estimate from end-pose errors of squares of side `side_m`
-// with 90° corners. `scale` is the straight-run scale (true / odometric
-// distance), `wheelbase_m` the nominal wheelbase.
-UmbmarkResult EstimateUmbmark(const std::vector<Eigen::Vector3d>& ccw_errors,
-                              const std::vector<Eigen::Vector3d>& cw_errors, double side_m,
-                              double scale, double wheelbase_m);
-
-// Sets result's correction factors (E_d, ρ) from its corner over-turn a and
-// leg curvature γ (formulas C2–C4 of odometry_calibration.cc).
-void SetUmbmarkFactors(double side_m, double scale, double wheelbase_m, UmbmarkResult* result);
-
 // One run of the report.
 struct CalibrationRunReport {
   std::string name;
@@ -147,10 +123,10 @@ struct OdometryCalibrationReport {
   bool encoder_noise = false;        // whether the encoders added §2.3 noise
   double encoder_k_left_m = 0.0;     // the encoders' configured k (the truth when noise is on)
   double encoder_k_right_m = 0.0;
-  sim::OdometryCalibration nominal;     // URDF values (k as configured in robot.yaml)
-  sim::OdometryCalibration calibrated;  // the result
-  UmbmarkResult umbmark_one_step;       // Borenstein & Feng's single correction
-  UmbmarkResult umbmark;                // iterated on the re-integrated runs (final)
+  sim::OdometryCalibration nominal;      // URDF values (k as configured in robot.yaml)
+  sim::OdometryCalibration calibrated;   // the result
+  core::UmbmarkResult umbmark_one_step;  // Borenstein & Feng's single correction
+  core::UmbmarkResult umbmark;           // iterated on the re-integrated runs (final)
   int umbmark_iterations = 0;
   double straight_scale = 1.0;      // true / odometric distance of the straight runs
   double e_max_syst_after_m = 0.0;  // UMBmark's measure with the calibrated model
@@ -172,15 +148,5 @@ OdometryCalibrationReport EstimateCalibration(const sim::RobotConfig& config,
                                               const std::vector<RecordedRun>& runs);
 
 const char* RunKindName(CalibrationRunKind kind);
-
-// calibration.json: options, truth, estimates and per-run errors (deterministic).
-std::string CalibrationJson(const OdometryCalibrationReport& report);
-
-// The `odometry:` block of robot.yaml with the calibrated values; each line of
-// `comment` becomes a comment line at its top.
-std::string OdometryYamlBlock(const OdometryCalibrationReport& report, const std::string& comment);
-
-// A plain-text table of the runs and the estimates, for the terminal.
-std::string CalibrationTable(const OdometryCalibrationReport& report);
 
 }  // namespace pavilion::scenarios

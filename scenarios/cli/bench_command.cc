@@ -120,11 +120,12 @@ CLI::App* AddBenchCommand(CLI::App* app, BenchArgs* args) {
   return hall;
 }
 
-int RunBenchCommand(const BenchArgs& args) {
-  namespace fs = std::filesystem;
-  const std::string file = (fs::path(scenarios::DataRoot()) / "scenarios" / "hall_bench" /
-                            ("hall_bench_" + std::to_string(args.robots) + ".yaml"))
-                               .string();
+namespace {
+
+namespace fs = std::filesystem;
+
+// The scenario overrides of the command line's options.
+scenarios::ScenarioOverrides BenchOverrides(const BenchArgs& args) {
   scenarios::ScenarioOverrides overrides;
   if (args.seed >= 0) overrides.seed = static_cast<std::uint64_t>(args.seed);
   if (args.duration_s > 0) overrides.duration_s = args.duration_s;
@@ -138,6 +139,80 @@ int RunBenchCommand(const BenchArgs& args) {
   if (args.physics_rate_hz > 0.0) {
     overrides.assignments.push_back("physics.rate_hz=" + std::to_string(args.physics_rate_hz));
   }
+  return overrides;
+}
+
+// The bench scenario.
+struct BenchScenario {
+  std::string file;
+  scenarios::ScenarioOverrides overrides;
+  double duration_s = 0.0;  // as loaded (set by the runs)
+  std::uint64_t seed = 0;
+};
+
+// Loads and runs the scenario once, its outputs written to `out_dir` (kept
+// when `keep`); the figures of the run.
+RunFigures BenchRun(const BenchArgs& args, const fs::path& out_dir, bool keep,
+                    BenchScenario* bench) {
+  RunFigures f;
+  f.load_average = LoadAverage();
+  const auto t_load = Clock::now();
+  const scenarios::Scenario scenario = scenarios::LoadScenarioFile(bench->file, bench->overrides);
+  f.load_s = std::chrono::duration<double>(Clock::now() - t_load).count();
+  bench->duration_s = scenario.duration_s;
+  bench->seed = scenario.seed;
+  scenarios::RunOptions options;
+  options.out_dir = out_dir.string();
+  options.progress = args.progress;
+  options.threads = args.threads;
+  const scenarios::RunSummary s = scenarios::RunScenario(scenario, options);
+  if (!keep) fs::remove_all(options.out_dir);
+  f.sim_s = s.sim_duration_s;
+  f.startup_s = f.load_s + s.startup_s;
+  f.loop_s = s.loop_s;
+  f.rtf = s.real_time_factor;
+  f.loop_cpu_s = s.loop_cpu_s;
+  f.cpu_rtf = s.loop_cpu_s > 0 ? s.sim_duration_s / s.loop_cpu_s : 0.0;
+  f.physics_s = s.physics_s;
+  f.sensors_s = s.sensors_s;
+  f.rays = s.laser_rays;
+  f.nominal_rays_per_s = static_cast<double>(args.robots) * kRaysPerRobotSimSecond * f.rtf;
+  f.measured_rays_per_s = s.loop_s > 0 ? static_cast<double>(s.laser_rays) / s.loop_s : 0.0;
+  f.peak_rss_mb = s.peak_rss_mb;
+  return f;
+}
+
+void WriteBenchJson(const BenchArgs& args, const BenchScenario& bench,
+                    const std::vector<RunFigures>& runs, const RunFigures& best,
+                    const RunFigures& median) {
+  Json j;
+  j["benchmark"] = "hall";
+  j["pavilion_version"] = kVersion;
+  j["scenario"] = bench.file;
+  j["robots"] = args.robots;
+  j["duration_s"] = bench.duration_s;
+  j["seed"] = bench.seed;
+  j["settings"] = bench.overrides.assignments;
+  j["threads"] = args.threads > 0 ? args.threads : sim::WorkerPool::HardwareThreads();
+  j["hardware_threads"] = std::thread::hardware_concurrency();
+  Json list = Json::array();
+  for (const RunFigures& f : runs) list.push_back(ToJson(f));
+  j["runs"] = list;
+  j["best"] = ToJson(best);
+  j["median"] = ToJson(median);
+  j["peak_rss_mb"] = scenarios::PeakRssMb();
+  scenarios::WriteFileAtomically(args.json, j.dump(2) + "\n");
+  std::printf("%s\n", args.json.c_str());
+}
+
+}  // namespace
+
+int RunBenchCommand(const BenchArgs& args) {
+  BenchScenario bench;
+  bench.file = (fs::path(scenarios::DataRoot()) / "scenarios" / "hall_bench" /
+                ("hall_bench_" + std::to_string(args.robots) + ".yaml"))
+                   .string();
+  bench.overrides = BenchOverrides(args);
 
   // Outputs are written (after the stepping loop, outside the measured time)
   // to a scratch folder unless the user wants them.
@@ -147,46 +222,21 @@ int RunBenchCommand(const BenchArgs& args) {
            : fs::temp_directory_path() / ("pavilion_bench_" + std::to_string(::getpid()));
 
   std::printf("hall benchmark: %d robot%s, %s, %d run%s, one at a time, %u hardware threads\n",
-              args.robots, args.robots == 1 ? "" : "s", file.c_str(), args.runs,
+              args.robots, args.robots == 1 ? "" : "s", bench.file.c_str(), args.runs,
               args.runs == 1 ? "" : "s", std::thread::hardware_concurrency());
-  for (const std::string& s : overrides.assignments) std::printf("  setting %s\n", s.c_str());
+  for (const std::string& s : bench.overrides.assignments) {
+    std::printf("  setting %s\n", s.c_str());
+  }
   std::printf("  threads %d\n",
               args.threads > 0 ? args.threads : sim::WorkerPool::HardwareThreads());
   std::fflush(stdout);
 
   std::vector<RunFigures> runs;
-  double duration_s = 0.0;
-  std::uint64_t seed = 0;
   for (int k = 0; k < args.runs; ++k) {
-    RunFigures f;
-    f.load_average = LoadAverage();
-    const auto t_load = Clock::now();
-    const scenarios::Scenario scenario = scenarios::LoadScenarioFile(file, overrides);
-    f.load_s = std::chrono::duration<double>(Clock::now() - t_load).count();
-    duration_s = scenario.duration_s;
-    seed = scenario.seed;
-    scenarios::RunOptions options;
-    options.out_dir = (out_root / ("run_" + std::to_string(k + 1))).string();
-    options.progress = args.progress;
-    options.threads = args.threads;
-    const scenarios::RunSummary s = scenarios::RunScenario(scenario, options);
-    if (!keep) fs::remove_all(options.out_dir);
-    f.sim_s = s.sim_duration_s;
-    f.startup_s = f.load_s + s.startup_s;
-    f.loop_s = s.loop_s;
-    f.rtf = s.real_time_factor;
-    f.loop_cpu_s = s.loop_cpu_s;
-    f.cpu_rtf = s.loop_cpu_s > 0 ? s.sim_duration_s / s.loop_cpu_s : 0.0;
-    f.physics_s = s.physics_s;
-    f.sensors_s = s.sensors_s;
-    f.rays = s.laser_rays;
-    f.nominal_rays_per_s = static_cast<double>(args.robots) * kRaysPerRobotSimSecond * f.rtf;
-    f.measured_rays_per_s = s.loop_s > 0 ? static_cast<double>(s.laser_rays) / s.loop_s : 0.0;
-    f.peak_rss_mb = s.peak_rss_mb;
-    runs.push_back(f);
+    runs.push_back(BenchRun(args, out_root / ("run_" + std::to_string(k + 1)), keep, &bench));
     char label[32];
     std::snprintf(label, sizeof label, "run %d", k + 1);
-    Print(label, f);
+    Print(label, runs.back());
     std::fflush(stdout);
   }
   if (!keep) fs::remove_all(out_root);
@@ -202,27 +252,7 @@ int RunBenchCommand(const BenchArgs& args) {
   Print("median", median);
   std::printf("peak RSS of the process: %.0f MB (getrusage; every run has the same size)\n",
               scenarios::PeakRssMb());
-
-  if (!args.json.empty()) {
-    Json j;
-    j["benchmark"] = "hall";
-    j["pavilion_version"] = kVersion;
-    j["scenario"] = file;
-    j["robots"] = args.robots;
-    j["duration_s"] = duration_s;
-    j["seed"] = seed;
-    j["settings"] = overrides.assignments;
-    j["threads"] = args.threads > 0 ? args.threads : sim::WorkerPool::HardwareThreads();
-    j["hardware_threads"] = std::thread::hardware_concurrency();
-    Json list = Json::array();
-    for (const RunFigures& f : runs) list.push_back(ToJson(f));
-    j["runs"] = list;
-    j["best"] = ToJson(best);
-    j["median"] = ToJson(median);
-    j["peak_rss_mb"] = scenarios::PeakRssMb();
-    scenarios::WriteFileAtomically(args.json, j.dump(2) + "\n");
-    std::printf("%s\n", args.json.c_str());
-  }
+  if (!args.json.empty()) WriteBenchJson(args, bench, runs, best, median);
   return 0;
 }
 

@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "scenarios/calibration/odometry_calibration.h"
+#include "scenarios/calibration/calibration_report.h"
 #include "scenarios/config/data_paths.h"
 #include "scenarios/config/robot_loader.h"
 #include "scenarios/output/output_files.h"

@@ -584,7 +584,10 @@ CLI::App* AddExtractCommand(CLI::App* app, ExtractArgs* args) {
   return extract;
 }
 
-int RunExtractCommand(const ExtractArgs& args) {
+namespace {
+
+// The log of --log, checked against --score and --scan.
+LoadedLog LoadLog(const ExtractArgs& args) {
   const bool scan_log = HasScanLogMagic(args.log);
   if (!args.score_world.empty() && !scan_log) {
     throw std::runtime_error("--score needs a Pavilion scan log (scans.bin) with ground truth; '" +
@@ -601,6 +604,89 @@ int RunExtractCommand(const ExtractArgs& args) {
                              " is out of range: " + args.log + " has " + std::to_string(count) +
                              " scans (0.." + std::to_string(count - 1) + ")");
   }
+  return log;
+}
+
+// What the methods found in the one scan that is listed or drawn.
+struct ShownScan {
+  std::size_t index = 0;
+  std::vector<std::vector<core::Segment>> segments;  // per method
+  std::vector<double> time_us;                       // per method
+};
+
+// Runs every method on the scans (K only with --scan), timing each and
+// scoring it against `truth` when given.
+ShownScan RunMethods(const ExtractArgs& args, const LoadedLog& log, const GroundTruth* truth,
+                     std::vector<Method>& methods) {
+  ShownScan shown;
+  // The one scan that is listed or drawn: K, or 0 for --png without --scan.
+  shown.index = args.scan >= 0 ? static_cast<std::size_t>(args.scan) : 0;
+  // One untimed run of each method first: the first call's allocations and
+  // page faults are no part of the time per scan.
+  for (const Method& m : methods) m.extract(log.scans[shown.index].scan);
+  shown.segments.resize(methods.size());
+  shown.time_us.assign(methods.size(), 0.0);
+  for (std::size_t k = 0; k < log.scans.size(); ++k) {
+    if (args.scan >= 0 && k != shown.index) continue;
+    const LabelledScan& s = log.scans[k];
+    for (std::size_t m = 0; m < methods.size(); ++m) {
+      const auto start = std::chrono::steady_clock::now();
+      std::vector<core::Segment> segments = methods[m].extract(s.scan);
+      const auto stop = std::chrono::steady_clock::now();
+      const double us = std::chrono::duration<double, std::micro>(stop - start).count();
+      methods[m].time_us.push_back(us);
+      methods[m].lines += segments.size();
+      if (truth != nullptr) {
+        methods[m].score.Add(scenarios::ScoreExtraction(s.scan, s.truth, truth->section, segments));
+      }
+      if (k == shown.index) {
+        shown.segments[m] = std::move(segments);
+        shown.time_us[m] = us;
+      }
+    }
+  }
+  return shown;
+}
+
+// The log, the options of the methods and the ground truth used.
+void PrintSettings(const ExtractArgs& args, const LoadedLog& log,
+                   const core::LineExtractionOptions& options,
+                   const core::SplitAndMergeOptions& baseline, const GroundTruth* truth) {
+  std::printf("%s\n", log.description.c_str());
+  std::printf(
+      "preset %s: n_f = %d, d_m = %.1f, alpha = %.2f, sigma_rho = %.1f mm, floor %.1f mm "
+      "and %.2f deg\n",
+      args.preset.c_str(), options.window_size, options.fidelity_threshold, options.significance,
+      1e3 * options.range_sigma_m, 1e3 * options.r_sigma_floor_m,
+      Degrees(options.alpha_sigma_floor_rad));
+  if (args.compare) {
+    std::printf(
+        "split-and-merge: split %.1f mm, merge %.1f mm, gaps %.1f mm + lambda %.1f deg, "
+        "min %d points, min length %.2f m\n",
+        1e3 * baseline.split_threshold_m, 1e3 * baseline.merge_threshold_m,
+        1e3 * baseline.gap_min_m, Degrees(baseline.gap_lambda_rad), baseline.min_points,
+        baseline.min_length_m);
+  }
+  if (truth != nullptr) std::printf("%s\n", truth->description.c_str());
+}
+
+// --png: the picture of the shown scan with ExtractLines' segments.
+void WritePicture(const ExtractArgs& args, const LoadedLog& log, const ShownScan& shown) {
+  const LabelledScan& s = log.scans[shown.index];
+  std::vector<core::Beacon> beacons;
+  const core::SceneDescription scene = SceneOf(s.scan, shown.segments.front(), &beacons);
+  const std::string caption = std::filesystem::path(args.log).filename().string() + "  scan " +
+                              std::to_string(shown.index) + " (" + s.label + ")  " +
+                              std::to_string(shown.segments.front().size()) + " lines";
+  scenarios::WritePng(args.png, DrawScan(s.scan, shown.segments.front(), scene, caption));
+  std::printf("png: %s (scan %zu)\n", args.png.c_str(), shown.index);
+}
+
+}  // namespace
+
+int RunExtractCommand(const ExtractArgs& args) {
+  LoadedLog log = LoadLog(args);
+  const std::size_t count = log.scans.size();
   const core::LineExtractionOptions options = OptionsFor(args, log.real);
   options.Validate();
   const core::SplitAndMergeOptions baseline = BaselineOptionsFor(options);
@@ -622,74 +708,24 @@ int RunExtractCommand(const ExtractArgs& args) {
                        0,
                        {}});
   }
+  const ShownScan shown = RunMethods(args, log, scored ? &truth : nullptr, methods);
 
-  // The one scan that is listed or drawn: K, or 0 for --png without --scan.
-  const std::size_t shown = args.scan >= 0 ? static_cast<std::size_t>(args.scan) : 0;
-  // One untimed run of each method first: the first call's allocations and
-  // page faults are no part of the time per scan.
-  for (const Method& m : methods) m.extract(log.scans[shown].scan);
-  std::vector<std::vector<core::Segment>> shown_segments(methods.size());
-  std::vector<double> shown_time_us(methods.size(), 0.0);
-  for (std::size_t k = 0; k < count; ++k) {
-    if (args.scan >= 0 && k != shown) continue;
-    const LabelledScan& s = log.scans[k];
-    for (std::size_t m = 0; m < methods.size(); ++m) {
-      const auto start = std::chrono::steady_clock::now();
-      std::vector<core::Segment> segments = methods[m].extract(s.scan);
-      const auto stop = std::chrono::steady_clock::now();
-      const double us = std::chrono::duration<double, std::micro>(stop - start).count();
-      methods[m].time_us.push_back(us);
-      methods[m].lines += segments.size();
-      if (scored) {
-        methods[m].score.Add(scenarios::ScoreExtraction(s.scan, s.truth, truth.section, segments));
-      }
-      if (k == shown) {
-        shown_segments[m] = std::move(segments);
-        shown_time_us[m] = us;
-      }
-    }
-  }
-
-  std::printf("%s\n", log.description.c_str());
-  std::printf(
-      "preset %s: n_f = %d, d_m = %.1f, alpha = %.2f, sigma_rho = %.1f mm, floor %.1f mm "
-      "and %.2f deg\n",
-      args.preset.c_str(), options.window_size, options.fidelity_threshold, options.significance,
-      1e3 * options.range_sigma_m, 1e3 * options.r_sigma_floor_m,
-      Degrees(options.alpha_sigma_floor_rad));
-  if (args.compare) {
-    std::printf(
-        "split-and-merge: split %.1f mm, merge %.1f mm, gaps %.1f mm + lambda %.1f deg, "
-        "min %d points, min length %.2f m\n",
-        1e3 * baseline.split_threshold_m, 1e3 * baseline.merge_threshold_m,
-        1e3 * baseline.gap_min_m, Degrees(baseline.gap_lambda_rad), baseline.min_points,
-        baseline.min_length_m);
-  }
-  if (scored) std::printf("%s\n", truth.description.c_str());
+  PrintSettings(args, log, options, baseline, scored ? &truth : nullptr);
   if (args.scan >= 0) {
     for (std::size_t m = 0; m < methods.size(); ++m) {
       if (methods.size() > 1) std::printf("%s:\n", methods[m].name.c_str());
-      PrintLines(log.scans[shown], shown, count, shown_segments[m], shown_time_us[m]);
+      PrintLines(log.scans[shown.index], shown.index, count, shown.segments[m], shown.time_us[m]);
     }
   }
   if (args.scan < 0 || scored || args.compare) {
-    if (args.scan >= 0) std::printf("summary of scan %zu:\n", shown);
+    if (args.scan >= 0) std::printf("summary of scan %zu:\n", shown.index);
     if (methods.size() == 1) {
       PrintSummary(methods.front(), scored);
     } else {
       PrintComparison(methods, scored);
     }
   }
-  if (!args.png.empty()) {
-    const LabelledScan& s = log.scans[shown];
-    std::vector<core::Beacon> beacons;
-    const core::SceneDescription scene = SceneOf(s.scan, shown_segments.front(), &beacons);
-    const std::string caption = std::filesystem::path(args.log).filename().string() + "  scan " +
-                                std::to_string(shown) + " (" + s.label + ")  " +
-                                std::to_string(shown_segments.front().size()) + " lines";
-    scenarios::WritePng(args.png, DrawScan(s.scan, shown_segments.front(), scene, caption));
-    std::printf("png: %s (scan %zu)\n", args.png.c_str(), shown);
-  }
+  if (!args.png.empty()) WritePicture(args, log, shown);
   return 0;
 }
 

@@ -130,6 +130,136 @@ int WorldInfo(const WorldArgs& a) {
   return 0;
 }
 
+CLI::App* AddRunCommand(CLI::App* app, RunArgs* args) {
+  auto* run = app->add_subcommand("run", "Run a scenario headless and write its outputs");
+  run->add_option("scenario", args->scenario, "Scenario file (YAML)")->required();
+  run->add_option("--out", args->out, "Output folder (created if missing)")->required();
+  run->add_option("--seed", args->seed, "Seed, replaces the scenario's")
+      ->check(CLI::NonNegativeNumber);
+  run->add_option("--duration", args->duration_s, "Simulated seconds, replaces the scenario's")
+      ->check(CLI::PositiveNumber);
+  run->add_option("--set", args->set, "Override a scenario key: key.path=value (repeatable)");
+  run->add_option("--threads", args->threads,
+                  "Threads for the robots' sensors and localization (0: all cores); the outputs "
+                  "are the same for any count")
+      ->check(CLI::Range(0, 256))
+      ->capture_default_str();
+  run->footer(
+      "Example:\n  pavilion run scenarios/expo_visitors.yaml --out out/demo --seed 3 "
+      "--duration 20 --set physics.rate_hz=100");
+  return run;
+}
+
+CLI::App* AddValidateCommand(CLI::App* app, std::vector<std::string>* files) {
+  auto* validate = app->add_subcommand(
+      "validate", "Check world, robot, scenario and map files, print every error");
+  validate->add_option("files", *files, "Files to check")->required();
+  validate->footer(
+      "Example:\n  pavilion validate worlds/*/world.yaml worlds/*/map.yaml robots/*/robot.yaml "
+      "scenarios/*.yaml");
+  return validate;
+}
+
+// `world render` and `world info`.
+struct WorldCommands {
+  CLI::App* render = nullptr;
+  CLI::App* info = nullptr;
+};
+
+WorldCommands AddWorldCommands(CLI::App* app, WorldArgs* args) {
+  auto* world = app->add_subcommand("world", "Inspect a world");
+  world->require_subcommand(1);
+  WorldCommands c;
+  c.render = world->add_subcommand("render", "Draw a world from above into a PNG");
+  c.render->add_option("world", args->world, "World name (under worlds/) or path")->required();
+  c.render->add_option("--png", args->png, "PNG file to write")->required();
+  c.render->add_option("--z", args->z_m, "Height of the outlined section (m)")
+      ->capture_default_str();
+  c.render->add_option("--width", args->width_px, "Image width (px)")
+      ->check(CLI::Range(50, 8000))
+      ->capture_default_str();
+  c.render->footer("Example:\n  pavilion world render expo_hall --png hall.png --z 0.3");
+  c.info = world->add_subcommand("info", "Summarize a world and its section at a height");
+  c.info->add_option("world", args->world, "World name (under worlds/) or path")->required();
+  c.info->add_option("--z", args->z_m, "Height of the section (m)")->capture_default_str();
+  c.info->footer("Example:\n  pavilion world info office_floor --z 0.3");
+  return c;
+}
+
+// The one-line message of an input error, pointing to `validate` for the rest.
+int FailOnInput(const scenarios::InputError& e) {
+  for (std::size_t i = 1; i < e.diagnostics().size(); ++i) {
+    spdlog::debug("also: {}", e.diagnostics()[i].ToString());
+  }
+  std::string msg = e.what();
+  if (e.diagnostics().size() > 1) {
+    msg += " (and " + std::to_string(e.diagnostics().size() - 1) +
+           " more; run 'pavilion validate' to list all)";
+  }
+  return Fail(msg);
+}
+
+// Every subcommand with its arguments.
+struct Commands {
+  RunArgs run_args;
+  CLI::App* run = nullptr;
+  std::vector<std::string> validate_files;
+  CLI::App* validate = nullptr;
+  CLI::App* version = nullptr;
+  WorldArgs world_args;
+  WorldCommands world;
+  cli::ScanArgs scan_args;
+  CLI::App* scan = nullptr;
+  cli::ExtractArgs extract_args;
+  CLI::App* extract = nullptr;
+  cli::MapArgs map_args;
+  CLI::App* map = nullptr;
+  cli::CalibrateArgs calibrate_args;
+  CLI::App* calibrate = nullptr;
+  cli::BenchArgs bench_args;
+  CLI::App* bench_hall = nullptr;
+};
+
+void AddCommands(CLI::App* app, Commands* c) {
+  c->run = AddRunCommand(app, &c->run_args);
+  c->validate = AddValidateCommand(app, &c->validate_files);
+  c->version = app->add_subcommand("version", "Print the version");
+  c->version->footer("Example:\n  pavilion version");
+  c->world = AddWorldCommands(app, &c->world_args);
+  c->scan = cli::AddScanCommand(app, &c->scan_args);
+  c->extract = cli::AddExtractCommand(app, &c->extract_args);
+  // --- map: robot maps (scenarios/cli/map_command.cc) ---
+  c->map = cli::AddMapCommand(app, &c->map_args);
+  // --- end map ---
+  // --- calibrate: odometry calibration (scenarios/cli/calibrate_command.cc) ---
+  c->calibrate = cli::AddCalibrateCommand(app, &c->calibrate_args);
+  // --- end calibrate ---
+  // --- bench: the hall benchmark (scenarios/cli/bench_command.cc) ---
+  c->bench_hall = cli::AddBenchCommand(app, &c->bench_args);
+  // --- end bench ---
+}
+
+// Runs the parsed subcommand; its exit code.
+int Dispatch(Commands& c) {
+  if (*c.run) return Run(c.run_args);
+  if (*c.validate) return Validate(c.validate_files);
+  if (*c.version) {
+    std::printf("pavilion %s\n", pavilion::kVersion);
+    return 0;
+  }
+  if (*c.world.render) return WorldRender(c.world_args);
+  if (*c.world.info) return WorldInfo(c.world_args);
+  if (*c.scan) return cli::RunScanCommand(c.scan_args);
+  if (*c.extract) return cli::RunExtractCommand(c.extract_args);
+  if (*c.calibrate) return cli::RunCalibrateCommand(c.calibrate_args);  // calibrate
+  if (*c.map) return cli::RunMapCommand(c.map_args);                    // map
+  if (*c.bench_hall) {
+    c.bench_args.progress = ProgressWanted();
+    return cli::RunBenchCommand(c.bench_args);
+  }
+  return kExitBadUsage;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -152,72 +282,8 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}))
       ->capture_default_str();
 
-  RunArgs run_args;
-  auto* run = app.add_subcommand("run", "Run a scenario headless and write its outputs");
-  run->add_option("scenario", run_args.scenario, "Scenario file (YAML)")->required();
-  run->add_option("--out", run_args.out, "Output folder (created if missing)")->required();
-  run->add_option("--seed", run_args.seed, "Seed, replaces the scenario's")
-      ->check(CLI::NonNegativeNumber);
-  run->add_option("--duration", run_args.duration_s, "Simulated seconds, replaces the scenario's")
-      ->check(CLI::PositiveNumber);
-  run->add_option("--set", run_args.set, "Override a scenario key: key.path=value (repeatable)");
-  run->add_option("--threads", run_args.threads,
-                  "Threads for the robots' sensors and localization (0: all cores); the outputs "
-                  "are the same for any count")
-      ->check(CLI::Range(0, 256))
-      ->capture_default_str();
-  run->footer(
-      "Example:\n  pavilion run scenarios/expo_visitors.yaml --out out/demo --seed 3 "
-      "--duration 20 --set physics.rate_hz=100");
-
-  std::vector<std::string> validate_files;
-  auto* validate = app.add_subcommand(
-      "validate", "Check world, robot, scenario and map files, print every error");
-  validate->add_option("files", validate_files, "Files to check")->required();
-  validate->footer(
-      "Example:\n  pavilion validate worlds/*/world.yaml worlds/*/map.yaml robots/*/robot.yaml "
-      "scenarios/*.yaml");
-
-  auto* version = app.add_subcommand("version", "Print the version");
-  version->footer("Example:\n  pavilion version");
-
-  WorldArgs world_args;
-  auto* world = app.add_subcommand("world", "Inspect a world");
-  world->require_subcommand(1);
-  auto* render = world->add_subcommand("render", "Draw a world from above into a PNG");
-  render->add_option("world", world_args.world, "World name (under worlds/) or path")->required();
-  render->add_option("--png", world_args.png, "PNG file to write")->required();
-  render->add_option("--z", world_args.z_m, "Height of the outlined section (m)")
-      ->capture_default_str();
-  render->add_option("--width", world_args.width_px, "Image width (px)")
-      ->check(CLI::Range(50, 8000))
-      ->capture_default_str();
-  render->footer("Example:\n  pavilion world render expo_hall --png hall.png --z 0.3");
-  auto* info = world->add_subcommand("info", "Summarize a world and its section at a height");
-  info->add_option("world", world_args.world, "World name (under worlds/) or path")->required();
-  info->add_option("--z", world_args.z_m, "Height of the section (m)")->capture_default_str();
-  info->footer("Example:\n  pavilion world info office_floor --z 0.3");
-
-  cli::ScanArgs scan_args;
-  auto* scan = cli::AddScanCommand(&app, &scan_args);
-
-  cli::ExtractArgs extract_args;
-  auto* extract = cli::AddExtractCommand(&app, &extract_args);
-
-  // --- map: robot maps (scenarios/cli/map_command.cc) ---
-  cli::MapArgs map_args;
-  auto* map = cli::AddMapCommand(&app, &map_args);
-  // --- end map ---
-
-  // --- calibrate: odometry calibration (scenarios/cli/calibrate_command.cc) ---
-  cli::CalibrateArgs calibrate_args;
-  auto* calibrate = cli::AddCalibrateCommand(&app, &calibrate_args);
-  // --- end calibrate ---
-
-  // --- bench: the hall benchmark (scenarios/cli/bench_command.cc) ---
-  cli::BenchArgs bench_args;
-  auto* bench_hall = cli::AddBenchCommand(&app, &bench_args);
-  // --- end bench ---
+  Commands commands;
+  AddCommands(&app, &commands);
 
   try {
     app.parse(argc, argv);
@@ -232,34 +298,10 @@ int main(int argc, char** argv) {
   spdlog::set_level(spdlog::level::from_str(log_level));
 
   try {
-    if (*run) return Run(run_args);
-    if (*validate) return Validate(validate_files);
-    if (*version) {
-      std::printf("pavilion %s\n", pavilion::kVersion);
-      return 0;
-    }
-    if (*render) return WorldRender(world_args);
-    if (*info) return WorldInfo(world_args);
-    if (*scan) return cli::RunScanCommand(scan_args);
-    if (*extract) return cli::RunExtractCommand(extract_args);
-    if (*calibrate) return cli::RunCalibrateCommand(calibrate_args);  // calibrate
-    if (*map) return cli::RunMapCommand(map_args);                    // map
-    if (*bench_hall) {
-      bench_args.progress = ProgressWanted();
-      return cli::RunBenchCommand(bench_args);
-    }
+    return Dispatch(commands);
   } catch (const scenarios::InputError& e) {
-    for (std::size_t i = 1; i < e.diagnostics().size(); ++i) {
-      spdlog::debug("also: {}", e.diagnostics()[i].ToString());
-    }
-    std::string msg = e.what();
-    if (e.diagnostics().size() > 1) {
-      msg += " (and " + std::to_string(e.diagnostics().size() - 1) +
-             " more; run 'pavilion validate' to list all)";
-    }
-    return Fail(msg);
+    return FailOnInput(e);
   } catch (const std::exception& e) {
     return Fail(e.what());
   }
-  return kExitBadUsage;
 }

@@ -322,18 +322,19 @@ void SetCarmenAngleStep(CarmenAngleStep step, CarmenLog* log) {
   }
 }
 
-CarmenAngleStepDecision DecideCarmenAngleStep(const CarmenLog& log,
-                                              const CarmenStraightnessOptions& options) {
-  options.Validate();
-  // Bearing of reading i with the step a fraction t of the way from 180°/n to
-  // 180°/(n-1).
-  const auto bearing = [](int i, int n, double t) {
-    const double a = StepRad(n, CarmenAngleStep::kFovOverN);
-    const double b = StepRad(n, CarmenAngleStep::kFovOverNMinus1);
-    return kFirstBearingRad + i * (a + t * (b - a));
-  };
+namespace {
 
-  // Segment once, halfway between the two steps.
+// Bearing of reading i with the step a fraction t of the way from 180°/n to
+// 180°/(n-1).
+double InterpolatedBearing(int i, int n, double t) {
+  const double a = StepRad(n, CarmenAngleStep::kFovOverN);
+  const double b = StepRad(n, CarmenAngleStep::kFovOverNMinus1);
+  return kFirstBearingRad + i * (a + t * (b - a));
+}
+
+// The straight runs of every scan, segmented once with the step halfway
+// between the two candidates.
+std::vector<Run> StraightRuns(const CarmenLog& log, const CarmenStraightnessOptions& options) {
   std::vector<Run> runs;
   for (std::size_t s = 0; s < log.scans.size(); ++s) {
     const std::vector<core::LaserReading>& readings = log.scans[s].scan.readings;
@@ -351,68 +352,59 @@ CarmenAngleStepDecision DecideCarmenAngleStep(const CarmenLog& log,
         flush();
         continue;
       }
-      const Eigen::Vector2d p = Point(r, bearing(i, n, 0.5));
+      const Eigen::Vector2d p = Point(r, InterpolatedBearing(i, n, 0.5));
       if (!points.empty() && (p - points.back()).norm() > options.break_distance_m) flush();
       points.push_back(p);
       indices.push_back(i);
     }
     flush();
   }
+  return runs;
+}
 
-  CarmenAngleStepDecision decision;
-  decision.runs = static_cast<int>(runs.size());
-  for (const Run& run : runs) decision.points += static_cast<int>(run.indices.size());
-  if (runs.empty()) return decision;
-
-  // Squared line-fit residual of every run with the step at fraction t.
-  const auto run_residuals = [&](double t) {
-    std::vector<double> out;
-    out.reserve(runs.size());
-    std::vector<Eigen::Vector2d> points;
-    for (const Run& run : runs) {
-      const std::vector<core::LaserReading>& readings = log.scans[run.scan].scan.readings;
-      const int n = static_cast<int>(readings.size());
-      points.clear();
-      for (int i : run.indices) {
-        points.push_back(Point(readings[static_cast<std::size_t>(i)], bearing(i, n, t)));
-      }
-      out.push_back(LineFitSquaredResidual(points));
+// Squared line-fit residual of every run with the step at fraction t.
+std::vector<double> RunResiduals(const CarmenLog& log, const std::vector<Run>& runs, double t) {
+  std::vector<double> out;
+  out.reserve(runs.size());
+  std::vector<Eigen::Vector2d> points;
+  for (const Run& run : runs) {
+    const std::vector<core::LaserReading>& readings = log.scans[run.scan].scan.readings;
+    const int n = static_cast<int>(readings.size());
+    points.clear();
+    for (int i : run.indices) {
+      points.push_back(Point(readings[static_cast<std::size_t>(i)], InterpolatedBearing(i, n, t)));
     }
-    return out;
-  };
-  const auto rms = [&](const std::vector<double>& residuals) {
-    double sum = 0.0;
-    for (double r : residuals) sum += r;
-    return std::sqrt(sum / decision.points);
-  };
-
-  const std::vector<double> with_n = run_residuals(0.0);
-  const std::vector<double> with_n_minus_1 = run_residuals(1.0);
-  decision.rms_fov_over_n_m = rms(with_n);
-  decision.rms_fov_over_n_minus_1_m = rms(with_n_minus_1);
-  if (runs.size() > 1) {
-    const double count = static_cast<double>(runs.size());
-    double mean = 0.0;
-    for (std::size_t j = 0; j < runs.size(); ++j) mean += with_n[j] - with_n_minus_1[j];
-    mean /= count;
-    double variance = 0.0;
-    for (std::size_t j = 0; j < runs.size(); ++j) {
-      const double d = with_n[j] - with_n_minus_1[j] - mean;
-      variance += d * d;
-    }
-    variance /= count - 1.0;
-    const double standard_error = std::sqrt(variance / count);
-    decision.paired_z = standard_error > 0.0 ? mean / standard_error : 0.0;
+    out.push_back(LineFitSquaredResidual(points));
   }
+  return out;
+}
 
-  // Each run's own best step: its squared residual is close to quadratic in t,
-  // S(t) = a t² + b t + c, fitted through t = 0, 1/2, 1; the run votes for
-  // t = -b / 2a with weight a (how sharply its straightness depends on the step).
-  // The weighted median of the votes is robust to runs that are not truly straight.
-  const std::vector<double> halfway = run_residuals(0.5);
+// The paired z statistic of the per-run residual differences (0 for one run).
+double PairedZ(const std::vector<double>& with_n, const std::vector<double>& with_n_minus_1) {
+  if (with_n.size() <= 1) return 0.0;
+  const double count = static_cast<double>(with_n.size());
+  double mean = 0.0;
+  for (std::size_t j = 0; j < with_n.size(); ++j) mean += with_n[j] - with_n_minus_1[j];
+  mean /= count;
+  double variance = 0.0;
+  for (std::size_t j = 0; j < with_n.size(); ++j) {
+    const double d = with_n[j] - with_n_minus_1[j] - mean;
+    variance += d * d;
+  }
+  variance /= count - 1.0;
+  const double standard_error = std::sqrt(variance / count);
+  return standard_error > 0.0 ? mean / standard_error : 0.0;
+}
+
+// Each run's own best step: its squared residual is close to quadratic in t,
+// S(t) = a t² + b t + c, fitted through t = 0, 1/2, 1; the run votes for
+// t = -b / 2a with weight a (how sharply its straightness depends on the step).
+// The weighted median of the votes is robust to runs that are not truly straight.
+double MedianStepFraction(const std::vector<double>& with_n, const std::vector<double>& halfway,
+                          const std::vector<double>& with_n_minus_1) {
   std::vector<std::pair<double, double>> votes;  // (t, weight)
   double total_weight = 0.0;
-  for (std::size_t j = 0; j < runs.size(); ++j) {
+  for (std::size_t j = 0; j < with_n.size(); ++j) {
     const double a = 2.0 * (with_n[j] + with_n_minus_1[j] - 2.0 * halfway[j]);
     const double b = with_n_minus_1[j] - with_n[j] - a;
     if (a <= 0.0) continue;
@@ -427,6 +419,30 @@ CarmenAngleStepDecision DecideCarmenAngleStep(const CarmenLog& log,
     t = vote;
     if (cumulative >= 0.5 * total_weight) break;
   }
+  return t;
+}
+
+}  // namespace
+
+CarmenAngleStepDecision DecideCarmenAngleStep(const CarmenLog& log,
+                                              const CarmenStraightnessOptions& options) {
+  options.Validate();
+  const std::vector<Run> runs = StraightRuns(log, options);
+  CarmenAngleStepDecision decision;
+  decision.runs = static_cast<int>(runs.size());
+  for (const Run& run : runs) decision.points += static_cast<int>(run.indices.size());
+  if (runs.empty()) return decision;
+  const auto rms = [&](const std::vector<double>& residuals) {
+    double sum = 0.0;
+    for (double r : residuals) sum += r;
+    return std::sqrt(sum / decision.points);
+  };
+  const std::vector<double> with_n = RunResiduals(log, runs, 0.0);
+  const std::vector<double> with_n_minus_1 = RunResiduals(log, runs, 1.0);
+  decision.rms_fov_over_n_m = rms(with_n);
+  decision.rms_fov_over_n_minus_1_m = rms(with_n_minus_1);
+  decision.paired_z = PairedZ(with_n, with_n_minus_1);
+  const double t = MedianStepFraction(with_n, RunResiduals(log, runs, 0.5), with_n_minus_1);
   decision.median_step_fraction = t;
   decision.step = t < 0.5 ? CarmenAngleStep::kFovOverN : CarmenAngleStep::kFovOverNMinus1;
   return decision;

@@ -13,13 +13,23 @@
 #include <stdexcept>
 #include <utility>
 
+#include "core/geometry/segment2.h"
+#include "core/math/rounding.h"
 #include "core/random/random_stream.h"
 #include "core/types/pose2.h"
+#include "nav/route/free_space_grid.h"
+#include "nav/route/roadmap_builder.h"
 
 namespace pavilion::scenarios {
 namespace {
 
 using Vec2 = Eigen::Vector2d;
+using core::Box2;
+using core::Cross;
+using core::LineCircleHits;
+using core::PointSegmentDistance;
+using core::RaySegmentHit;
+using core::SegmentBox;
 
 // --- constants (docs/map_format.md, "Deriving a map") ---
 
@@ -47,12 +57,6 @@ constexpr double kCollinearM = 1e-5;
 // Members of a multi-segment line closer than this along the line merge (m):
 // a tape measure does not resolve such gaps.
 constexpr double kMergeGapM = 0.05;
-// Candidate edges join nodes at most this many via spacings apart; an edge is
-// dropped when a detour over a third node is at most kDetourRatio as long.
-constexpr double kMaxEdgeSpacings = 1.5;
-constexpr double kDetourRatio = 1.05;
-// Via nodes keep this many via spacings from other nodes.
-constexpr double kMinNodeSpacings = 0.6;
 // Clearances above this are not told apart (m): enough to centre via nodes.
 constexpr double kMaxClearanceM = 2.0;
 // Lateral search for the sides of an opening (entrance, exit) (m).
@@ -62,99 +66,23 @@ constexpr int kPositionDecimals = 6;  // 1 µm
 constexpr int kAngleDecimals = 9;     // 1 nrad
 constexpr int kCovarianceDigits = 6;  // significant digits
 
-double RoundDecimals(double v, int decimals) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
-  const double r = std::strtod(buf, nullptr);
-  return r == 0.0 ? 0.0 : r;
-}
-
-double RoundSignificant(double v, int digits) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
-  const double r = std::strtod(buf, nullptr);
-  return r == 0.0 ? 0.0 : r;
-}
-
 Vec2 RoundPosition(const Vec2& p) {
-  return {RoundDecimals(p.x(), kPositionDecimals), RoundDecimals(p.y(), kPositionDecimals)};
+  return {core::RoundDecimals(p.x(), kPositionDecimals),
+          core::RoundDecimals(p.y(), kPositionDecimals)};
 }
 
 // alpha in (-pi, pi] at kAngleDecimals; pi itself does not round inside the range.
 double RoundAlpha(double alpha_rad) {
-  const double a = RoundDecimals(core::NormalizeAngle(alpha_rad), kAngleDecimals);
+  const double a = core::RoundDecimals(core::NormalizeAngle(alpha_rad), kAngleDecimals);
   return std::abs(a) >= std::numbers::pi ? std::numbers::pi : a;
 }
 
 Eigen::Matrix2d RoundCovariance(const Eigen::Matrix2d& c) {
   Eigen::Matrix2d r;
-  r(0, 0) = RoundSignificant(c(0, 0), kCovarianceDigits);
-  r(1, 1) = RoundSignificant(c(1, 1), kCovarianceDigits);
-  r(0, 1) = r(1, 0) = RoundSignificant(0.5 * (c(0, 1) + c(1, 0)), kCovarianceDigits);
+  r(0, 0) = core::RoundSignificant(c(0, 0), kCovarianceDigits);
+  r(1, 1) = core::RoundSignificant(c(1, 1), kCovarianceDigits);
+  r(0, 1) = r(1, 0) = core::RoundSignificant(0.5 * (c(0, 1) + c(1, 0)), kCovarianceDigits);
   return core::IsPositiveDefinite(r) ? r : c;
-}
-
-double Cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
-
-double PointSegmentDistance(const Vec2& p, const Vec2& a, const Vec2& b) {
-  const Vec2 ab = b - a;
-  const double len2 = ab.squaredNorm();
-  const double t = len2 > 0.0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
-  return (a + t * ab - p).norm();
-}
-
-bool SegmentsCross(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
-  const double d1 = Cross(b - a, c - a), d2 = Cross(b - a, d - a);
-  const double d3 = Cross(d - c, a - c), d4 = Cross(d - c, b - c);
-  return ((d1 > 0) != (d2 > 0)) && ((d3 > 0) != (d4 > 0)) && d1 != 0 && d2 != 0 && d3 != 0 &&
-         d4 != 0;
-}
-
-double SegmentSegmentDistance(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
-  if (SegmentsCross(a, b, c, d)) return 0.0;
-  return std::min({PointSegmentDistance(a, c, d), PointSegmentDistance(b, c, d),
-                   PointSegmentDistance(c, a, b), PointSegmentDistance(d, a, b)});
-}
-
-// Parameter t in (0, 1] where the ray o + t (e - o) first meets segment c-d; +inf if never.
-double RaySegmentHit(const Vec2& o, const Vec2& e, const Vec2& c, const Vec2& d) {
-  const Vec2 r = e - o, s = d - c;
-  const double denom = Cross(r, s);
-  if (denom == 0.0) return std::numeric_limits<double>::infinity();
-  const double t = Cross(c - o, s) / denom;
-  const double u = Cross(c - o, r) / denom;
-  if (t < 0.0 || t > 1.0 || u < 0.0 || u > 1.0) return std::numeric_limits<double>::infinity();
-  return t;
-}
-
-// Parameters where the line o + t (e - o) meets a circle (none, or two).
-std::vector<double> LineCircleHits(const Vec2& o, const Vec2& e, const Vec2& c, double radius) {
-  const Vec2 d = e - o, f = o - c;
-  const double A = d.squaredNorm(), B = 2.0 * f.dot(d), C = f.squaredNorm() - radius * radius;
-  const double disc = B * B - 4.0 * A * C;
-  if (A == 0.0 || disc <= 0.0) return {};
-  const double q = std::sqrt(disc);
-  return {(-B - q) / (2.0 * A), (-B + q) / (2.0 * A)};
-}
-
-struct Box2 {
-  Vec2 lo{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
-  Vec2 hi{-std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
-  void Add(const Vec2& p) {
-    lo = lo.cwiseMin(p);
-    hi = hi.cwiseMax(p);
-  }
-  bool Overlaps(const Box2& o, double margin) const {
-    return lo.x() - margin <= o.hi.x() && o.lo.x() - margin <= hi.x() &&
-           lo.y() - margin <= o.hi.y() && o.lo.y() - margin <= hi.y();
-  }
-};
-
-Box2 SegmentBox(const Vec2& a, const Vec2& b) {
-  Box2 box;
-  box.Add(a);
-  box.Add(b);
-  return box;
 }
 
 // A solid of the beam section that the laser sees (its outline or circle).
@@ -184,99 +112,6 @@ struct Solid {
   }
 };
 
-// The free-space grid of the floor: clearance of each cell centre to the
-// navigation obstacles (capped) and which cells a robot can reach.
-class FreeSpace {
- public:
-  FreeSpace(const Vec2& lo, const Vec2& hi, const MapObstacles& obstacles, double cap_m) : lo_(lo) {
-    nx_ = std::max(1, static_cast<int>(std::ceil((hi.x() - lo.x()) / kCellM)));
-    ny_ = std::max(1, static_cast<int>(std::ceil((hi.y() - lo.y()) / kCellM)));
-    clearance_.assign(static_cast<std::size_t>(nx_) * ny_, static_cast<float>(cap_m));
-    reachable_.assign(clearance_.size(), 0);
-    const auto visit = [&](const Box2& box, auto distance) {
-      int x0, y0, x1, y1;
-      CellRange(box, cap_m, &x0, &y0, &x1, &y1);
-      for (int y = y0; y <= y1; ++y) {
-        for (int x = x0; x <= x1; ++x) {
-          float& c = clearance_[Index(x, y)];
-          c = std::min(c, static_cast<float>(distance(Center(x, y))));
-        }
-      }
-    };
-    for (const auto& s : obstacles.segments) {
-      visit(SegmentBox(s.a_m, s.b_m),
-            [&](const Vec2& p) { return PointSegmentDistance(p, s.a_m, s.b_m); });
-    }
-    for (const auto& c : obstacles.circles) {
-      Box2 box;
-      box.Add(c.center_m.array() - c.radius_m);
-      box.Add(c.center_m.array() + c.radius_m);
-      visit(box,
-            [&](const Vec2& p) { return std::max(0.0, (p - c.center_m).norm() - c.radius_m); });
-    }
-  }
-
-  int nx() const { return nx_; }
-  int ny() const { return ny_; }
-  std::size_t Index(int x, int y) const { return static_cast<std::size_t>(y) * nx_ + x; }
-  Vec2 Center(int x, int y) const { return lo_ + kCellM * Vec2(x + 0.5, y + 0.5); }
-  Vec2 Center(std::size_t i) const {
-    return Center(static_cast<int>(i % nx_), static_cast<int>(i / nx_));
-  }
-  bool CellOf(const Vec2& p, std::size_t* index) const {
-    const int x = static_cast<int>(std::floor((p.x() - lo_.x()) / kCellM));
-    const int y = static_cast<int>(std::floor((p.y() - lo_.y()) / kCellM));
-    if (x < 0 || y < 0 || x >= nx_ || y >= ny_) return false;
-    *index = Index(x, y);
-    return true;
-  }
-  double clearance(std::size_t i) const { return clearance_[i]; }
-  bool reachable(std::size_t i) const { return reachable_[i] != 0; }
-  bool ReachableAt(const Vec2& p) const {
-    std::size_t i;
-    return CellOf(p, &i) && reachable(i);
-  }
-
-  // Floods the cells with clearance >= radius from the seeds (4-connected).
-  void Flood(const std::vector<std::size_t>& seeds, double radius_m) {
-    std::deque<std::size_t> queue;
-    for (std::size_t s : seeds) {
-      if (clearance_[s] >= radius_m && !reachable_[s]) {
-        reachable_[s] = 1;
-        queue.push_back(s);
-      }
-    }
-    while (!queue.empty()) {
-      const std::size_t i = queue.front();
-      queue.pop_front();
-      const int x = static_cast<int>(i % nx_), y = static_cast<int>(i / nx_);
-      const int dx[4] = {1, -1, 0, 0}, dy[4] = {0, 0, 1, -1};
-      for (int k = 0; k < 4; ++k) {
-        const int u = x + dx[k], v = y + dy[k];
-        if (u < 0 || v < 0 || u >= nx_ || v >= ny_) continue;
-        const std::size_t j = Index(u, v);
-        if (reachable_[j] || clearance_[j] < radius_m) continue;
-        reachable_[j] = 1;
-        queue.push_back(j);
-      }
-    }
-  }
-
- private:
-  void CellRange(const Box2& box, double margin, int* x0, int* y0, int* x1, int* y1) const {
-    *x0 = std::max(0, static_cast<int>(std::floor((box.lo.x() - margin - lo_.x()) / kCellM)));
-    *y0 = std::max(0, static_cast<int>(std::floor((box.lo.y() - margin - lo_.y()) / kCellM)));
-    *x1 = std::min(nx_ - 1, static_cast<int>(std::floor((box.hi.x() + margin - lo_.x()) / kCellM)));
-    *y1 = std::min(ny_ - 1, static_cast<int>(std::floor((box.hi.y() + margin - lo_.y()) / kCellM)));
-  }
-
-  Vec2 lo_;
-  int nx_ = 0;
-  int ny_ = 0;
-  std::vector<float> clearance_;
-  std::vector<char> reachable_;
-};
-
 // The laser's view of the beam section: what occludes a ray.
 class LaserView {
  public:
@@ -284,7 +119,7 @@ class LaserView {
 
   // True when a laser at a reachable cell sees `point` along `dir` (unit, away
   // from the surface) within range, with nothing opaque in between.
-  bool SeenAlong(const Vec2& point, const Vec2& dir, const FreeSpace& free) const {
+  bool SeenAlong(const Vec2& point, const Vec2& dir, const nav::FreeSpaceGrid& free) const {
     const Vec2 origin = point + 1e-4 * dir;
     double reach = -1.0;
     for (double t = 0.5 * kCellM; t <= kLaserRangeM; t += 0.5 * kCellM) {
@@ -313,7 +148,7 @@ class LaserView {
   // Length of the samples (spaced `step`, with outward normals) that a laser
   // sees; stops counting at kMinVisibleM.
   double VisibleLength(const std::vector<std::pair<Vec2, Vec2>>& samples, double step,
-                       const FreeSpace& free) const {
+                       const nav::FreeSpaceGrid& free) const {
     double seen = 0.0;
     for (const auto& [p, normal] : samples) {
       for (double k = 0.0; k * kIncidenceStepRad <= kMaxIncidenceRad + 1e-9; k += 1.0) {
@@ -419,28 +254,6 @@ Vec2 AreaCentroid(const core::Polygon2& poly) {
   return std::abs(area) > 1e-12 ? Vec2(c / (3.0 * area)) : poly.front();
 }
 
-// Undirected graph under construction.
-struct Graph {
-  std::vector<core::MapNode> nodes;
-  std::set<std::pair<int, int>> edges;  // i < j
-
-  void Add(int i, int j) { edges.insert(std::minmax(i, j)); }
-  Vec2 At(int i) const { return nodes[i].pose.translation(); }
-
-  std::vector<int> Components() const {
-    std::vector<int> parent(nodes.size());
-    for (std::size_t i = 0; i < parent.size(); ++i) parent[i] = static_cast<int>(i);
-    const auto find = [&](int i) {
-      while (parent[i] != i) i = parent[i] = parent[parent[i]];
-      return i;
-    };
-    for (const auto& [a, b] : edges) parent[find(a)] = find(b);
-    std::vector<int> out(nodes.size());
-    for (std::size_t i = 0; i < out.size(); ++i) out[i] = find(static_cast<int>(i));
-    return out;
-  }
-};
-
 }  // namespace
 
 void MapDerivationOptions::Validate() const {
@@ -460,20 +273,6 @@ void MapDerivationOptions::Validate() const {
   check(std::isfinite(ghost_spacing_m) && ghost_spacing_m > 0.0 &&
             ghost_spacing_m < 2.0 * robot_radius_m,
         "ghost_spacing_m", "(0, 2 * robot_radius_m) m");
-}
-
-double MapObstacles::Clearance(const Vec2& a, const Vec2& b) const {
-  double best = std::numeric_limits<double>::infinity();
-  const Box2 box = SegmentBox(a, b);
-  for (const auto& s : segments) {
-    const Box2 sb = SegmentBox(s.a_m, s.b_m);
-    if (!box.Overlaps(sb, best)) continue;
-    best = std::min(best, SegmentSegmentDistance(a, b, s.a_m, s.b_m));
-  }
-  for (const auto& c : circles) {
-    best = std::min(best, std::max(0.0, PointSegmentDistance(c.center_m, a, b) - c.radius_m));
-  }
-  return best;
 }
 
 MapObstacles NavigationObstacles(const sim::World& world, double beam_height_m,
@@ -671,7 +470,8 @@ class MapDeriver {
   void FindReachableFloor() {
     const double cap =
         std::max(radius_ + kCellM, std::min(0.5 * options_.via_spacing_m, kMaxClearanceM));
-    free_ = std::make_unique<FreeSpace>(d_.floor.min_m, d_.floor.max_m, obstacles_, cap);
+    free_ = std::make_unique<nav::FreeSpaceGrid>(d_.floor.min_m, d_.floor.max_m, obstacles_, cap,
+                                                 kCellM);
     std::vector<std::size_t> seeds;
     for (const auto& [name, place] : d_.places) {
       if (IsOpening(name)) continue;
@@ -815,7 +615,7 @@ class MapDeriver {
     const auto [alpha_fit, r_fit] = FitLine(corners, g.normal);
     core::Line line;
     line.alpha_rad = RoundAlpha(alpha_fit);
-    line.r_m = RoundDecimals(r_fit, kPositionDecimals);
+    line.r_m = core::RoundDecimals(r_fit, kPositionDecimals);
     line.covariance = RoundCovariance(FitCovariance(corners, g.normal, recorded_sigma_));
     if (line.r_m == 0.0) {
       throw std::runtime_error("map line " + id +
@@ -866,7 +666,7 @@ class MapDeriver {
         map_.beacons.push_back({elements_[c.element].id, centre});
       } else {
         map_.points.push_back(
-            {elements_[c.element].id, centre, RoundDecimals(c.radius_m, kPositionDecimals)});
+            {elements_[c.element].id, centre, core::RoundDecimals(c.radius_m, kPositionDecimals)});
       }
     }
     for (std::size_t e = 0; e < elements_.size(); ++e) {
@@ -888,241 +688,34 @@ class MapDeriver {
     }
   }
 
-  bool Clear(const Vec2& a, const Vec2& b) const { return obstacles_.Clearance(a, b) >= radius_; }
-
-  int AddVia(const Vec2& p) {
-    std::string id;
-    do {
-      id = Numbered("via_", ++via_count_);
-    } while (node_ids_.contains(id));
-    node_ids_.insert(id);
-    const Vec2 q = RoundPosition(p);
-    graph_.nodes.push_back({id, {q.x(), q.y(), 0.0}, false});
-    return static_cast<int>(graph_.nodes.size()) - 1;
-  }
-
-  // Topology (§6.3.1): station nodes, via nodes, collision-free edges.
+  // Topology (§6.3.1): station nodes and the places' nodes, then the roadmap
+  // of via nodes and collision-free edges (nav::BuildRoadmap).
   void BuildTopology() {
+    std::vector<core::MapNode> nodes;
     for (const auto& [name, place] : d_.places) {
       if (IsStation(name) && place.pose) {
         core::Pose2 pose = *place.pose;
-        pose.x_m = RoundDecimals(pose.x_m, kPositionDecimals);
-        pose.y_m = RoundDecimals(pose.y_m, kPositionDecimals);
-        graph_.nodes.push_back({name, pose, true});
+        pose.x_m = core::RoundDecimals(pose.x_m, kPositionDecimals);
+        pose.y_m = core::RoundDecimals(pose.y_m, kPositionDecimals);
+        nodes.push_back({name, pose, true});
       }
     }
     for (const auto& [name, p] : node_places_) {
       if (IsStation(name) && d_.places.at(name).pose) continue;
       const core::Pose2 pose = d_.places.at(name).pose.value_or(core::Pose2{p.x(), p.y(), 0.0});
-      graph_.nodes.push_back({name,
-                              {RoundDecimals(pose.x_m, kPositionDecimals),
-                               RoundDecimals(pose.y_m, kPositionDecimals), pose.theta_rad},
-                              false});
+      nodes.push_back({name,
+                       {core::RoundDecimals(pose.x_m, kPositionDecimals),
+                        core::RoundDecimals(pose.y_m, kPositionDecimals), pose.theta_rad},
+                       false});
     }
-    for (const auto& n : graph_.nodes) node_ids_.insert(n.id);
-    AddGridVias();
-    AddEdges();
-    JoinParts();
-    for (std::size_t k = 0; k < graph_.nodes.size(); ++k) {
-      bool linked = false;
-      for (const auto& [a, b] : graph_.edges) linked = linked || a == int(k) || b == int(k);
-      if (!linked) {
-        warn_.push_back(std::string(graph_.nodes[k].station ? "station" : "via") + " node '" +
-                        graph_.nodes[k].id + "' has no collision-free edge");
-      }
-    }
-    const std::vector<int> comp = graph_.Components();
-    const std::set<int> roots(comp.begin(), comp.end());
-    if (roots.size() > 1) {
-      warn_.push_back("the graph has " + std::to_string(roots.size()) +
-                      " separate parts (closed doors or unreachable places)");
-    }
-    map_.nodes = graph_.nodes;
-    for (const auto& [a, b] : graph_.edges) {
-      const double len = (graph_.At(a) - graph_.At(b)).norm();
-      map_.edges.push_back({graph_.nodes[a].id, graph_.nodes[b].id,
-                            std::max(RoundDecimals(len, kPositionDecimals), 1e-6)});
-    }
-  }
-
-  // One via node per grid square: its reachable cell with the most clearance
-  // (capped at half the pitch; ties to the square's centre), unless crowded.
-  void AddGridVias() {
-    const FreeSpace& free = *free_;
-    const double spacing = options_.via_spacing_m;
-    const int per = std::max(1, static_cast<int>(std::lround(spacing / kCellM)));
-    for (int cy = 0; cy * per < free.ny(); ++cy) {
-      for (int cx = 0; cx * per < free.nx(); ++cx) {
-        const Vec2 centre =
-            free.Center(cx * per, cy * per) + 0.5 * (per - 1) * Vec2(kCellM, kCellM);
-        double best_score = -1.0, best_dist = 0.0;
-        Vec2 best;
-        for (int y = cy * per; y < std::min(free.ny(), (cy + 1) * per); ++y) {
-          for (int x = cx * per; x < std::min(free.nx(), (cx + 1) * per); ++x) {
-            const std::size_t i = free.Index(x, y);
-            if (!free.reachable(i) || free.clearance(i) < Passable()) continue;
-            const double score = std::min(free.clearance(i), 0.5 * spacing);
-            const double dist = (free.Center(x, y) - centre).norm();
-            if (score > best_score + 1e-9 ||
-                (std::abs(score - best_score) <= 1e-9 && dist < best_dist)) {
-              best_score = score;
-              best_dist = dist;
-              best = free.Center(x, y);
-            }
-          }
-        }
-        if (best_score < 0.0) continue;
-        bool crowded = false;
-        for (const auto& n : graph_.nodes) {
-          crowded = crowded || (n.pose.translation() - best).norm() < kMinNodeSpacings * spacing;
-        }
-        if (!crowded) AddVia(best);
-      }
-    }
-  }
-
-  // Clear straight edges between near nodes, without the ones a two-edge
-  // detour nearly matches (longest first).
-  void AddEdges() {
-    std::vector<std::pair<double, std::pair<int, int>>> candidates;
-    const int n = static_cast<int>(graph_.nodes.size());
-    for (int i = 0; i < n; ++i) {
-      for (int j = i + 1; j < n; ++j) {
-        const double len = (graph_.At(i) - graph_.At(j)).norm();
-        if (len <= kMaxEdgeSpacings * options_.via_spacing_m && Clear(graph_.At(i), graph_.At(j))) {
-          candidates.push_back({len, {i, j}});
-          graph_.Add(i, j);
-        }
-      }
-    }
-    std::sort(candidates.begin(), candidates.end(), [](const auto& x, const auto& y) {
-      return x.first != y.first ? x.first > y.first : x.second < y.second;
-    });
-    std::vector<std::set<int>> adjacent(graph_.nodes.size());
-    for (const auto& [a, b] : graph_.edges) {
-      adjacent[a].insert(b);
-      adjacent[b].insert(a);
-    }
-    for (const auto& [len, ij] : candidates) {
-      const auto [i, j] = ij;
-      for (int k : adjacent[i]) {
-        if (k == j || !adjacent[k].contains(j)) continue;
-        if ((graph_.At(i) - graph_.At(k)).norm() + (graph_.At(k) - graph_.At(j)).norm() <=
-            kDetourRatio * len) {
-          adjacent[i].erase(j);
-          adjacent[j].erase(i);
-          graph_.edges.erase({i, j});
-          break;
-        }
-      }
-    }
-  }
-
-  // Cells a joining path may use: half a cell more than the robot radius, so
-  // that straight hops between neighbouring cells stay clear.
-  double Passable() const { return radius_ + kCellM; }
-
-  // Joins the parts of the graph that the reachable floor connects: a grid path
-  // from one part to the nearest node of another, shortened to straight
-  // collision-free hops whose corners become via nodes.
-  void JoinParts() {
-    const FreeSpace& free = *free_;
-    std::set<int> stuck;  // parts (by root) that reach no other part
-    for (;;) {
-      const std::vector<int> comp = graph_.Components();
-      const std::set<int> roots(comp.begin(), comp.end());
-      if (roots.size() <= 1) return;
-      bool joined = false;
-      for (int root : roots) {
-        if (stuck.contains(root)) continue;
-        std::map<std::size_t, int> node_at;
-        for (std::size_t k = 0; k < graph_.nodes.size(); ++k) {
-          std::size_t cell;
-          if (free.CellOf(graph_.At(static_cast<int>(k)), &cell)) node_at.try_emplace(cell, k);
-        }
-        std::vector<std::int64_t> parent(static_cast<std::size_t>(free.nx()) * free.ny(), -2);
-        std::deque<std::size_t> queue;
-        for (std::size_t k = 0; k < graph_.nodes.size(); ++k) {
-          std::size_t cell;
-          if (comp[k] == root && free.CellOf(graph_.At(static_cast<int>(k)), &cell) &&
-              parent[cell] == -2) {
-            parent[cell] = -1;
-            queue.push_back(cell);
-          }
-        }
-        std::int64_t target = -1;
-        while (!queue.empty() && target < 0) {
-          const std::size_t i = queue.front();
-          queue.pop_front();
-          const int x = static_cast<int>(i % free.nx()), y = static_cast<int>(i / free.nx());
-          for (int dy = -1; dy <= 1 && target < 0; ++dy) {
-            for (int dx = -1; dx <= 1 && target < 0; ++dx) {
-              const int u = x + dx, v = y + dy;
-              if ((dx == 0 && dy == 0) || u < 0 || v < 0 || u >= free.nx() || v >= free.ny()) {
-                continue;
-              }
-              const std::size_t j = free.Index(u, v);
-              if (parent[j] != -2) continue;
-              const auto hit = node_at.find(j);
-              if (hit != node_at.end() && comp[hit->second] != root) {
-                parent[j] = static_cast<std::int64_t>(i);
-                target = static_cast<std::int64_t>(j);
-                break;
-              }
-              if (!free.reachable(j) || free.clearance(j) < Passable()) continue;
-              parent[j] = static_cast<std::int64_t>(i);
-              queue.push_back(j);
-            }
-          }
-        }
-        if (target < 0 || !Bridge(comp, root, node_at, parent, target)) {
-          stuck.insert(root);
-          continue;
-        }
-        joined = true;
-        break;
-      }
-      if (!joined) return;
-    }
-  }
-
-  // Adds the hops of the grid path ending at `target` (found by JoinParts);
-  // false when its first hop is not clear.
-  bool Bridge(const std::vector<int>& comp, int root, const std::map<std::size_t, int>& node_at,
-              const std::vector<std::int64_t>& parent, std::int64_t target) {
-    const FreeSpace& free = *free_;
-    std::vector<std::size_t> cells;
-    for (std::int64_t c = target; c >= 0; c = parent[static_cast<std::size_t>(c)]) {
-      cells.push_back(static_cast<std::size_t>(c));
-    }
-    std::reverse(cells.begin(), cells.end());
-    int start = -1;
-    for (std::size_t k = 0; k < graph_.nodes.size() && start < 0; ++k) {
-      std::size_t cell;
-      if (comp[k] == root && free.CellOf(graph_.At(static_cast<int>(k)), &cell) &&
-          cell == cells.front()) {
-        start = static_cast<int>(k);
-      }
-    }
-    const int end = node_at.at(cells.back());
-    std::vector<Vec2> path = {graph_.At(start)};
-    for (std::size_t k = 1; k + 1 < cells.size(); ++k) path.push_back(free.Center(cells[k]));
-    path.push_back(graph_.At(end));
-    // Straight hops, each as long as it stays clear.
-    std::vector<std::size_t> hops = {0};
-    while (hops.back() + 1 < path.size()) {
-      std::size_t j = hops.back() + 1;
-      if (!Clear(path[hops.back()], path[j])) return false;
-      while (j + 1 < path.size() && Clear(path[hops.back()], path[j + 1])) ++j;
-      hops.push_back(j);
-    }
-    int previous = start;
-    for (std::size_t k = 1; k < hops.size(); ++k) {
-      const int node = hops[k] + 1 == path.size() ? end : AddVia(path[hops[k]]);
-      graph_.Add(previous, node);
-      previous = node;
-    }
-    return true;
+    nav::RoadmapOptions roadmap_options;
+    roadmap_options.robot_radius_m = radius_;
+    roadmap_options.via_spacing_m = options_.via_spacing_m;
+    roadmap_options.position_decimals = kPositionDecimals;
+    nav::Roadmap roadmap =
+        nav::BuildRoadmap(std::move(nodes), *free_, obstacles_, roadmap_options, &warn_);
+    map_.nodes = std::move(roadmap.nodes);
+    map_.edges = std::move(roadmap.edges);
   }
 
   const sim::WorldDescription& d_;
@@ -1141,12 +734,9 @@ class MapDeriver {
   core::RobotMap map_;
   std::vector<Solid> solids_;
   std::vector<Vec2> ghosts_;
-  std::unique_ptr<FreeSpace> free_;
+  std::unique_ptr<nav::FreeSpaceGrid> free_;
   std::vector<std::pair<std::string, Vec2>> node_places_;  // places that become nodes
   std::vector<char> element_seen_;
-  Graph graph_;
-  std::set<std::string> node_ids_;
-  int via_count_ = 0;
 };
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "core/geometry/obstacle_set.h"
 #include "core/map/robot_map.h"
 #include "sim/world/world.h"
 
@@ -59,21 +60,7 @@ core::RobotMap KeepLinesAlongDirection(const core::RobotMap& map, double directi
 // The obstacles a robot must keep clear of at the given heights: every static
 // section primitive (laser-visible or not) at the beam and the low height, as
 // segments and circles. Used for edge checks and by tests.
-struct MapObstacles {
-  struct Segment {
-    Eigen::Vector2d a_m;
-    Eigen::Vector2d b_m;
-  };
-  struct Circle {
-    Eigen::Vector2d center_m;
-    double radius_m = 0.0;
-  };
-  std::vector<Segment> segments;
-  std::vector<Circle> circles;
-
-  // Smallest distance from the segment a-b to any obstacle (m); +inf when none.
-  double Clearance(const Eigen::Vector2d& a_m, const Eigen::Vector2d& b_m) const;
-};
+using MapObstacles = core::ObstacleSet;
 MapObstacles NavigationObstacles(const sim::World& world, double beam_height_m,
                                  double low_height_m);
 

@@ -6,12 +6,12 @@
 #include <limits>
 #include <numbers>
 
+#include "scenarios/output/canvas.h"
 #include "sim/render/top_down_view.h"
 
 namespace pavilion::scenarios {
 namespace {
 
-using Rgb = std::array<std::uint8_t, 3>;
 using Vec2 = Eigen::Vector2d;
 
 // Colours of the map items (docs/map_format.md, "Rendering").
@@ -27,87 +27,6 @@ constexpr Rgb kBlack{0, 0, 0};
 // How light the world underneath is drawn: 0 unchanged, 1 white.
 constexpr double kWorldFade = 0.6;
 constexpr double kTickPx = 7.0;  // visibility tick length
-
-class Canvas {
- public:
-  Canvas(core::RgbImage* image, Vec2 top_left_m, double px_per_m)
-      : image_(image), top_left_m_(top_left_m), scale_(px_per_m) {}
-
-  Vec2 ToPx(const Vec2& p) const {
-    return {(p.x() - top_left_m_.x()) * scale_, (top_left_m_.y() - p.y()) * scale_};
-  }
-  double scale() const { return scale_; }
-
-  void Put(int x, int y, const Rgb& c) {
-    if (x < 0 || y < 0 || x >= image_->width || y >= image_->height) return;
-    std::uint8_t* p = &image_->pixels[(static_cast<std::size_t>(y) * image_->width + x) * 3];
-    for (int k = 0; k < 3; ++k) p[k] = c[k];
-  }
-
-  // A line between two pixel positions, `width_px` wide.
-  void LinePx(const Vec2& a, const Vec2& b, const Rgb& c, double width_px) {
-    const double len = (b - a).norm();
-    const int steps = std::max(1, static_cast<int>(std::ceil(len * 2.0)));
-    const double h = 0.5 * width_px;
-    for (int i = 0; i <= steps; ++i) {
-      const Vec2 p = a + (b - a) * (static_cast<double>(i) / steps);
-      for (int y = static_cast<int>(std::floor(p.y() - h + 0.5));
-           y <= static_cast<int>(std::floor(p.y() + h - 0.5)); ++y) {
-        for (int x = static_cast<int>(std::floor(p.x() - h + 0.5));
-             x <= static_cast<int>(std::floor(p.x() + h - 0.5)); ++x) {
-          Put(x, y, c);
-        }
-      }
-    }
-  }
-  void Line(const Vec2& a_m, const Vec2& b_m, const Rgb& c, double width_px) {
-    LinePx(ToPx(a_m), ToPx(b_m), c, width_px);
-  }
-
-  void DiscPx(const Vec2& q, double r, const Rgb& c) {
-    for (int y = static_cast<int>(std::floor(q.y() - r)); y <= static_cast<int>(q.y() + r); ++y) {
-      for (int x = static_cast<int>(std::floor(q.x() - r)); x <= static_cast<int>(q.x() + r); ++x) {
-        const double dx = x + 0.5 - q.x(), dy = y + 0.5 - q.y();
-        if (dx * dx + dy * dy <= r * r) Put(x, y, c);
-      }
-    }
-  }
-
-  void RingPx(const Vec2& q, double r, const Rgb& c, double width_px) {
-    const int n = std::max(16, static_cast<int>(r * 2.0));
-    for (int i = 0; i < n; ++i) {
-      const double t0 = 2.0 * std::numbers::pi * i / n, t1 = 2.0 * std::numbers::pi * (i + 1) / n;
-      LinePx(q + r * Vec2(std::cos(t0), std::sin(t0)), q + r * Vec2(std::cos(t1), std::sin(t1)), c,
-             width_px);
-    }
-  }
-
-  void SquarePx(const Vec2& q, double half, const Rgb& c) {
-    for (int y = static_cast<int>(std::floor(q.y() - half));
-         y <= static_cast<int>(std::floor(q.y() + half)); ++y) {
-      for (int x = static_cast<int>(std::floor(q.x() - half));
-           x <= static_cast<int>(std::floor(q.x() + half)); ++x) {
-        Put(x, y, c);
-      }
-    }
-  }
-
-  void DiamondPx(const Vec2& q, double half, const Rgb& fill, const Rgb& outline) {
-    for (int y = static_cast<int>(std::floor(q.y() - half));
-         y <= static_cast<int>(std::floor(q.y() + half)); ++y) {
-      for (int x = static_cast<int>(std::floor(q.x() - half));
-           x <= static_cast<int>(std::floor(q.x() + half)); ++x) {
-        const double m = std::abs(x + 0.5 - q.x()) + std::abs(y + 0.5 - q.y());
-        if (m <= half) Put(x, y, m > half - 1.5 ? outline : fill);
-      }
-    }
-  }
-
- private:
-  core::RgbImage* image_;
-  Vec2 top_left_m_;
-  double scale_;
-};
 
 // A segment with a tick from its middle towards the side it is seen from.
 void DrawSegment(Canvas* canvas, const core::Line& line, const Vec2& a, const Vec2& b) {
@@ -151,18 +70,15 @@ Extent MapExtent(const core::RobotMap& map) {
   return e;
 }
 
-}  // namespace
-
-core::RgbImage RenderRobotMap(const core::RobotMap& map, const sim::World* world,
-                              const MapRenderOptions& options) {
-  const int width = std::clamp(options.width_px, 50, 8000);
-  const double margin = std::max(0.0, options.margin_m);
+// The picture's area lo-hi (m) and its background: the world from above,
+// faded to grey, or white around the map's extent.
+core::RgbImage Background(const core::RobotMap& map, const sim::World* world, int width,
+                          double margin, Vec2* lo, Vec2* hi) {
   core::RgbImage image;
-  Vec2 lo, hi;
   if (world != nullptr) {
     const auto& floor = world->description().floor;
-    lo = floor.min_m.array() - margin;
-    hi = floor.max_m.array() + margin;
+    *lo = floor.min_m.array() - margin;
+    *hi = floor.max_m.array() + margin;
     sim::TopDownOptions view;
     view.width_px = width;
     view.margin_m = margin;
@@ -181,29 +97,30 @@ core::RgbImage RenderRobotMap(const core::RobotMap& map, const sim::World* world
     if (e.empty()) e.Add(Vec2::Zero());
     const Vec2 centre = 0.5 * (e.lo + e.hi);
     const Vec2 half = (0.5 * (e.hi - e.lo)).cwiseMax(Vec2(0.5, 0.5));
-    lo = centre - half - Vec2(margin, margin);
-    hi = centre + half + Vec2(margin, margin);
+    *lo = centre - half - Vec2(margin, margin);
+    *hi = centre + half + Vec2(margin, margin);
   }
-  const double scale = width / (hi.x() - lo.x());
-  const int height = std::max(1, static_cast<int>(std::lround((hi.y() - lo.y()) * scale)));
-  if (image.width != width || image.height != height) {
-    image = core::RgbImage(width, height, 255, 255, 255);
-  }
-  Canvas canvas(&image, {lo.x(), hi.y()}, scale);
+  return image;
+}
 
-  // Infinite lines: across the drawn area, ticked every 80 px.
+// Infinite lines: across the drawn area lo-hi, ticked every 80 px.
+void DrawInfiniteLines(const core::RobotMap& map, const Vec2& lo, const Vec2& hi, Canvas* canvas) {
   for (const auto& l : map.lines) {
     const Vec2 n = l.line.normal(), dir(-n.y(), n.x());
     const Vec2 foot = l.line.r_m * n;
     const double reach = (hi - lo).norm() + foot.norm();
     const Vec2 a = foot - reach * dir, b = foot + reach * dir;
-    canvas.Line(a, b, kInfiniteColour, 1.0);
-    const double step_m = 80.0 / scale;
+    canvas->Line(a, b, kInfiniteColour, 1.0);
+    const double step_m = 80.0 / canvas->scale();
     for (double s = -reach; s <= reach; s += step_m) {
-      const Vec2 p = canvas.ToPx(foot + s * dir);
-      canvas.LinePx(p, p + kTickPx * Vec2(-n.x(), n.y()), kInfiniteColour, 1.0);
+      const Vec2 p = canvas->ToPx(foot + s * dir);
+      canvas->LinePx(p, p + kTickPx * Vec2(-n.x(), n.y()), kInfiniteColour, 1.0);
     }
   }
+}
+
+// Edges, then ghost points as crosses.
+void DrawEdgesAndGhosts(const core::RobotMap& map, Canvas* canvas) {
   for (const auto& e : map.edges) {
     const core::MapNode* from = nullptr;
     const core::MapNode* to = nullptr;
@@ -212,38 +129,66 @@ core::RgbImage RenderRobotMap(const core::RobotMap& map, const sim::World* world
       if (n.id == e.to) to = &n;
     }
     if (from != nullptr && to != nullptr) {
-      canvas.Line(from->pose.translation(), to->pose.translation(), kEdgeColour, 1.0);
+      canvas->Line(from->pose.translation(), to->pose.translation(), kEdgeColour, 1.0);
     }
   }
   for (const auto& g : map.ghost_points) {
-    const Vec2 q = canvas.ToPx(g.position_m);
-    canvas.LinePx(q - Vec2(2.5, 2.5), q + Vec2(2.5, 2.5), kGhostColour, 1.0);
-    canvas.LinePx(q - Vec2(2.5, -2.5), q + Vec2(2.5, -2.5), kGhostColour, 1.0);
+    const Vec2 q = canvas->ToPx(g.position_m);
+    canvas->LinePx(q - Vec2(2.5, 2.5), q + Vec2(2.5, 2.5), kGhostColour, 1.0);
+    canvas->LinePx(q - Vec2(2.5, -2.5), q + Vec2(2.5, -2.5), kGhostColour, 1.0);
   }
+}
+
+// Segments and multi-segment lines with their visibility ticks, points, beacons.
+void DrawFeatures(const core::RobotMap& map, Canvas* canvas) {
   for (const auto& s : map.segments) {
-    DrawSegment(&canvas, s.line, s.first_endpoint.position_m, s.second_endpoint.position_m);
+    DrawSegment(canvas, s.line, s.first_endpoint.position_m, s.second_endpoint.position_m);
   }
   for (const auto& m : map.multi_segment_lines) {
-    for (const auto& [a, b] : m.segments) DrawSegment(&canvas, m.line, a.position_m, b.position_m);
+    for (const auto& [a, b] : m.segments) DrawSegment(canvas, m.line, a.position_m, b.position_m);
   }
   for (const auto& p : map.points) {
-    const Vec2 q = canvas.ToPx(p.point.position_m);
-    canvas.RingPx(q, std::max(3.0, p.radius_m * scale), kPointColour, 2.0);
-    canvas.DiscPx(q, 2.0, kPointColour);
+    const Vec2 q = canvas->ToPx(p.point.position_m);
+    canvas->RingPx(q, std::max(3.0, p.radius_m * canvas->scale()), kPointColour, 2.0);
+    canvas->DiscPx(q, 2.0, kPointColour);
   }
   for (const auto& b : map.beacons) {
-    canvas.DiamondPx(canvas.ToPx(b.point.position_m), 7.0, kBeaconColour, kBlack);
+    canvas->DiamondPx(canvas->ToPx(b.point.position_m), 7.0, kBeaconColour, kBlack);
   }
+}
+
+// Stations as squares with their heading, via nodes as discs.
+void DrawNodes(const core::RobotMap& map, Canvas* canvas) {
   for (const auto& n : map.nodes) {
-    const Vec2 q = canvas.ToPx(n.pose.translation());
+    const Vec2 q = canvas->ToPx(n.pose.translation());
     if (n.station) {
-      canvas.SquarePx(q, 4.0, kStationColour);
+      canvas->SquarePx(q, 4.0, kStationColour);
       const Vec2 heading(std::cos(n.pose.theta_rad), -std::sin(n.pose.theta_rad));
-      canvas.LinePx(q, q + 11.0 * heading, kStationColour, 2.0);
+      canvas->LinePx(q, q + 11.0 * heading, kStationColour, 2.0);
     } else {
-      canvas.DiscPx(q, 3.0, kViaColour);
+      canvas->DiscPx(q, 3.0, kViaColour);
     }
   }
+}
+
+}  // namespace
+
+core::RgbImage RenderRobotMap(const core::RobotMap& map, const sim::World* world,
+                              const MapRenderOptions& options) {
+  const int width = std::clamp(options.width_px, 50, 8000);
+  const double margin = std::max(0.0, options.margin_m);
+  Vec2 lo, hi;
+  core::RgbImage image = Background(map, world, width, margin, &lo, &hi);
+  const double scale = width / (hi.x() - lo.x());
+  const int height = std::max(1, static_cast<int>(std::lround((hi.y() - lo.y()) * scale)));
+  if (image.width != width || image.height != height) {
+    image = core::RgbImage(width, height, 255, 255, 255);
+  }
+  Canvas canvas(&image, {lo.x(), hi.y()}, scale);
+  DrawInfiniteLines(map, lo, hi, &canvas);
+  DrawEdgesAndGhosts(map, &canvas);
+  DrawFeatures(map, &canvas);
+  DrawNodes(map, &canvas);
   return image;
 }
 

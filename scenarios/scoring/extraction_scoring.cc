@@ -5,9 +5,12 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
+#include "core/geometry/segment2.h"
 #include "core/types/pose2.h"
 
 namespace pavilion::scenarios {
@@ -37,13 +40,6 @@ double AlongLine(const core::Line& line, const Eigen::Vector2d& p) {
   return -std::sin(line.alpha_rad) * p.x() + std::cos(line.alpha_rad) * p.y();
 }
 
-double DistanceToSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
-                         const Eigen::Vector2d& b) {
-  const Eigen::Vector2d ab = b - a;
-  const double t = std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
-  return (a + t * ab - p).norm();
-}
-
 // Length of [lo, hi] inside the intervals.
 double Overlap(const std::vector<Eigen::Vector2d>& intervals, double lo, double hi) {
   double overlap = 0.0;
@@ -61,6 +57,282 @@ struct Run {
   int readings = 0;
   bool in_range = false;  // a run of readings within max_distance_m (subset of a full run)
 };
+
+// The section's faces in the sensor frame, grouped into infinite lines.
+struct FaceGroups {
+  std::vector<Eigen::Vector2d> fa, fb;  // face endpoints, sensor frame
+  std::vector<int> group_of_face;       // -1 for degenerate faces
+  std::vector<core::Line> lines;        // per group
+  std::vector<std::vector<int>> faces;  // per group
+};
+
+FaceGroups GroupFaces(const core::PlanarSection& section, const core::Pose2& sensor_from_world,
+                      const ExtractionScoringOptions& options) {
+  const std::size_t faces = section.segments.size();
+  FaceGroups groups;
+  groups.fa.resize(faces);
+  groups.fb.resize(faces);
+  groups.group_of_face.assign(faces, -1);
+  for (std::size_t f = 0; f < faces; ++f) {
+    groups.fa[f] = sensor_from_world * section.segments[f].a_m;
+    groups.fb[f] = sensor_from_world * section.segments[f].b_m;
+    if ((groups.fb[f] - groups.fa[f]).norm() < 1e-9) continue;
+    const core::Line line = LineThrough(groups.fa[f], groups.fb[f]);
+    int g = -1;
+    for (std::size_t k = 0; k < groups.lines.size() && g < 0; ++k) {
+      if (std::abs(core::NormalizeAngle(line.alpha_rad - groups.lines[k].alpha_rad)) <=
+              options.collinear_alpha_rad &&
+          std::abs(line.r_m - groups.lines[k].r_m) <= options.collinear_r_m) {
+        g = static_cast<int>(k);
+      }
+    }
+    if (g < 0) {
+      g = static_cast<int>(groups.lines.size());
+      groups.lines.push_back(line);
+      groups.faces.emplace_back();
+    }
+    groups.group_of_face[f] = g;
+    groups.faces[g].push_back(static_cast<int>(f));
+  }
+  return groups;
+}
+
+// The group of the face that reading i truly hit (within on_face_tolerance_m)
+// and the hit's coordinate along the group's line; group -1 for none.
+std::pair<int, double> GroupOfReading(const core::LaserScan& scan,
+                                      const core::LaserScanTruth& truth,
+                                      const core::PlanarSection& section, const FaceGroups& groups,
+                                      const core::Pose2& sensor_from_world,
+                                      const ExtractionScoringOptions& options, std::size_t i) {
+  const int element = truth.element[i];
+  const double range = truth.true_range_m[i];
+  int group = -1;
+  double t = 0.0;
+  if (element >= 0 && range < scan.max_range_m) {
+    const double bearing = scan.readings[i].bearing_rad;
+    const Eigen::Vector2d in_sensor(range * std::cos(bearing), range * std::sin(bearing));
+    const Eigen::Vector2d p = sensor_from_world * (truth.world_from_sensor[i] * in_sensor);
+    double best = options.on_face_tolerance_m;
+    for (std::size_t f = 0; f < section.segments.size(); ++f) {
+      if (section.segments[f].element != element || groups.group_of_face[f] < 0) continue;
+      const double d = core::PointSegmentDistance(p, groups.fa[f], groups.fb[f]);
+      if (d <= best) {
+        best = d;
+        group = groups.group_of_face[f];
+      }
+    }
+    if (group >= 0) t = AlongLine(groups.lines[group], p);
+  }
+  return {group, t};
+}
+
+// Runs of consecutive readings on one group: all, and within max_distance_m.
+std::vector<Run> ReadingRuns(const core::LaserScan& scan, const core::LaserScanTruth& truth,
+                             const core::PlanarSection& section, const FaceGroups& groups,
+                             const core::Pose2& sensor_from_world,
+                             const ExtractionScoringOptions& options) {
+  std::vector<Run> runs;
+  Run current, current_in_range;
+  auto close = [&runs](Run* run) {
+    if (run->group >= 0) runs.push_back(*run);
+    *run = Run{};
+  };
+  auto extend = [](Run* run, int group, double t, bool in_range) {
+    if (run->group != group) {
+      *run = Run{group, t, t, 0, in_range};
+    }
+    run->lo = std::min(run->lo, t);
+    run->hi = std::max(run->hi, t);
+    ++run->readings;
+  };
+  for (std::size_t i = 0; i < scan.readings.size(); ++i) {
+    const auto [group, t] =
+        GroupOfReading(scan, truth, section, groups, sensor_from_world, options, i);
+    const double range = truth.true_range_m[i];
+    if (group != current.group) close(&current);
+    if (group >= 0) extend(&current, group, t, false);
+    const bool in_range = group >= 0 && range <= options.max_distance_m;
+    if (!in_range || group != current_in_range.group) close(&current_in_range);
+    if (in_range) extend(&current_in_range, group, t, true);
+  }
+  close(&current);
+  close(&current_in_range);
+  return runs;
+}
+
+// Walls: per group, the runs' intervals merged across gaps <= max_gap_m.
+void AddWalls(const std::vector<Run>& runs, const FaceGroups& groups,
+              const core::PlanarSection& section, const ExtractionScoringOptions& options,
+              ExtractionScore* score) {
+  for (std::size_t g = 0; g < groups.lines.size(); ++g) {
+    std::vector<Run> full, near;
+    for (const Run& run : runs) {
+      if (run.group != static_cast<int>(g)) continue;
+      (run.in_range ? near : full).push_back(run);
+    }
+    if (full.empty()) continue;
+    std::sort(full.begin(), full.end(), [](const Run& a, const Run& b) { return a.lo < b.lo; });
+    std::size_t k = 0;
+    while (k < full.size()) {
+      TrueWall wall;
+      wall.faces = groups.faces[g];
+      wall.group = static_cast<int>(g);
+      wall.line = groups.lines[g];
+      double hi = full[k].hi;
+      std::size_t j = k;
+      for (; j < full.size() && (j == k || full[j].lo - hi <= options.max_gap_m); ++j) {
+        wall.visible_t_m.emplace_back(full[j].lo, full[j].hi);
+        wall.visible_length_m += full[j].hi - full[j].lo;
+        wall.readings += full[j].readings;
+        hi = std::max(hi, full[j].hi);
+      }
+      const double lo = full[k].lo;
+      for (const Run& run : near) {
+        if (run.lo >= lo && run.hi <= hi) wall.visible_length_in_range_m += run.hi - run.lo;
+      }
+      wall.in_view = wall.visible_length_in_range_m >= options.min_visible_length_m;
+      wall.modelled_surface = std::all_of(wall.faces.begin(), wall.faces.end(), [&](int f) {
+        const core::LaserResponse r = section.elements[section.segments[f].element].laser;
+        return r == core::LaserResponse::kNormal || r == core::LaserResponse::kRetroReflective;
+      });
+      if (wall.in_view) ++score->walls_in_view;
+      if (wall.in_view && wall.modelled_surface) ++score->modelled_walls_in_view;
+      score->walls.push_back(std::move(wall));
+      k = j;
+    }
+  }
+}
+
+// A segment's match against one group's line, before the best is chosen.
+struct Candidate {
+  ExtractionMatch match;
+  double norm = 0.0;  // |da| / max_alpha_error + |dr| / max_r_error
+  double lo = 0.0;    // the segment's interval along the line
+  double hi = 0.0;
+};
+
+// The segment against the walls of one group (line `line`); nullopt when its
+// line is too far off or it overlaps their visible parts too little.
+std::optional<Candidate> MatchGroup(const core::Segment& seg, const core::Line& line,
+                                    const std::vector<int>& walls,
+                                    const std::vector<TrueWall>& all_walls,
+                                    const ExtractionScoringOptions& options) {
+  const double da = core::NormalizeAngle(seg.line.alpha_rad - line.alpha_rad);
+  const double dr = seg.line.r_m - line.r_m;
+  if (std::abs(da) > options.max_alpha_error_rad || std::abs(dr) > options.max_r_error_m) {
+    return std::nullopt;
+  }
+  const double t0 = AlongLine(line, seg.first_endpoint.position_m);
+  const double t1 = AlongLine(line, seg.last_endpoint.position_m);
+  const double lo = std::min(t0, t1), hi = std::max(t0, t1);
+  double overlap = 0.0, wall_overlap = -1.0;
+  bool touches = false;
+  int wall = -1;
+  double hull_lo = std::numeric_limits<double>::infinity(), hull_hi = -hull_lo;
+  for (int w : walls) {
+    const double o = Overlap(all_walls[w].visible_t_m, lo, hi);
+    overlap += o;
+    for (const Eigen::Vector2d& iv : all_walls[w].visible_t_m) {
+      hull_lo = std::min(hull_lo, iv.x());
+      hull_hi = std::max(hull_hi, iv.y());
+    }
+    for (const Eigen::Vector2d& iv : all_walls[w].visible_t_m) {
+      touches = touches || (lo <= iv.y() && hi >= iv.x());
+    }
+    if (o > wall_overlap) {
+      wall_overlap = o;
+      wall = w;
+    }
+  }
+  if (options.bridge_gaps) overlap = std::max(0.0, std::min(hi, hull_hi) - std::max(lo, hull_lo));
+  const double fraction = hi - lo > 1e-9 ? overlap / (hi - lo) : (touches ? 1.0 : 0.0);
+  if (fraction < options.min_overlap_fraction) return std::nullopt;
+  const Eigen::Vector2d e(da, dr);
+  double m2 = std::numeric_limits<double>::infinity();
+  const Eigen::Matrix2d& c = seg.line.covariance;
+  if (c.determinant() > 0.0) m2 = e.dot(c.inverse() * e);
+  Candidate candidate;
+  candidate.norm =
+      std::abs(da) / options.max_alpha_error_rad + std::abs(dr) / options.max_r_error_m;
+  candidate.match.wall = wall;
+  candidate.match.delta_alpha_rad = da;
+  candidate.match.delta_r_m = dr;
+  candidate.match.mahalanobis2 = m2;
+  candidate.match.in_gate = m2 <= options.gate;
+  candidate.match.overlap_fraction = fraction;
+  candidate.lo = lo;
+  candidate.hi = hi;
+  return candidate;
+}
+
+// Matching against infinite lines: the visible parts of all walls on one
+// line. Sets the matches, false positives and matched segments of `score`;
+// `covered` receives each wall's intervals covered by matching segments.
+void MatchSegments(const std::vector<core::Segment>& segments, const FaceGroups& groups,
+                   const ExtractionScoringOptions& options, ExtractionScore* score,
+                   std::vector<std::vector<Eigen::Vector2d>>* covered) {
+  std::vector<std::vector<int>> walls_of_group(groups.lines.size());
+  for (std::size_t w = 0; w < score->walls.size(); ++w) {
+    walls_of_group[score->walls[w].group].push_back(static_cast<int>(w));
+  }
+  covered->assign(score->walls.size(), {});
+  for (std::size_t s = 0; s < segments.size(); ++s) {
+    Candidate best;
+    double best_m2 = std::numeric_limits<double>::infinity();
+    double best_norm = std::numeric_limits<double>::infinity();
+    for (std::size_t g = 0; g < groups.lines.size(); ++g) {
+      if (walls_of_group[g].empty()) continue;
+      const std::optional<Candidate> c =
+          MatchGroup(segments[s], groups.lines[g], walls_of_group[g], score->walls, options);
+      if (!c) continue;
+      const double m2 = c->match.mahalanobis2;
+      if (m2 < best_m2 || (m2 == best_m2 && c->norm < best_norm)) {
+        best_m2 = m2;
+        best_norm = c->norm;
+        best = *c;
+        best.match.segment = static_cast<int>(s);
+      }
+    }
+    if (best.match.wall < 0) {
+      ++score->false_positives;
+      continue;
+    }
+    score->wall_of_segment[s] = best.match.wall;
+    for (int w : walls_of_group[score->walls[best.match.wall].group]) {
+      ++score->walls[w].matched_segments;
+      (*covered)[w].emplace_back(best.lo, best.hi);
+    }
+    score->matches.push_back(best.match);
+  }
+}
+
+// A wall is found when the matching segments cover min_overlap_fraction of its
+// visible part.
+void MarkFoundWalls(const ExtractionScoringOptions& options,
+                    std::vector<std::vector<Eigen::Vector2d>>& covered, ExtractionScore* score) {
+  for (std::size_t w = 0; w < score->walls.size(); ++w) {
+    TrueWall& wall = score->walls[w];
+    std::vector<Eigen::Vector2d>& c = covered[w];
+    std::sort(c.begin(), c.end(),
+              [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() < b.x(); });
+    std::vector<Eigen::Vector2d> merged;
+    for (const Eigen::Vector2d& iv : c) {
+      if (!merged.empty() && iv.x() <= merged.back().y()) {
+        merged.back().y() = std::max(merged.back().y(), iv.y());
+      } else {
+        merged.push_back(iv);
+      }
+    }
+    for (const Eigen::Vector2d& iv : merged) {
+      wall.covered_length_m += Overlap(wall.visible_t_m, iv.x(), iv.y());
+    }
+    wall.found = wall.visible_length_m > 0.0
+                     ? wall.covered_length_m >= options.min_overlap_fraction * wall.visible_length_m
+                     : wall.matched_segments > 0;
+    if (wall.found && wall.in_view) ++score->walls_found;
+    if (wall.found && wall.in_view && wall.modelled_surface) ++score->modelled_walls_found;
+  }
+}
 
 }  // namespace
 
@@ -96,220 +368,12 @@ ExtractionScore ScoreExtraction(const core::LaserScan& scan, const core::LaserSc
     return score;
   }
   const core::Pose2 sensor_from_world = truth.world_from_sensor[0].Inverse();
-
-  // Faces in the sensor frame, grouped into infinite lines.
-  const std::size_t faces = section.segments.size();
-  std::vector<Eigen::Vector2d> fa(faces), fb(faces);
-  std::vector<int> group_of_face(faces, -1);
-  std::vector<core::Line> group_lines;
-  std::vector<std::vector<int>> group_faces;
-  for (std::size_t f = 0; f < faces; ++f) {
-    fa[f] = sensor_from_world * section.segments[f].a_m;
-    fb[f] = sensor_from_world * section.segments[f].b_m;
-    if ((fb[f] - fa[f]).norm() < 1e-9) continue;
-    const core::Line line = LineThrough(fa[f], fb[f]);
-    int g = -1;
-    for (std::size_t k = 0; k < group_lines.size() && g < 0; ++k) {
-      if (std::abs(core::NormalizeAngle(line.alpha_rad - group_lines[k].alpha_rad)) <=
-              options.collinear_alpha_rad &&
-          std::abs(line.r_m - group_lines[k].r_m) <= options.collinear_r_m) {
-        g = static_cast<int>(k);
-      }
-    }
-    if (g < 0) {
-      g = static_cast<int>(group_lines.size());
-      group_lines.push_back(line);
-      group_faces.emplace_back();
-    }
-    group_of_face[f] = g;
-    group_faces[g].push_back(static_cast<int>(f));
-  }
-
-  // Runs of consecutive readings on one group: all, and within max_distance_m.
-  std::vector<Run> runs;
-  Run current, current_in_range;
-  auto close = [&runs](Run* run) {
-    if (run->group >= 0) runs.push_back(*run);
-    *run = Run{};
-  };
-  auto extend = [](Run* run, int group, double t, bool in_range) {
-    if (run->group != group) {
-      *run = Run{group, t, t, 0, in_range};
-    }
-    run->lo = std::min(run->lo, t);
-    run->hi = std::max(run->hi, t);
-    ++run->readings;
-  };
-  for (std::size_t i = 0; i < n; ++i) {
-    const int element = truth.element[i];
-    const double range = truth.true_range_m[i];
-    int group = -1;
-    double t = 0.0;
-    if (element >= 0 && range < scan.max_range_m) {
-      const double bearing = scan.readings[i].bearing_rad;
-      const Eigen::Vector2d in_sensor(range * std::cos(bearing), range * std::sin(bearing));
-      const Eigen::Vector2d p = sensor_from_world * (truth.world_from_sensor[i] * in_sensor);
-      double best = options.on_face_tolerance_m;
-      for (std::size_t f = 0; f < faces; ++f) {
-        if (section.segments[f].element != element || group_of_face[f] < 0) continue;
-        const double d = DistanceToSegment(p, fa[f], fb[f]);
-        if (d <= best) {
-          best = d;
-          group = group_of_face[f];
-        }
-      }
-      if (group >= 0) t = AlongLine(group_lines[group], p);
-    }
-    if (group != current.group) close(&current);
-    if (group >= 0) extend(&current, group, t, false);
-    const bool in_range = group >= 0 && range <= options.max_distance_m;
-    if (!in_range || group != current_in_range.group) close(&current_in_range);
-    if (in_range) extend(&current_in_range, group, t, true);
-  }
-  close(&current);
-  close(&current_in_range);
-
-  // Walls: per group, the runs' intervals merged across gaps <= max_gap_m.
-  for (std::size_t g = 0; g < group_lines.size(); ++g) {
-    std::vector<Run> full, near;
-    for (const Run& run : runs) {
-      if (run.group != static_cast<int>(g)) continue;
-      (run.in_range ? near : full).push_back(run);
-    }
-    if (full.empty()) continue;
-    std::sort(full.begin(), full.end(), [](const Run& a, const Run& b) { return a.lo < b.lo; });
-    std::size_t k = 0;
-    while (k < full.size()) {
-      TrueWall wall;
-      wall.faces = group_faces[g];
-      wall.group = static_cast<int>(g);
-      wall.line = group_lines[g];
-      double hi = full[k].hi;
-      std::size_t j = k;
-      for (; j < full.size() && (j == k || full[j].lo - hi <= options.max_gap_m); ++j) {
-        wall.visible_t_m.emplace_back(full[j].lo, full[j].hi);
-        wall.visible_length_m += full[j].hi - full[j].lo;
-        wall.readings += full[j].readings;
-        hi = std::max(hi, full[j].hi);
-      }
-      const double lo = full[k].lo;
-      for (const Run& run : near) {
-        if (run.lo >= lo && run.hi <= hi) wall.visible_length_in_range_m += run.hi - run.lo;
-      }
-      wall.in_view = wall.visible_length_in_range_m >= options.min_visible_length_m;
-      wall.modelled_surface = std::all_of(wall.faces.begin(), wall.faces.end(), [&](int f) {
-        const core::LaserResponse r = section.elements[section.segments[f].element].laser;
-        return r == core::LaserResponse::kNormal || r == core::LaserResponse::kRetroReflective;
-      });
-      if (wall.in_view) ++score.walls_in_view;
-      if (wall.in_view && wall.modelled_surface) ++score.modelled_walls_in_view;
-      score.walls.push_back(std::move(wall));
-      k = j;
-    }
-  }
-
-  // Matching against infinite lines: the visible parts of all walls on one line.
-  std::vector<std::vector<int>> walls_of_group(group_lines.size());
-  for (std::size_t w = 0; w < score.walls.size(); ++w) {
-    walls_of_group[score.walls[w].group].push_back(static_cast<int>(w));
-  }
-  std::vector<std::vector<Eigen::Vector2d>> covered(score.walls.size());
-  for (std::size_t s = 0; s < segments.size(); ++s) {
-    const core::Segment& seg = segments[s];
-    ExtractionMatch best;
-    double best_m2 = std::numeric_limits<double>::infinity();
-    double best_norm = std::numeric_limits<double>::infinity();
-    double best_lo = 0.0, best_hi = 0.0;
-    for (std::size_t g = 0; g < group_lines.size(); ++g) {
-      if (walls_of_group[g].empty()) continue;
-      const core::Line& line = group_lines[g];
-      const double da = core::NormalizeAngle(seg.line.alpha_rad - line.alpha_rad);
-      const double dr = seg.line.r_m - line.r_m;
-      if (std::abs(da) > options.max_alpha_error_rad || std::abs(dr) > options.max_r_error_m) {
-        continue;
-      }
-      const double t0 = AlongLine(line, seg.first_endpoint.position_m);
-      const double t1 = AlongLine(line, seg.last_endpoint.position_m);
-      const double lo = std::min(t0, t1), hi = std::max(t0, t1);
-      double overlap = 0.0, wall_overlap = -1.0;
-      bool touches = false;
-      int wall = -1;
-      double hull_lo = std::numeric_limits<double>::infinity(), hull_hi = -hull_lo;
-      for (int w : walls_of_group[g]) {
-        const double o = Overlap(score.walls[w].visible_t_m, lo, hi);
-        overlap += o;
-        for (const Eigen::Vector2d& iv : score.walls[w].visible_t_m) {
-          hull_lo = std::min(hull_lo, iv.x());
-          hull_hi = std::max(hull_hi, iv.y());
-        }
-        for (const Eigen::Vector2d& iv : score.walls[w].visible_t_m) {
-          touches = touches || (lo <= iv.y() && hi >= iv.x());
-        }
-        if (o > wall_overlap) {
-          wall_overlap = o;
-          wall = w;
-        }
-      }
-      if (options.bridge_gaps)
-        overlap = std::max(0.0, std::min(hi, hull_hi) - std::max(lo, hull_lo));
-      const double fraction = hi - lo > 1e-9 ? overlap / (hi - lo) : (touches ? 1.0 : 0.0);
-      if (fraction < options.min_overlap_fraction) continue;
-      const Eigen::Vector2d e(da, dr);
-      double m2 = std::numeric_limits<double>::infinity();
-      const Eigen::Matrix2d& c = seg.line.covariance;
-      if (c.determinant() > 0.0) m2 = e.dot(c.inverse() * e);
-      const double norm =
-          std::abs(da) / options.max_alpha_error_rad + std::abs(dr) / options.max_r_error_m;
-      if (m2 < best_m2 || (m2 == best_m2 && norm < best_norm)) {
-        best_m2 = m2;
-        best_norm = norm;
-        best.segment = static_cast<int>(s);
-        best.wall = wall;
-        best.delta_alpha_rad = da;
-        best.delta_r_m = dr;
-        best.mahalanobis2 = m2;
-        best.in_gate = m2 <= options.gate;
-        best.overlap_fraction = fraction;
-        best_lo = lo;
-        best_hi = hi;
-      }
-    }
-    if (best.wall < 0) {
-      ++score.false_positives;
-      continue;
-    }
-    score.wall_of_segment[s] = best.wall;
-    for (int w : walls_of_group[score.walls[best.wall].group]) {
-      ++score.walls[w].matched_segments;
-      covered[w].emplace_back(best_lo, best_hi);
-    }
-    score.matches.push_back(best);
-  }
-
-  // A wall is found when the matching segments cover min_overlap_fraction of its
-  // visible part.
-  for (std::size_t w = 0; w < score.walls.size(); ++w) {
-    TrueWall& wall = score.walls[w];
-    std::vector<Eigen::Vector2d>& c = covered[w];
-    std::sort(c.begin(), c.end(),
-              [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() < b.x(); });
-    std::vector<Eigen::Vector2d> merged;
-    for (const Eigen::Vector2d& iv : c) {
-      if (!merged.empty() && iv.x() <= merged.back().y()) {
-        merged.back().y() = std::max(merged.back().y(), iv.y());
-      } else {
-        merged.push_back(iv);
-      }
-    }
-    for (const Eigen::Vector2d& iv : merged) {
-      wall.covered_length_m += Overlap(wall.visible_t_m, iv.x(), iv.y());
-    }
-    wall.found = wall.visible_length_m > 0.0
-                     ? wall.covered_length_m >= options.min_overlap_fraction * wall.visible_length_m
-                     : wall.matched_segments > 0;
-    if (wall.found && wall.in_view) ++score.walls_found;
-    if (wall.found && wall.in_view && wall.modelled_surface) ++score.modelled_walls_found;
-  }
+  const FaceGroups groups = GroupFaces(section, sensor_from_world, options);
+  AddWalls(ReadingRuns(scan, truth, section, groups, sensor_from_world, options), groups, section,
+           options, &score);
+  std::vector<std::vector<Eigen::Vector2d>> covered;
+  MatchSegments(segments, groups, options, &score, &covered);
+  MarkFoundWalls(options, covered, &score);
   return score;
 }
 

@@ -87,66 +87,74 @@ Diagnostic ExpectError(const std::string& body, std::size_t count, const std::st
   return d;
 }
 
-// Confirms that a valid world loads with the values written in the file.
+// A valid world using every kind of element.
+const std::string kTinyRoom =
+    "kind: world\n"
+    "name: tiny_room\n"
+    "description: a room for tests\n"
+    "materials:\n"
+    "  concrete:\n"
+    "    friction: 0.8\n"
+    "    color: [0.5, 0.5, 0.5]\n"
+    "    laser: normal\n"
+    "  foil:\n"
+    "    friction: 0.5\n"
+    "    restitution: 0.25\n"
+    "    color: [1, 1, 0, 0.5]\n"
+    "    laser: retro_reflective\n"
+    "  glass:\n"
+    "    friction: 0.4\n"
+    "    laser: transparent\n"
+    "floor:\n"
+    "  min: [-5, -4]\n"
+    "  max: [5, 4]\n"
+    "  material: concrete\n"
+    "walls:\n"
+    "  - id: outline\n"
+    "    points: [[-4, -3], [4, -3], [4, 3], [-4, 3]]\n"
+    "    closed: true\n"
+    "    thickness: 0.2\n"
+    "    height: 2.5\n"
+    "    material: concrete\n"
+    "boxes:\n"
+    "  - id: crate\n"
+    "    pose: [1.5, -2, 0.25]\n"
+    "    size: [0.5, 0.6, 0.7]\n"
+    "    z: 0.1\n"
+    "    material: foil\n"
+    "cylinders:\n"
+    "  - id: column\n"
+    "    position: [-2, 1]\n"
+    "    radius: 0.3\n"
+    "    height: 3\n"
+    "    material: concrete\n"
+    "doors:\n"
+    "  - id: office_door\n"
+    "    hinge: [0, 2]\n"
+    "    closed_yaw: 0\n"
+    "    open_yaw: 1.5\n"
+    "    width: 0.9\n"
+    "    thickness: 0.04\n"
+    "    height: 2.0\n"
+    "    state: open\n"
+    "    material: glass\n"
+    "places:\n"
+    "  entrance:\n"
+    "    pose: [0, -2.5, 1.25]\n"
+    "  spawn:\n"
+    "    area: [[-3, -2], [-1, -2], [-1, 0], [-3, 0]]\n";
+
+// Writes kTinyRoom as world.yaml and loads it; `path` receives the file.
+sim::WorldDescription LoadTinyRoom(std::string* path) {
+  *path = WriteFile(TestDir(), "world.yaml", kTinyRoom);
+  return LoadWorldFile(*path);
+}
+
+// Confirms that a valid world loads with the values written in the file: its
+// name, materials and floor.
 TEST(WorldLoaderTest, LoadsMinimalWorldWithItsValues) {
-  const std::string text =
-      "kind: world\n"
-      "name: tiny_room\n"
-      "description: a room for tests\n"
-      "materials:\n"
-      "  concrete:\n"
-      "    friction: 0.8\n"
-      "    color: [0.5, 0.5, 0.5]\n"
-      "    laser: normal\n"
-      "  foil:\n"
-      "    friction: 0.5\n"
-      "    restitution: 0.25\n"
-      "    color: [1, 1, 0, 0.5]\n"
-      "    laser: retro_reflective\n"
-      "  glass:\n"
-      "    friction: 0.4\n"
-      "    laser: transparent\n"
-      "floor:\n"
-      "  min: [-5, -4]\n"
-      "  max: [5, 4]\n"
-      "  material: concrete\n"
-      "walls:\n"
-      "  - id: outline\n"
-      "    points: [[-4, -3], [4, -3], [4, 3], [-4, 3]]\n"
-      "    closed: true\n"
-      "    thickness: 0.2\n"
-      "    height: 2.5\n"
-      "    material: concrete\n"
-      "boxes:\n"
-      "  - id: crate\n"
-      "    pose: [1.5, -2, 0.25]\n"
-      "    size: [0.5, 0.6, 0.7]\n"
-      "    z: 0.1\n"
-      "    material: foil\n"
-      "cylinders:\n"
-      "  - id: column\n"
-      "    position: [-2, 1]\n"
-      "    radius: 0.3\n"
-      "    height: 3\n"
-      "    material: concrete\n"
-      "doors:\n"
-      "  - id: office_door\n"
-      "    hinge: [0, 2]\n"
-      "    closed_yaw: 0\n"
-      "    open_yaw: 1.5\n"
-      "    width: 0.9\n"
-      "    thickness: 0.04\n"
-      "    height: 2.0\n"
-      "    state: open\n"
-      "    material: glass\n"
-      "places:\n"
-      "  entrance:\n"
-      "    pose: [0, -2.5, 1.25]\n"
-      "  spawn:\n"
-      "    area: [[-3, -2], [-1, -2], [-1, 0], [-3, 0]]\n";
-  const fs::path dir = TestDir();
-  const std::string path = WriteFile(dir, "world.yaml", text);
-  const sim::WorldDescription w = LoadWorldFile(path);
+  std::string path;
+  const sim::WorldDescription w = LoadTinyRoom(&path);
   EXPECT_TRUE(ValidateFile(path).empty());
 
   EXPECT_EQ(w.name, "tiny_room");
@@ -164,7 +172,13 @@ TEST(WorldLoaderTest, LoadsMinimalWorldWithItsValues) {
   EXPECT_EQ(w.floor.min_m, Eigen::Vector2d(-5, -4));
   EXPECT_EQ(w.floor.max_m, Eigen::Vector2d(5, 4));
   EXPECT_EQ(w.floor.material, "concrete");
+}
 
+// Confirms that the minimal world's walls, boxes and cylinders have the values
+// written in the file.
+TEST(WorldLoaderTest, LoadsMinimalWorldsSolids) {
+  std::string path;
+  const sim::WorldDescription w = LoadTinyRoom(&path);
   ASSERT_EQ(w.walls.size(), 1u);
   EXPECT_EQ(w.walls[0].id, "outline");
   ASSERT_EQ(w.walls[0].points_m.size(), 4u);
@@ -184,7 +198,13 @@ TEST(WorldLoaderTest, LoadsMinimalWorldWithItsValues) {
   ASSERT_EQ(w.cylinders.size(), 1u);
   EXPECT_EQ(w.cylinders[0].position_m, Eigen::Vector2d(-2, 1));
   EXPECT_DOUBLE_EQ(w.cylinders[0].radius_m, 0.3);
+}
 
+// Confirms that the minimal world's door and places (a pose, an area) have
+// the values written in the file.
+TEST(WorldLoaderTest, LoadsMinimalWorldsDoorsAndPlaces) {
+  std::string path;
+  const sim::WorldDescription w = LoadTinyRoom(&path);
   ASSERT_EQ(w.doors.size(), 1u);
   EXPECT_TRUE(w.doors[0].open);
   EXPECT_EQ(w.doors[0].hinge_m, Eigen::Vector2d(0, 2));

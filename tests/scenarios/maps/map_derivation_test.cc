@@ -11,6 +11,7 @@
 #include <cmath>
 #include <deque>
 #include <map>
+#include <memory>
 #include <numbers>
 #include <set>
 #include <stdexcept>
@@ -188,24 +189,36 @@ const core::MapPoint* FindPoint(const core::RobotMap& m, const std::string& id) 
   return nullptr;
 }
 
+// The expo_hall world and its map derived without tape-measure noise.
+struct ExpoHall {
+  std::unique_ptr<sim::World> world = LoadWorld("expo_hall");
+  core::RobotMap map = DeriveRobotMap(*world, Exact());
+};
+
+// The distance from `p` to the nearest ghost point of `map`.
+double NearestGhost(const core::RobotMap& map, const Vec2& p) {
+  double nearest = 1e9;
+  for (const auto& g : map.ghost_points) nearest = std::min(nearest, (g.position_m - p).norm());
+  return nearest;
+}
+
 // Expo.02 hall (Fig. 6.2: "44 segments on 44 lines"): every wall face seen from
 // the circulation area is covered by exactly one line within 1 mm (outer faces
-// by none), glass is absent and marked by ghost points, columns are points, the
-// retro-reflective column a beacon, and the 25 station places are the stations.
+// by none), and glass is absent and marked by ghost points.
 TEST(MapDerivationTest, ExpoHallFollowsItsSection) {
-  const auto world = LoadWorld("expo_hall");
-  const core::RobotMap map = DeriveRobotMap(*world, Exact());
+  const ExpoHall expo;
+  const core::RobotMap& map = expo.map;
   const std::vector<LineView> lines = Lines(map);
   EXPECT_EQ(map.segments.size() + map.multi_segment_lines.size(), 44u);
 
-  const sim::WorldDescription& d = world->description();
+  const sim::WorldDescription& d = expo.world->description();
   std::vector<Vec2> hall;  // wall centrelines, gaps closed
   for (const auto& w : d.walls) {
     if (w.id == "wall_east" || w.id == "wall_west") {
       hall.insert(hall.end(), w.points_m.begin(), w.points_m.end());
     }
   }
-  const core::PlanarSection beam = world->SectionAt(kBeamHeightM);
+  const core::PlanarSection beam = expo.world->SectionAt(kBeamHeightM);
   int inner = 0, outer = 0, glass = 0;
   for (const auto& s : beam.segments) {
     const auto& e = beam.elements[s.element];
@@ -221,38 +234,42 @@ TEST(MapDerivationTest, ExpoHallFollowsItsSection) {
     if (e.laser == core::LaserResponse::kTransparent) {
       ++glass;
       EXPECT_EQ(OnLine(lines, s.a_m, s.b_m), 0) << e.id;
-      const Vec2 mid = 0.5 * (s.a_m + s.b_m);
-      double nearest = 1e9;
-      for (const auto& g : map.ghost_points)
-        nearest = std::min(nearest, (g.position_m - mid).norm());
-      EXPECT_LT(nearest, 0.2) << "no ghost point on " << e.id;
+      EXPECT_LT(NearestGhost(map, 0.5 * (s.a_m + s.b_m)), 0.2) << "no ghost point on " << e.id;
     }
   }
   EXPECT_EQ(inner, 16);  // 12 inner faces and 4 end caps
   EXPECT_GT(outer, 0);
   EXPECT_GT(glass, 0);
+}
 
-  // Objects below the beam (benches, docks, plinths) carry ghost points.
-  const core::PlanarSection low = world->SectionAt(kLowHeightM);
+// Expo.02 hall: objects below the beam (benches, docks, plinths) carry ghost
+// points, and the entrance is closed by a row of them (§6.3.1).
+TEST(MapDerivationTest, ExpoHallGhostPointsMarkWhatTheLaserMisses) {
+  const ExpoHall expo;
+  const core::RobotMap& map = expo.map;
+  const core::PlanarSection beam = expo.world->SectionAt(kBeamHeightM);
+  const core::PlanarSection low = expo.world->SectionAt(kLowHeightM);
   std::set<int> at_beam;
   for (const auto& s : beam.segments) at_beam.insert(s.element);
   for (const auto& s : low.segments) {
     if (at_beam.contains(s.element)) continue;
-    const Vec2 mid = 0.5 * (s.a_m + s.b_m);
-    double nearest = 1e9;
-    for (const auto& g : map.ghost_points) nearest = std::min(nearest, (g.position_m - mid).norm());
-    EXPECT_LT(nearest, 0.2) << "no ghost point on " << low.elements[s.element].id;
+    EXPECT_LT(NearestGhost(map, 0.5 * (s.a_m + s.b_m)), 0.2)
+        << "no ghost point on " << low.elements[s.element].id;
   }
-  // The entrance is closed by a row of ghost points (§6.3.1).
   int entrance = 0;
   for (const auto& g : map.ghost_points) {
     entrance += std::abs(g.position_m.y() + 2.5) < 0.05 && g.position_m.x() > -13.2 &&
                 g.position_m.x() < -11.0;
   }
   EXPECT_GE(entrance, 8);
+}
 
-  // Columns: points with their radius; the retro-reflective column a beacon.
-  for (const auto& c : d.cylinders) {
+// Expo.02 hall: columns are points with their radius; the retro-reflective
+// column a beacon.
+TEST(MapDerivationTest, ExpoHallColumnsArePointsAndTheRetroColumnABeacon) {
+  const ExpoHall expo;
+  const core::RobotMap& map = expo.map;
+  for (const auto& c : expo.world->description().cylinders) {
     if (c.id == "column_2") {
       ASSERT_EQ(map.beacons.size(), 1u);
       EXPECT_EQ(map.beacons[0].id, "column_2");
@@ -266,8 +283,14 @@ TEST(MapDerivationTest, ExpoHallFollowsItsSection) {
     EXPECT_NEAR(p->radius_m, c.radius_m, 1e-6);
   }
   EXPECT_EQ(map.points.size(), 4u);
+}
 
-  // Stations: one node per station_/dock_ place, at its pose.
+// Expo.02 hall: the 25 station places are the stations, at their poses, in
+// one collision-free graph.
+TEST(MapDerivationTest, ExpoHallStationsJoinOneCollisionFreeGraph) {
+  const ExpoHall expo;
+  const core::RobotMap& map = expo.map;
+  const sim::WorldDescription& d = expo.world->description();
   int station_places = 0;
   for (const auto& [name, place] : d.places) {
     station_places += name.starts_with("station_") || name.starts_with("dock_");
@@ -282,7 +305,7 @@ TEST(MapDerivationTest, ExpoHallFollowsItsSection) {
   EXPECT_EQ(station_places, 25);
   EXPECT_EQ(stations, station_places);
 
-  ExpectEdgesCollisionFree(*world, map);
+  ExpectEdgesCollisionFree(*expo.world, map);
   EXPECT_EQ(GraphParts(map), 1);
 }
 

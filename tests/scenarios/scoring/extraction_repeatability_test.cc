@@ -11,6 +11,7 @@
 
 #include "core/features/line_extraction.h"
 #include "core/random/random_stream.h"
+#include "core/types/pose2.h"
 #include "scenarios/config/data_paths.h"
 #include "scenarios/config/world_loader.h"
 #include "sim/sensors/laser_scanner.h"
@@ -27,6 +28,55 @@ struct Track {
   std::vector<double> alpha, r, predicted_alpha_var, predicted_r_var;
   int misses = 0;
 };
+
+// The segment nearest to `reference` within the matching window of
+// metrics.md (2 deg, 5 cm) of the first scan's line; nullptr for a miss.
+const core::Segment* NearestInWindow(const std::vector<core::Segment>& segments,
+                                     const core::Line& reference) {
+  const core::Segment* best = nullptr;
+  double best_d = 1e9;
+  for (const core::Segment& s : segments) {
+    const double da = core::NormalizeAngle(s.line.alpha_rad - reference.alpha_rad);
+    const double d = std::hypot(da / kHitAlphaRad, (s.line.r_m - reference.r_m) / kHitRM);
+    const bool in_window =
+        std::abs(da) <= kHitAlphaRad && std::abs(s.line.r_m - reference.r_m) <= kHitRM;
+    if (in_window && d < best_d) {
+      best_d = d;
+      best = &s;
+    }
+  }
+  return best;
+}
+
+// Adds the scan's match of every tracked wall (or a miss).
+void Record(const std::vector<core::Segment>& segments, std::vector<Track>* tracks) {
+  for (Track& t : *tracks) {
+    const core::Segment* best = NearestInWindow(segments, t.reference);
+    if (best == nullptr) {
+      ++t.misses;
+      continue;
+    }
+    t.alpha.push_back(t.reference.alpha_rad +
+                      core::NormalizeAngle(best->line.alpha_rad - t.reference.alpha_rad));
+    t.r.push_back(best->line.r_m);
+    t.predicted_alpha_var.push_back(best->line.covariance(0, 0));
+    t.predicted_r_var.push_back(best->line.covariance(1, 1));
+  }
+}
+
+double Mean(const std::vector<double>& v) {
+  double m = 0.0;
+  for (double x : v) m += x;
+  return m / static_cast<double>(v.size());
+}
+
+// Sample standard deviation.
+double StandardDeviation(const std::vector<double>& v) {
+  const double m = Mean(v);
+  double m2 = 0.0;
+  for (double x : v) m2 += (x - m) * (x - m);
+  return std::sqrt(m2 / static_cast<double>(v.size() - 1));
+}
 
 TEST(ExtractionRepeatability, ThreeHundredScansOfAStaticScene) {
   sim::World world(scenarios::LoadWorldFile(scenarios::ResolveWorldPath("small_lab")),
@@ -51,53 +101,14 @@ TEST(ExtractionRepeatability, ThreeHundredScansOfAStaticScene) {
       }
       ASSERT_GE(tracks.size(), 3u);
     }
-    for (Track& t : tracks) {
-      const core::Segment* best = nullptr;
-      double best_d = 1e9;
-      for (const core::Segment& s : segments) {
-        const double da =
-            std::remainder(s.line.alpha_rad - t.reference.alpha_rad, 2 * std::numbers::pi);
-        // A hit: within the matching window of metrics.md (2 deg, 5 cm) of the
-        // first scan's line; the nearest in that window is the wall's.
-        const double d = std::hypot(da / kHitAlphaRad, (s.line.r_m - t.reference.r_m) / kHitRM);
-        const bool in_window =
-            std::abs(da) <= kHitAlphaRad && std::abs(s.line.r_m - t.reference.r_m) <= kHitRM;
-        if (in_window && d < best_d) {
-          best_d = d;
-          best = &s;
-        }
-      }
-      if (best == nullptr) {
-        ++t.misses;
-
-        continue;
-      }
-      t.alpha.push_back(
-          t.reference.alpha_rad +
-          std::remainder(best->line.alpha_rad - t.reference.alpha_rad, 2 * std::numbers::pi));
-      t.r.push_back(best->line.r_m);
-      t.predicted_alpha_var.push_back(best->line.covariance(0, 0));
-      t.predicted_r_var.push_back(best->line.covariance(1, 1));
-    }
+    Record(segments, &tracks);
   }
-  const auto stats = [](const std::vector<double>& v) {
-    double m = 0.0, m2 = 0.0;
-    for (double x : v) m += x;
-    m /= static_cast<double>(v.size());
-    for (double x : v) m2 += (x - m) * (x - m);
-    return std::sqrt(m2 / static_cast<double>(v.size() - 1));
-  };
-  const auto mean = [](const std::vector<double>& v) {
-    double m = 0.0;
-    for (double x : v) m += x;
-    return m / static_cast<double>(v.size());
-  };
   std::printf("%-28s %10s %10s %12s %12s %6s\n", "wall (alpha deg, r m)", "sigma_r mm", "pred mm",
               "sigma_a deg", "pred deg", "hits");
   for (const Track& t : tracks) {
-    const double sr = stats(t.r), sa = stats(t.alpha);
-    const double pr = std::sqrt(mean(t.predicted_r_var));
-    const double pa = std::sqrt(mean(t.predicted_alpha_var));
+    const double sr = StandardDeviation(t.r), sa = StandardDeviation(t.alpha);
+    const double pr = std::sqrt(Mean(t.predicted_r_var));
+    const double pa = std::sqrt(Mean(t.predicted_alpha_var));
     std::printf("(%7.2f, %6.3f)%13s %10.2f %10.2f %12.3f %12.3f %5zu/%d\n",
                 t.reference.alpha_rad * 180 / std::numbers::pi, t.reference.r_m, "", sr * 1e3,
                 pr * 1e3, sa * 180 / std::numbers::pi, pa * 180 / std::numbers::pi, t.r.size(),
