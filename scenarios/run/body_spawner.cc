@@ -5,6 +5,7 @@
 #include <string>
 #include <utility>
 
+#include "core/geometry/segment2.h"
 #include "core/random/random_stream.h"
 #include "scenarios/config/input_error.h"
 
@@ -24,16 +25,9 @@ double FootprintRadius(const sim::BodyShape& s) {
   return s.radius_m;
 }
 
-double PointSegmentDistance(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
-                            const Eigen::Vector2d& b) {
-  const Eigen::Vector2d ab = b - a;
-  const double t = std::clamp((p - a).dot(ab) / std::max(ab.squaredNorm(), 1e-18), 0.0, 1.0);
-  return (a + t * ab - p).norm();
-}
-
 bool Clear(const core::PlanarSection& section, const Eigen::Vector2d& p, double r) {
   for (const auto& s : section.segments) {
-    if (PointSegmentDistance(p, s.a_m, s.b_m) < r) return false;
+    if (core::PointSegmentDistance(p, s.a_m, s.b_m) < r) return false;
   }
   for (const auto& c : section.circles) {
     if ((c.center_m - p).norm() < r + c.radius_m) return false;
