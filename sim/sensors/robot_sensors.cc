@@ -17,11 +17,13 @@ void EncoderOptions::Validate() const {
 }
 
 void SystematicErrors::Validate() const {
-  if (!(wheel_radius_ratio > 0.5 && wheel_radius_ratio < 2.0)) {
-    throw std::invalid_argument("wheel_radius_ratio must be in (0.5, 2)");
+  // Systematic errors of real robots are of the order of 1 % (UMBmark); 10 %
+  // is a badly built robot, beyond it a unit or ratio mistake.
+  if (!(wheel_radius_ratio >= 0.9 && wheel_radius_ratio <= 1.1)) {
+    throw std::invalid_argument("SystematicErrors.wheel_radius_ratio must be in [0.9, 1.1]");
   }
-  if (!(wheelbase_factor > 0.5 && wheelbase_factor < 2.0)) {
-    throw std::invalid_argument("wheelbase_factor must be in (0.5, 2)");
+  if (!(wheelbase_factor >= 0.9 && wheelbase_factor <= 1.1)) {
+    throw std::invalid_argument("SystematicErrors.wheelbase_factor must be in [0.9, 1.1]");
   }
 }
 

@@ -26,10 +26,10 @@ struct EncoderOptions {
 // Systematic differences between the physical robot and the nominal model its
 // odometry uses (the robot's true wheels are built with these applied).
 struct SystematicErrors {
-  double wheel_radius_ratio = 1.0;  // true right radius / true left radius, around 1
-  double wheelbase_factor = 1.0;    // true wheelbase / nominal wheelbase, around 1
+  double wheel_radius_ratio = 1.0;  // true right radius / true left radius, [0.9, 1.1]
+  double wheelbase_factor = 1.0;    // true wheelbase / nominal wheelbase, [0.9, 1.1]
 
-  void Validate() const;
+  void Validate() const;  // throws std::invalid_argument naming the field
 };
 
 // A tactile bumper zone: contacts whose bearing from the robot's centre lies
