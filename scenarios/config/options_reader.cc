@@ -79,3 +79,13 @@ void Report(MapReader& r, const std::string& key, const std::string& message) {
 }
 
 }  // namespace pavilion::scenarios::options_reader_internal
+
+namespace pavilion::scenarios {
+
+void RequireKeys(MapReader& r, const std::vector<std::string>& keys) {
+  for (const std::string& key : keys) {
+    if (!r.Has(key)) r.Child(key, true);
+  }
+}
+
+}  // namespace pavilion::scenarios

@@ -79,6 +79,10 @@ void Report(MapReader& r, const std::string& key, const std::string& message);
 
 }  // namespace options_reader_internal
 
+// Reports each of `keys` that `r` lacks as a required key (ReadOptions reads
+// only what is present and leaves the rest at the struct's defaults).
+void RequireKeys(MapReader& r, const std::vector<std::string>& keys);
+
 // Reads the bound keys of `r` into `*options` and validates them; returns true
 // when Validate() accepted them. Every field Validate() rejects is reported once
 // (after a report the field returns to its value on entry, and Validate() runs

@@ -85,7 +85,7 @@ MotionSpec ReadMotion(YamlDocument* doc, MapReader& parent) {
       for (std::size_t i = 0; i < segs.size(); ++i) {
         MapReader s(doc, segs[i], IndexPath(r.PathOf("segments"), i));
         sim::VelocitySegment seg;
-        if (!s.Has("duration_s")) s.Child("duration_s", true);  // required
+        RequireKeys(s, {"duration_s"});
         using Segment = sim::VelocitySegment;
         ReadOptions(s, &seg,
                     {{"duration_s", &Segment::duration_s},

@@ -22,8 +22,10 @@ namespace {
 
 namespace fs = std::filesystem;
 using pavilion::testing::Contains;
+using pavilion::testing::ExactText;
 using pavilion::testing::LineOf;
 using pavilion::testing::TestDir;
+using pavilion::testing::ValidateMessage;
 using pavilion::testing::WriteFile;
 
 // A 16 m square hall with a door and a spawn area; no scenario materials.
@@ -605,24 +607,6 @@ TEST(ScenarioLoaderTest, ReadsAndValidatesTheLaserBackend) {
 namespace pavilion::scenarios {
 namespace {
 
-// What `options.Validate()` throws; empty when it accepts them.
-template <typename Options>
-std::string ValidateMessage(const Options& options) {
-  try {
-    options.Validate();
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  return "";
-}
-
-// `value` written so that YAML reads back the same double.
-std::string Exact(double value) {
-  char text[64];
-  std::snprintf(text, sizeof text, "%.17g", value);
-  return text;
-}
-
 // A robot entry of pygmalion at (1, 2) with `extra` lines under it.
 std::string PygmalionWith(const std::string& extra) {
   return WithRobot(ScenarioText(),
@@ -744,7 +728,7 @@ TEST(ScenarioLoaderTest, LoaderAndValidateAgreeAtTheRangeBoundaries) {
     for (const double value : c.values) {
       c.set(value);
       const std::string message = c.validate();
-      const std::string path = WriteScenario(c.text(Exact(value)));
+      const std::string path = WriteScenario(c.text(ExactText(value)));
       if (message.empty()) {
         EXPECT_NO_THROW(LoadScenarioFile(path)) << c.key << " = " << value;
         EXPECT_TRUE(ValidateFile(path).empty()) << c.key << " = " << value;
