@@ -498,7 +498,8 @@ TEST(RobotLoaderTest, OutOfRangeOptionsReportValidateMessageAtTheirKey) {
 // Confirms that the robot loader and Validate() agree at the boundaries where
 // they used to differ: beam divergence (loader [0, 5.7°], Validate [0, 0.1
 // rad]), systematic errors (loader [0.5, 2], Validate (0.5, 2), now [0.9,
-// 1.1]) and the encoders' rate (loader [1e-3, 1e5] Hz, Validate > 0).
+// 1.1]), a camera's field of view (loader [1°, 179°], now (0, π)) and the
+// encoders' rate (loader [1e-3, 1e5] Hz, Validate > 0).
 TEST(RobotLoaderTest, LoaderAndValidateAgreeAtTheRangeBoundaries) {
   struct Case {
     std::string key_path;
@@ -528,6 +529,16 @@ TEST(RobotLoaderTest, LoaderAndValidateAgreeAtTheRangeBoundaries) {
          return ValidateMessage(o);
        },
        {0.5, 0.89, 0.9, 1.0, 1.1, 1.11, 2.0}},
+      {"cameras[0].hfov_deg",
+       [](const std::string& v) {
+         return kRobot + "cameras:\n  - id: cam\n    link: laser_front\n    hfov_deg: " + v + "\n";
+       },
+       [](double v) {
+         sim::CameraMount o;
+         o.hfov_rad = v * kDeg;
+         return ValidateMessage(o);
+       },
+       {0.0, 0.5, 1.0, 179.0, 179.5, 180.0}},
       {"encoders.rate_hz",
        [](const std::string& v) {
          return Edited("  ticks_per_revolution: 50000\n",
