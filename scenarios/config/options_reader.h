@@ -12,9 +12,16 @@
 // must be in (0, 10] rad/s" (identifiers are split at '.', so a struct prefix
 // is fine). A message naming no bound field is reported at the mapping itself.
 //
-//   ReadOptions(r, &wander, {{"cruise_speed_mps", &nav::WanderOptions::cruise_speed_mps},
-//                            {"rate_hz", "physics_rate_hz", &sim::WorldOptions::physics_rate_hz},
-//                            {"fov_deg", "fov_rad", &LaserScannerOptions::fov_rad, kDegToRad}});
+//   using Wander = nav::WanderOptions;
+//   ReadOptions(r, &wander, {{"cruise_speed_mps", &Wander::cruise_speed_mps},
+//                            {"min_avoid_scans", &Wander::min_avoid_scans}});
+//   // A key named otherwise than its field, in degrees for a field in radians:
+//   ReadOptions(r, &laser, {{"fov_deg", "fov_rad", &sim::LaserScannerOptions::fov_rad,
+//   kDegToRad}});
+//
+// Required keys: RequireKeys(r, {...}) before ReadOptions. Cross-field checks
+// belong in Validate() too; checks against other data (a URDF's nominal
+// values, a map's node ids) stay in the loader.
 
 #include <Eigen/Core>
 #include <functional>
