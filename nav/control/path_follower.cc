@@ -18,6 +18,7 @@ void Require(bool ok, const char* field, const char* expected) {
 }
 
 bool Positive(double v) { return std::isfinite(v) && v > 0.0; }
+bool InRange(double v, double lo, double hi) { return v >= lo && v <= hi; }  // false for NaN
 
 // Moves `value` towards `target` by at most `step`.
 double Approach(double value, double target, double step) {
@@ -27,16 +28,19 @@ double Approach(double value, double target, double step) {
 }  // namespace
 
 void PathFollowerOptions::Validate() const {
-  Require(Positive(max_speed_mps), "max_speed_mps", "a finite value > 0");
-  Require(Positive(max_accel_mps2), "max_accel_mps2", "a finite value > 0");
-  Require(Positive(max_turn_rate_radps), "max_turn_rate_radps", "a finite value > 0");
-  Require(Positive(max_turn_accel_radps2), "max_turn_accel_radps2", "a finite value > 0");
-  Require(Positive(lookahead_m), "lookahead_m", "a finite value > 0");
-  Require(Positive(max_lateral_accel_mps2), "max_lateral_accel_mps2", "a finite value > 0");
+  Require(InRange(max_speed_mps, 0.01, 5.0), "max_speed_mps", "a value in [0.01, 5] m/s");
+  Require(InRange(max_accel_mps2, 0.01, 10.0), "max_accel_mps2", "a value in [0.01, 10] m/s^2");
+  Require(InRange(max_turn_rate_radps, 0.01, 10.0), "max_turn_rate_radps",
+          "a value in [0.01, 10] rad/s");
+  Require(InRange(max_turn_accel_radps2, 0.01, 100.0), "max_turn_accel_radps2",
+          "a value in [0.01, 100] rad/s^2");
+  Require(InRange(lookahead_m, 0.05, 10.0), "lookahead_m", "a value in [0.05, 10] m");
+  Require(InRange(max_lateral_accel_mps2, 0.01, 10.0), "max_lateral_accel_mps2",
+          "a value in [0.01, 10] m/s^2");
   Require(Positive(turn_in_place_rad) && turn_in_place_rad <= std::numbers::pi, "turn_in_place_rad",
           "a value in (0, pi]");
   Require(Positive(heading_gain), "heading_gain", "a finite value > 0");
-  Require(Positive(goal_tolerance_m), "goal_tolerance_m", "a finite value > 0");
+  Require(InRange(goal_tolerance_m, 0.001, 5.0), "goal_tolerance_m", "a value in [0.001, 5] m");
 }
 
 PathFollower::PathFollower(std::vector<Eigen::Vector2d> path, const PathFollowerOptions& options)

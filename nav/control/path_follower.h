@@ -14,18 +14,18 @@
 namespace pavilion::nav {
 
 struct PathFollowerOptions {
-  double max_speed_mps = 0.6;          // > 0
-  double max_accel_mps2 = 0.4;         // > 0, also for braking
-  double max_turn_rate_radps = 1.0;    // > 0
-  double max_turn_accel_radps2 = 2.0;  // > 0
-  double lookahead_m = 0.6;            // > 0, pure-pursuit look-ahead distance
-  // Lateral acceleration allowed in curves, v^2 kappa <= this (m/s^2); > 0.
+  double max_speed_mps = 0.6;          // m/s, [0.01, 5]
+  double max_accel_mps2 = 0.4;         // m/s^2, also for braking, [0.01, 10]
+  double max_turn_rate_radps = 1.0;    // rad/s, [0.01, 10]
+  double max_turn_accel_radps2 = 2.0;  // rad/s^2, [0.01, 100]
+  double lookahead_m = 0.6;            // pure-pursuit look-ahead distance, m, [0.05, 10]
+  // Lateral acceleration allowed in curves, v^2 kappa <= this, m/s^2, [0.01, 10].
   double max_lateral_accel_mps2 = 0.3;
-  // Heading errors to the look-ahead point beyond this are turned on the spot
-  // (rad); in (0, pi].
+  // Heading errors to the look-ahead point beyond this are turned on the spot,
+  // rad, (0, pi].
   double turn_in_place_rad = 0.6;
-  double heading_gain = 1.5;       // turn on the spot: omega = gain * error (1/s); > 0
-  double goal_tolerance_m = 0.05;  // > 0: done within this of the last point
+  double heading_gain = 1.5;       // turn on the spot: omega = gain * error, 1/s, > 0
+  double goal_tolerance_m = 0.05;  // done within this of the last point, m, [0.001, 5]
 
   void Validate() const;  // throws std::invalid_argument naming the field
 };

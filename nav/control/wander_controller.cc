@@ -11,6 +11,8 @@ namespace {
 
 constexpr double kMaxSpeedMps = 10.0;
 constexpr double kMaxTurnRateRadps = 10.0;
+constexpr double kMaxDistanceM = 1000.0;  // beyond any scanner's range: a unit mistake
+constexpr int kMaxAvoidScans = 1000000;
 
 void Require(bool ok, const std::string& field, const std::string& what) {
   if (!ok) throw std::invalid_argument("WanderOptions." + field + " must be " + what);
@@ -28,13 +30,16 @@ void WanderOptions::Validate() const {
   Require(std::isfinite(avoid_turn_rate_radps) && avoid_turn_rate_radps > 0.0 &&
               avoid_turn_rate_radps <= kMaxTurnRateRadps,
           "avoid_turn_rate_radps", "in (0, 10] rad/s");
-  Require(std::isfinite(obstruction_distance_m) && obstruction_distance_m > 0.0,
-          "obstruction_distance_m", "finite and > 0");
+  Require(std::isfinite(obstruction_distance_m) && obstruction_distance_m > 0.0 &&
+              obstruction_distance_m <= kMaxDistanceM,
+          "obstruction_distance_m", "in (0, 1000] m");
   Require(std::isfinite(stop_distance_m) && stop_distance_m >= 0.0 &&
               stop_distance_m <= obstruction_distance_m,
-          "stop_distance_m", "in [0, obstruction_distance_m]");
-  Require(min_avoid_scans >= 1, "min_avoid_scans", ">= 1");
-  Require(max_avoid_scans >= min_avoid_scans, "max_avoid_scans", ">= min_avoid_scans");
+          "stop_distance_m", "in [0, obstruction_distance_m] m");
+  Require(min_avoid_scans >= 1 && min_avoid_scans <= kMaxAvoidScans, "min_avoid_scans",
+          "in [1, 1000000] scans");
+  Require(max_avoid_scans >= min_avoid_scans && max_avoid_scans <= kMaxAvoidScans,
+          "max_avoid_scans", "in [min_avoid_scans, 1000000] scans");
 }
 
 WanderController::WanderController(const WanderOptions& options, core::RandomStream stream)

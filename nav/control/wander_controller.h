@@ -32,13 +32,14 @@ namespace pavilion::nav {
 // Defaults: the peers' wander (Stage's wander.cc: cruisespeed, avoidspeed,
 // avoidturn, minfrontdistance, stopdist, avoidduration 10 -> 10..19 scans).
 struct WanderOptions {
-  double cruise_speed_mps = 0.4;        // speed with nothing ahead, [0, 10]
-  double avoid_speed_mps = 0.05;        // speed while avoiding, [0, 10]
-  double avoid_turn_rate_radps = 0.5;   // turn rate while avoiding, (0, 10]
-  double obstruction_distance_m = 1.0;  // a closer reading in the front third obstructs, > 0
-  double stop_distance_m = 0.3;         // a closer reading anywhere stops, [0, obstruction]
-  int min_avoid_scans = 10;             // shortest manoeuvre, scans, >= 1
-  int max_avoid_scans = 19;             // longest manoeuvre, scans, >= min_avoid_scans
+  double cruise_speed_mps = 0.4;       // speed with nothing ahead, m/s, [0, 10]
+  double avoid_speed_mps = 0.05;       // speed while avoiding, m/s, [0, 10]
+  double avoid_turn_rate_radps = 0.5;  // turn rate while avoiding, rad/s, (0, 10]
+  double obstruction_distance_m =
+      1.0;                       // a closer reading in the front third obstructs, m, (0, 1000]
+  double stop_distance_m = 0.3;  // a closer reading anywhere stops, m, [0, obstruction_distance_m]
+  int min_avoid_scans = 10;      // shortest manoeuvre, scans, [1, 1000000]
+  int max_avoid_scans = 19;      // longest manoeuvre, scans, [min_avoid_scans, 1000000]
 
   void Validate() const;  // throws std::invalid_argument naming the field
 };

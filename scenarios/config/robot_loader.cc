@@ -3,12 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <functional>
 #include <numbers>
 #include <set>
 #include <sstream>
 
 #include "core/geometry/polygon.h"
+#include "scenarios/config/options_reader.h"
 #include "scenarios/config/world_loader.h"
 #include "sim/robot/urdf_robot.h"
 
@@ -21,8 +21,6 @@ constexpr double kMaxRobotSizeM = 10.0;
 constexpr double kMaxTorqueNm = 1e4;
 constexpr double kMaxWheelSpeedRadps = 1e3;
 constexpr double kMaxWheelAccelRadps2 = 1e5;
-constexpr double kMaxRateHz = 1e5;
-constexpr double kMaxK = 1.0;  // §2.3 k_L, k_R (m); the thesis found 5e-6
 // Calibrated odometry may differ from the URDF's nominal values, but not by this factor.
 constexpr double kMaxCalibrationFactor = 2.0;
 // A level scanner mount: roll and pitch below this (rad).
@@ -265,15 +263,15 @@ class RobotReader {
     sim::EncoderOptions e;
     MapReader r(doc_, top.Child("encoders", true), "encoders");
     if (!r.valid()) return e;
-    if (!r.Has("ticks_per_revolution")) r.Child("ticks_per_revolution", true);
-    e.ticks_per_revolution =
-        static_cast<int>(r.Integer("ticks_per_revolution", e.ticks_per_revolution, 1, 1000000000));
-    e.rate_hz = r.Number("rate_hz", e.rate_hz, 1e-3, kMaxRateHz);
-    e.k_left_m = r.Number("k_left_m", e.k_left_m, 0.0, kMaxK);
-    e.k_right_m = r.Number("k_right_m", e.k_right_m, 0.0, kMaxK);
-    e.noise = r.Bool("noise", e.noise);
+    RequireKeys(r, {"ticks_per_revolution"});
+    using Encoders = sim::EncoderOptions;
+    ReadOptions(r, &e,
+                {{"ticks_per_revolution", &Encoders::ticks_per_revolution},
+                 {"rate_hz", &Encoders::rate_hz},
+                 {"k_left_m", &Encoders::k_left_m},
+                 {"k_right_m", &Encoders::k_right_m},
+                 {"noise", &Encoders::noise}});
     r.Finish();
-    CheckValid(r.node(), "encoders", [&] { e.Validate(); });
     return e;
   }
 
@@ -282,10 +280,10 @@ class RobotReader {
     YAML::Node node = top.Child("systematic");
     if (!node.IsDefined()) return s;
     MapReader r(doc_, node, "systematic");
-    s.wheel_radius_ratio = r.Number("wheel_radius_ratio", 1.0, 0.5, 2.0);
-    s.wheelbase_factor = r.Number("wheelbase_factor", 1.0, 0.5, 2.0);
+    ReadOptions(r, &s,
+                {{"wheel_radius_ratio", &sim::SystematicErrors::wheel_radius_ratio},
+                 {"wheelbase_factor", &sim::SystematicErrors::wheelbase_factor}});
     r.Finish();
-    CheckValid(node, "systematic", [&] { s.Validate(); });
     return s;
   }
 
@@ -293,26 +291,30 @@ class RobotReader {
     sim::OdometryCalibration o;
     MapReader r(doc_, top.Child("odometry", true), "odometry");
     if (!r.valid()) return o;
-    // Each calibrated value against the URDF's nominal one (unit mistakes).
-    auto length = [&](const std::string& key, double nominal, double* out) {
-      auto v = r.RequiredNumber(key, 1e-4, kMaxRobotSizeM);
-      if (!v) return;
-      *out = *v;
-      if (have_urdf_ &&
-          (*v > nominal * kMaxCalibrationFactor || *v < nominal / kMaxCalibrationFactor)) {
+    RequireKeys(
+        r, {"left_wheel_radius_m", "right_wheel_radius_m", "wheelbase_m", "k_left_m", "k_right_m"});
+    using Odometry = sim::OdometryCalibration;
+    const bool valid = ReadOptions(r, &o,
+                                   {{"left_wheel_radius_m", &Odometry::left_wheel_radius_m},
+                                    {"right_wheel_radius_m", &Odometry::right_wheel_radius_m},
+                                    {"wheelbase_m", &Odometry::wheelbase_m},
+                                    {"k_left_m", &Odometry::k_left_m},
+                                    {"k_right_m", &Odometry::k_right_m},
+                                    {"k_turn_m", &Odometry::k_turn_m}});
+    // Each calibrated length against the URDF's nominal one (unit mistakes).
+    auto near_nominal = [&](const std::string& key, double nominal, double value) {
+      if (value > nominal * kMaxCalibrationFactor || value < nominal / kMaxCalibrationFactor) {
         doc_->Error(r.Child(key), r.PathOf(key),
                     "differs from the URDF's nominal " + Fmt(nominal) +
                         " m by more than a factor of 2 (units are metres)");
       }
     };
-    length("left_wheel_radius_m", d.left_wheel.radius_m, &o.left_wheel_radius_m);
-    length("right_wheel_radius_m", d.right_wheel.radius_m, &o.right_wheel_radius_m);
-    length("wheelbase_m", d.wheelbase_m(), &o.wheelbase_m);
-    o.k_left_m = r.RequiredNumber("k_left_m", 0.0, kMaxK).value_or(o.k_left_m);
-    o.k_right_m = r.RequiredNumber("k_right_m", 0.0, kMaxK).value_or(o.k_right_m);
-    o.k_turn_m = r.Number("k_turn_m", 0.0, 0.0, kMaxK);
+    if (valid && have_urdf_) {
+      near_nominal("left_wheel_radius_m", d.left_wheel.radius_m, o.left_wheel_radius_m);
+      near_nominal("right_wheel_radius_m", d.right_wheel.radius_m, o.right_wheel_radius_m);
+      near_nominal("wheelbase_m", d.wheelbase_m(), o.wheelbase_m);
+    }
     r.Finish();
-    CheckValid(r.node(), "odometry", [&] { o.Validate(); });
     return o;
   }
 
@@ -333,7 +335,7 @@ class RobotReader {
 
   void ReadLasers(MapReader& top, sim::RobotConfig& c) {
     std::set<std::string> ids;
-    ForEachMapping(doc_, top, "lasers", false, [&](MapReader& r, std::size_t i) {
+    ForEachMapping(doc_, top, "lasers", false, [&](MapReader& r, std::size_t) {
       sim::LaserMount laser;
       laser.id = UniqueName(doc_, r, "id", &ids);
       if (const sim::MountSpec* m = Mount(r, c.description)) {
@@ -351,44 +353,37 @@ class RobotReader {
           r.Choice("profile", {"sick_lms200", "acuity_accurange", "custom"}, "sick_lms200");
       laser.options = sim::LaserScannerOptions::Profile(profile);
       ReadLaserOverrides(r, &laser.options);
-      CheckValid(r.node(), IndexPath("lasers", i), [&] { laser.options.Validate(); });
       c.lasers.push_back(laser);
     });
   }
 
-  // The profile's values, overridden key by key (angles in degrees).
+  // The profile's values, overridden key by key (angles in degrees), and validated.
   void ReadLaserOverrides(MapReader& r, sim::LaserScannerOptions* o) {
-    auto degrees = [&](const std::string& key, double* rad, double lo, double hi) {
-      if (!r.Has(key)) return;  // keep the profile's value exactly
-      if (auto deg = r.RequiredNumber(key, lo, hi)) *rad = *deg * kDegToRad;
-    };
-    auto number = [&](const std::string& key, double* v, double lo, double hi) {
-      *v = r.Number(key, *v, lo, hi);
-    };
-    auto integer = [&](const std::string& key, int* v, int lo, int hi) {
-      *v = static_cast<int>(r.Integer(key, *v, lo, hi));
-    };
-    degrees("fov_deg", &o->fov_rad, 1e-3, 360.0);
-    integer("beams", &o->beams, 2, 100000);
-    degrees("first_bearing_deg", &o->first_bearing_rad, -360.0, 360.0);
-    number("max_range_m", &o->max_range_m, 1e-3, 1000.0);
-    number("scan_rate_hz", &o->scan_rate_hz, 1e-3, 1e4);
-    number("sweep_s", &o->sweep_s, 0.0, 1000.0);
-    integer("interlaced_turns", &o->interlaced_turns, 1, 100000);
-    number("timestamp_bias_s", &o->timestamp_bias_s, -1.0, 1.0);
-    number("range_sigma_m", &o->range_sigma_m, 0.0, 10.0);
-    number("range_resolution_m", &o->range_resolution_m, 0.0, 1.0);
-    o->amplitude_model = r.Bool("amplitude_model", o->amplitude_model);
-    number("min_amplitude", &o->min_amplitude, 0.0, 1.0);
-    number("low_amplitude_sigma_m", &o->low_amplitude_sigma_m, 0.0, 10.0);
-    number("outlier_probability", &o->outlier_probability, 0.0, 1.0);
-    number("dark_dropout_probability", &o->dark_dropout_probability, 0.0, 1.0);
-    number("dark_sigma_factor", &o->dark_sigma_factor, 1.0, 1000.0);
-    degrees("specular_max_incidence_deg", &o->specular_max_incidence_rad, 0.0, 90.0);
-    degrees("beam_divergence_deg", &o->beam_divergence_rad, 0.0, 5.7);
-    number("mixed_pixel_min_gap_m", &o->mixed_pixel_min_gap_m, 1e-6, 100.0);
-    o->noise = r.Bool("noise", o->noise);
-    o->effects = r.Bool("effects", o->effects);
+    using Laser = sim::LaserScannerOptions;
+    ReadOptions(
+        r, o,
+        {{"fov_deg", "fov_rad", &Laser::fov_rad, kDegToRad},
+         {"beams", &Laser::beams},
+         {"first_bearing_deg", "first_bearing_rad", &Laser::first_bearing_rad, kDegToRad},
+         {"max_range_m", &Laser::max_range_m},
+         {"scan_rate_hz", &Laser::scan_rate_hz},
+         {"sweep_s", &Laser::sweep_s},
+         {"interlaced_turns", &Laser::interlaced_turns},
+         {"timestamp_bias_s", &Laser::timestamp_bias_s},
+         {"range_sigma_m", &Laser::range_sigma_m},
+         {"range_resolution_m", &Laser::range_resolution_m},
+         {"amplitude_model", &Laser::amplitude_model},
+         {"min_amplitude", &Laser::min_amplitude},
+         {"low_amplitude_sigma_m", &Laser::low_amplitude_sigma_m},
+         {"outlier_probability", &Laser::outlier_probability},
+         {"dark_dropout_probability", &Laser::dark_dropout_probability},
+         {"dark_sigma_factor", &Laser::dark_sigma_factor},
+         {"specular_max_incidence_deg", "specular_max_incidence_rad",
+          &Laser::specular_max_incidence_rad, kDegToRad},
+         {"beam_divergence_deg", "beam_divergence_rad", &Laser::beam_divergence_rad, kDegToRad},
+         {"mixed_pixel_min_gap_m", &Laser::mixed_pixel_min_gap_m},
+         {"noise", &Laser::noise},
+         {"effects", &Laser::effects}});
   }
 
   void ReadBumpers(MapReader& top, std::vector<sim::BumperZone>* out) {
@@ -465,25 +460,15 @@ class RobotReader {
         cam.link = m->link;
         cam.mount = *m;
       }
-      cam.width_px = static_cast<int>(r.Integer("width_px", cam.width_px, 1, 100000));
-      cam.height_px = static_cast<int>(r.Integer("height_px", cam.height_px, 1, 100000));
-      if (r.Has("hfov_deg")) {
-        if (auto deg = r.RequiredNumber("hfov_deg", 1.0, 179.0)) cam.hfov_rad = *deg * kDegToRad;
-      }
-      cam.rate_hz = r.Number("rate_hz", cam.rate_hz, 1e-3, 1000.0);
-      cam.grayscale = r.Bool("grayscale", cam.grayscale);
+      using Camera = sim::CameraMount;
+      ReadOptions(r, &cam,
+                  {{"width_px", &Camera::width_px},
+                   {"height_px", &Camera::height_px},
+                   {"hfov_deg", "hfov_rad", &Camera::hfov_rad, kDegToRad},
+                   {"rate_hz", &Camera::rate_hz},
+                   {"grayscale", &Camera::grayscale}});
       c.cameras.push_back(cam);
     });
-  }
-
-  // Runs a Validate() and reports what it throws at `node`.
-  void CheckValid(const YAML::Node& node, const std::string& path,
-                  const std::function<void()>& validate) {
-    try {
-      validate();
-    } catch (const std::exception& e) {
-      doc_->Error(node, path, std::string("invalid values: ") + e.what());
-    }
   }
 
   YamlDocument* doc_;

@@ -46,25 +46,31 @@ struct LocalizationEntry {
   // start-up (pavilion map derive) with tape-measure noise of this sigma drawn
   // from the scenario's seed: a fresh survey per seed, so that runs over
   // several seeds sample the map's error as well (consistency checks, NEES).
+  // Key map_noise_m, m, [0, 0.1].
   std::optional<double> derive_map_noise_m;
   // Localization cycles per second: each laser's scans are integrated at most
-  // this often (the thesis: 2 Hz, §4.5.2).
+  // this often (the thesis: 2 Hz, §4.5.2). Hz, [0.01, 1000].
   double rate_hz = 2.0;
   // The estimate starts at the true start pose plus `initial_offset` (x, y in
   // the world frame, theta), with standard deviations `initial_sigma`.
   core::Pose2 initial_offset;
-  Eigen::Vector3d initial_sigma{0.01, 0.01, 0.0175};  // m, m, rad
-  double significance = 0.95;                         // of the validation gate (eq. 4.16)
-  std::vector<std::string> lasers;                    // lasers that feed it; empty: all
+  Eigen::Vector3d initial_sigma{0.01, 0.01, 0.0175};  // m, m, rad; each finite and > 0
+  double significance = 0.95;       // of the validation gate (eq. 4.16), [0.5, 0.999999]
+  std::vector<std::string> lasers;  // lasers that feed it; empty: all
+
+  void Validate() const;  // throws std::invalid_argument naming the field
 };
 
 // A tour through the stops of the robot's map topology, driven by the path
 // follower from the robot's estimate (localization, or odometry without it).
 struct RouteEntry {
   std::vector<std::string> stops;  // node ids of the map
-  double start_s = 0.0;
+  double start_s = 0.0;            // s, [0, 1e7]
   nav::PathFollowerOptions follower;
-  double control_rate_hz = 20.0;  // path follower updates per second
+  double control_rate_hz = 20.0;  // path follower updates per second, Hz, [0.1, 1000]
+
+  // start_s and control_rate_hz (the follower validates its own).
+  void Validate() const;  // throws std::invalid_argument naming the field
 };
 
 // An obstacle-avoiding random walk reacting to each scan of one of the robot's
@@ -92,10 +98,12 @@ struct RobotEntry {
 };
 
 struct OutputOptions {
-  double trajectory_rate_hz = 10.0;  // rows of trajectories.csv per body per s
-  double section_height_m = 0.5;     // height of the top-down picture's cut
-  int image_width_px = 900;          // top-down picture width
+  double trajectory_rate_hz = 10.0;  // rows of trajectories.csv per body per s, Hz, [1e-3, 1e4]
+  double section_height_m = 0.5;     // height of the top-down picture's cut, m, [0, 100]
+  int image_width_px = 900;          // top-down picture width, px, [100, 8000]
   bool scan_log = true;              // write scans.bin (every robot's scans with ground truth)
+
+  void Validate() const;  // throws std::invalid_argument naming the field
 };
 
 // Who finds the laser rays' hits: the planar caster (sim/raycast/planar_caster.h; falls

@@ -6,6 +6,7 @@
 #include <set>
 
 #include "scenarios/config/data_paths.h"
+#include "scenarios/config/options_reader.h"
 #include "scenarios/config/robot_loader.h"
 #include "scenarios/config/scenario.h"
 #include "scenarios/config/world_loader.h"
@@ -20,9 +21,7 @@ constexpr double kMaxDurationS = 1e7;
 constexpr double kMaxMassKg = 1e5;
 constexpr double kMaxBodySizeM = 100.0;
 constexpr std::int64_t kMaxGroupCount = 100000;
-// laser_max_tilt_deg: the planar caster's default (1°) and its limit.
-constexpr double kDefaultLaserMaxTiltDeg = 1.0;
-constexpr double kMaxLaserTiltDeg = 45.0;
+constexpr double kRadPerDeg = std::numbers::pi / 180.0;  // laser_max_tilt_deg is in degrees
 
 // Reads a `wheel_model` key: one of the sim::WheelModel names.
 sim::WheelModel ReadWheelModel(MapReader& r, sim::WheelModel default_model) {
@@ -87,18 +86,21 @@ MotionSpec ReadMotion(YamlDocument* doc, MapReader& parent) {
       for (std::size_t i = 0; i < segs.size(); ++i) {
         MapReader s(doc, segs[i], IndexPath(r.PathOf("segments"), i));
         sim::VelocitySegment seg;
-        seg.duration_s = s.RequiredNumber("duration_s", 1e-6, kMaxDurationS).value_or(1.0);
-        if (auto v = s.Numbers("velocity", 2, false)) seg.velocity_mps = {(*v)[0], (*v)[1]};
-        seg.yaw_rate_radps = s.Number("yaw_rate", 0.0, -100.0, 100.0);
+        RequireKeys(s, {"duration_s"});
+        using Segment = sim::VelocitySegment;
+        ReadOptions(s, &seg,
+                    {{"duration_s", &Segment::duration_s},
+                     {"velocity", "velocity_mps", &Segment::velocity_mps},
+                     {"yaw_rate", "yaw_rate_radps", &Segment::yaw_rate_radps}});
         s.Finish();
         motion.scripted.segments.push_back(seg);
       }
     }
   } else if (type == "random_walk") {
     motion.type = MotionSpec::Type::kRandomWalk;
-    auto& o = motion.random_walk;
-    o.speed_mps = r.Number("speed_mps", o.speed_mps, 0.0, 5.0);
-    o.mean_leg_s = r.Number("mean_leg_s", o.mean_leg_s, 1e-3, 1e4);
+    using Walk = sim::RandomWalkOptions;
+    ReadOptions(r, &motion.random_walk,
+                {{"speed_mps", &Walk::speed_mps}, {"mean_leg_s", &Walk::mean_leg_s}});
   }
   r.Finish();
   return motion;
@@ -147,6 +149,17 @@ void ReadBodyCommon(YamlDocument* doc, MapReader& r, const sim::WorldDescription
   }
 }
 
+// The ids of the world's elements ("floor", walls, boxes, cylinders, meshes, doors).
+std::set<std::string> WorldElementIds(const sim::WorldDescription& world) {
+  std::set<std::string> ids = {"floor"};
+  for (const auto& wall : world.walls) ids.insert(wall.id);
+  for (const auto& b : world.boxes) ids.insert(b.id);
+  for (const auto& c : world.cylinders) ids.insert(c.id);
+  for (const auto& m : world.meshes) ids.insert(m.id);
+  for (const auto& d : world.doors) ids.insert(d.id);
+  return ids;
+}
+
 void ReadBodies(YamlDocument* doc, MapReader& top, const sim::WorldDescription& world,
                 Scenario* s) {
   YAML::Node list = top.Child("bodies");
@@ -189,12 +202,7 @@ void ReadBodies(YamlDocument* doc, MapReader& top, const sim::WorldDescription& 
       }
     }
   }
-  std::set<std::string> ids = {"floor"};
-  for (const auto& wall : world.walls) ids.insert(wall.id);
-  for (const auto& b : world.boxes) ids.insert(b.id);
-  for (const auto& c : world.cylinders) ids.insert(c.id);
-  for (const auto& m : world.meshes) ids.insert(m.id);
-  for (const auto& d : world.doors) ids.insert(d.id);
+  std::set<std::string> ids = WorldElementIds(world);
   for (const auto& b : s->bodies) {
     if (!ids.insert(b.spec.id).second) {
       doc->Error(top.Child("bodies"), "bodies",
@@ -215,7 +223,7 @@ void ReadLocalization(YamlDocument* doc, MapReader& r, const std::string& base,
   l.enabled = m.Bool("enabled", true);
   const std::string map = m.String("map", "");
   if (map == "derive") {
-    l.derive_map_noise_m = m.Number("map_noise_m", MapDerivationOptions{}.noise_sigma_m, 0.0, 0.1);
+    l.derive_map_noise_m = MapDerivationOptions{}.noise_sigma_m;  // unless map_noise_m, below
   } else if (m.Has("map_noise_m")) {
     doc->Error(m.Child("map_noise_m"), m.PathOf("map_noise_m"),
                "map_noise_m applies only with 'map: derive'");
@@ -229,19 +237,16 @@ void ReadLocalization(YamlDocument* doc, MapReader& r, const std::string& base,
     doc->Error(m.Has("map") ? m.Child("map") : node, m.PathOf("map"),
                "no map file '" + l.map_file + "' (derive one: pavilion map derive)");
   }
-  l.rate_hz = m.Number("rate_hz", l.rate_hz, 0.01, 1000.0);
   if (auto o = m.Numbers("initial_offset", 3, false))
     l.initial_offset = {(*o)[0], (*o)[1], (*o)[2]};
-  if (auto sigma = m.Numbers("initial_sigma", 3, false)) {
-    for (int k = 0; k < 3; ++k) {
-      if (!((*sigma)[k] > 0.0)) {
-        doc->Error(m.Child("initial_sigma"), m.PathOf("initial_sigma"), "expected values > 0");
-        break;
-      }
-      l.initial_sigma[k] = (*sigma)[k];
-    }
+  std::vector<OptionField<LocalizationEntry>> fields = {
+      {"rate_hz", &LocalizationEntry::rate_hz},
+      {"initial_sigma", &LocalizationEntry::initial_sigma},
+      {"significance", &LocalizationEntry::significance}};
+  if (l.derive_map_noise_m) {
+    fields.push_back({"map_noise_m", "derive_map_noise_m", &LocalizationEntry::derive_map_noise_m});
   }
-  l.significance = m.Number("significance", l.significance, 0.5, 0.999999);
+  ReadOptions(m, &l, fields);
   if (YAML::Node lasers = m.Child("lasers"); lasers.IsDefined()) {
     if (!lasers.IsSequence()) {
       doc->Error(lasers, m.PathOf("lasers"), "expected a list of laser ids");
@@ -278,17 +283,18 @@ void ReadRoute(YamlDocument* doc, MapReader& r, RobotEntry* robot) {
   for (std::size_t k = 0; stops.IsSequence() && k < stops.size(); ++k) {
     route.stops.push_back(stops[k].as<std::string>(""));
   }
-  route.start_s = m.Number("start_s", 0.0, 0.0, kMaxDurationS);
-  nav::PathFollowerOptions& f = route.follower;
-  f.max_speed_mps = m.Number("max_speed_mps", f.max_speed_mps, 0.01, 5.0);
-  f.max_accel_mps2 = m.Number("max_accel_mps2", f.max_accel_mps2, 0.01, 10.0);
-  f.max_turn_rate_radps = m.Number("max_turn_rate_radps", f.max_turn_rate_radps, 0.01, 10.0);
-  f.max_turn_accel_radps2 = m.Number("max_turn_accel_radps2", f.max_turn_accel_radps2, 0.01, 100.0);
-  f.lookahead_m = m.Number("lookahead_m", f.lookahead_m, 0.05, 10.0);
-  f.max_lateral_accel_mps2 =
-      m.Number("max_lateral_accel_mps2", f.max_lateral_accel_mps2, 0.01, 10.0);
-  f.goal_tolerance_m = m.Number("goal_tolerance_m", f.goal_tolerance_m, 0.001, 5.0);
-  route.control_rate_hz = m.Number("control_rate_hz", route.control_rate_hz, 0.1, 1000.0);
+  ReadOptions(
+      m, &route,
+      {{"start_s", &RouteEntry::start_s}, {"control_rate_hz", &RouteEntry::control_rate_hz}});
+  using Follower = nav::PathFollowerOptions;
+  ReadOptions(m, &route.follower,
+              {{"max_speed_mps", &Follower::max_speed_mps},
+               {"max_accel_mps2", &Follower::max_accel_mps2},
+               {"max_turn_rate_radps", &Follower::max_turn_rate_radps},
+               {"max_turn_accel_radps2", &Follower::max_turn_accel_radps2},
+               {"lookahead_m", &Follower::lookahead_m},
+               {"max_lateral_accel_mps2", &Follower::max_lateral_accel_mps2},
+               {"goal_tolerance_m", &Follower::goal_tolerance_m}});
   m.Finish();
   robot->route = route;
 }
@@ -318,31 +324,101 @@ void ReadWander(YamlDocument* doc, MapReader& r, bool model_ok, RobotEntry* robo
     doc->Error(node, m.PathOf("laser"),
                "robot model '" + robot->model + "' has no laser for the wander controller");
   }
-  nav::WanderOptions& o = wander.options;
-  o.cruise_speed_mps = m.Number("cruise_speed_mps", o.cruise_speed_mps, 0.0, 10.0);
-  o.avoid_speed_mps = m.Number("avoid_speed_mps", o.avoid_speed_mps, 0.0, 10.0);
-  o.avoid_turn_rate_radps = m.Number("avoid_turn_rate_radps", o.avoid_turn_rate_radps, 1e-6, 10.0);
-  o.obstruction_distance_m =
-      m.Number("obstruction_distance_m", o.obstruction_distance_m, 1e-3, 1000.0);
-  o.stop_distance_m = m.Number("stop_distance_m", o.stop_distance_m, 0.0, 1000.0);
-  o.min_avoid_scans = static_cast<int>(m.Integer("min_avoid_scans", o.min_avoid_scans, 1, 1000000));
-  o.max_avoid_scans = static_cast<int>(m.Integer("max_avoid_scans", o.max_avoid_scans, 1, 1000000));
-  if (o.stop_distance_m > o.obstruction_distance_m) {
-    doc->Error(m.Child("stop_distance_m"), m.PathOf("stop_distance_m"),
-               "must not exceed obstruction_distance_m");
-  }
-  if (o.max_avoid_scans < o.min_avoid_scans) {
-    doc->Error(m.Child("max_avoid_scans"), m.PathOf("max_avoid_scans"),
-               "must be at least min_avoid_scans");
-  }
+  using Wander = nav::WanderOptions;
+  ReadOptions(m, &wander.options,
+              {{"cruise_speed_mps", &Wander::cruise_speed_mps},
+               {"avoid_speed_mps", &Wander::avoid_speed_mps},
+               {"avoid_turn_rate_radps", &Wander::avoid_turn_rate_radps},
+               {"obstruction_distance_m", &Wander::obstruction_distance_m},
+               {"stop_distance_m", &Wander::stop_distance_m},
+               {"min_avoid_scans", &Wander::min_avoid_scans},
+               {"max_avoid_scans", &Wander::max_avoid_scans}});
   m.Finish();
   robot->wander = wander;
 }
 
-// robots: [{id, model, pose: [x, y, theta], drive: [{at_s, left, right} |
-// {at_s, speed_mps, turn_radps}], systematic: {...}, encoder_noise: bool,
-// laser_noise: bool, wheel_model: articulated | raycast, localization: {...},
-// route: {...}, wander: {...}}]
+// A robot's `model`: its robot file, read once per file into `models` (a fleet
+// of a thousand robots of one model would otherwise parse its URDF a thousand
+// times at start-up). Returns whether the model loaded.
+bool ReadRobotModel(YamlDocument* doc, MapReader& r, const std::string& base,
+                    std::map<std::string, sim::RobotConfig>* models, RobotEntry* robot) {
+  auto model = r.RequiredString("model");
+  if (!model) return false;
+  robot->model = *model;
+  try {
+    const std::string model_path = ResolveRobotPath(*model, base);
+    auto it = models->find(model_path);
+    if (it == models->end()) it = models->emplace(model_path, LoadRobotFile(model_path)).first;
+    robot->config = it->second;
+    return true;
+  } catch (const InputError& e) {
+    doc->Error(r.Child("model"), r.PathOf("model"),
+               "robot model '" + *model + "' is invalid: " + e.diagnostics().front().ToString());
+    return false;
+  }
+}
+
+// The entry's adjustments of its model: systematic errors, wheel model, and
+// the encoders' and lasers' noise switches.
+void ReadModelAdjustments(YamlDocument* doc, MapReader& r, const Scenario& s, RobotEntry* robot) {
+  if (YAML::Node sys = r.Child("systematic"); sys.IsDefined()) {
+    MapReader m(doc, sys, r.PathOf("systematic"));
+    ReadOptions(m, &robot->config.systematic,
+                {{"wheel_radius_ratio", &sim::SystematicErrors::wheel_radius_ratio},
+                 {"wheelbase_factor", &sim::SystematicErrors::wheelbase_factor}});
+    m.Finish();
+  }
+  robot->wheel_model = ReadWheelModel(r, s.wheel_model);
+  robot->config.encoders.noise = r.Bool("encoder_noise", robot->config.encoders.noise);
+  // laser_noise: false turns every laser's range noise, outliers and dark
+  // dropouts off (sim::LaserScannerOptions::noise).
+  if (r.Has("laser_noise")) {
+    const bool laser_noise = r.Bool("laser_noise", true);
+    for (sim::LaserMount& mount : robot->config.lasers) mount.options.noise = laser_noise;
+  }
+}
+
+// drive: [{at_s, left, right} | {at_s, speed_mps, turn_radps}], in time order.
+void ReadDrive(YamlDocument* doc, MapReader& r, bool model_ok, RobotEntry* robot) {
+  YAML::Node drive = r.Child("drive");
+  if (drive.IsDefined() && !drive.IsSequence()) {
+    doc->Error(drive, r.PathOf("drive"), "expected a list of {at_s, left, right} steps");
+  }
+  for (std::size_t k = 0; drive.IsSequence() && k < drive.size(); ++k) {
+    const std::string step_path = IndexPath(r.PathOf("drive"), k);
+    MapReader d(doc, drive[k], step_path);
+    if (!d.valid()) continue;
+    DriveCommand c;
+    c.at_s = d.RequiredNumber("at_s", 0.0, kMaxDurationS).value_or(0.0);
+    const bool wheels = d.Has("left") || d.Has("right");
+    const bool body = d.Has("speed_mps") || d.Has("turn_radps");
+    if (wheels == body) {
+      doc->Error(drive[k], step_path,
+                 "give either left and right (rad/s) or speed_mps and turn_radps");
+    } else if (wheels) {
+      c.left_radps = d.RequiredNumber("left", -1000.0, 1000.0).value_or(0.0);
+      c.right_radps = d.RequiredNumber("right", -1000.0, 1000.0).value_or(0.0);
+    } else {
+      const double v = d.Number("speed_mps", 0.0, -10.0, 10.0);
+      const double w = d.Number("turn_radps", 0.0, -20.0, 20.0);
+      if (model_ok) {
+        // Inverse kinematics with the robot's calibrated odometry (eq. 2.7).
+        const auto& o = robot->config.odometry;
+        c.left_radps = (v - 0.5 * w * o.wheelbase_m) / o.left_wheel_radius_m;
+        c.right_radps = (v + 0.5 * w * o.wheelbase_m) / o.right_wheel_radius_m;
+      }
+    }
+    d.Finish();
+    if (!robot->drive.empty() && c.at_s < robot->drive.back().at_s) {
+      doc->Error(drive[k], step_path, "drive steps must be in time order");
+    }
+    robot->drive.push_back(c);
+  }
+}
+
+// robots: [{id, model, pose: [x, y, theta], drive: [...], systematic: {...},
+// encoder_noise: bool, laser_noise: bool, wheel_model: articulated | raycast,
+// localization: {...}, route: {...}, wander: {...}}]
 void ReadRobots(YamlDocument* doc, MapReader& top, const std::string& base, Scenario* s) {
   YAML::Node list = top.Child("robots");
   if (!list.IsDefined() || list.IsNull()) return;
@@ -350,17 +426,11 @@ void ReadRobots(YamlDocument* doc, MapReader& top, const std::string& base, Scen
     doc->Error(list, "robots", "expected a list");
     return;
   }
-  std::set<std::string> ids = {"floor"};
-  for (const auto& wall : s->world.walls) ids.insert(wall.id);
-  for (const auto& b : s->world.boxes) ids.insert(b.id);
-  for (const auto& c : s->world.cylinders) ids.insert(c.id);
-  for (const auto& m : s->world.meshes) ids.insert(m.id);
-  for (const auto& d : s->world.doors) ids.insert(d.id);
+  std::set<std::string> ids = WorldElementIds(s->world);
   for (const auto& b : s->bodies) ids.insert(b.spec.id);
   std::map<std::string, sim::RobotConfig> models;  // by resolved robot file
   for (std::size_t i = 0; i < list.size(); ++i) {
-    const std::string path = IndexPath("robots", i);
-    MapReader r(doc, list[i], path);
+    MapReader r(doc, list[i], IndexPath("robots", i));
     if (!r.valid()) continue;
     RobotEntry robot;
     robot.id = r.RequiredString("id").value_or("");
@@ -371,72 +441,9 @@ void ReadRobots(YamlDocument* doc, MapReader& top, const std::string& base, Scen
           "robot id '" + robot.id + "' is used twice, by a world element or body, or has a '/'");
     }
     if (auto p = r.Numbers("pose", 3, true)) robot.pose = {(*p)[0], (*p)[1], (*p)[2]};
-    bool model_ok = false;
-    if (auto model = r.RequiredString("model")) {
-      robot.model = *model;
-      try {
-        // Each model file is read once: a fleet of a thousand robots of one
-        // model would otherwise parse its URDF a thousand times at start-up.
-        const std::string model_path = ResolveRobotPath(*model, base);
-        auto it = models.find(model_path);
-        if (it == models.end()) it = models.emplace(model_path, LoadRobotFile(model_path)).first;
-        robot.config = it->second;
-        model_ok = true;
-      } catch (const InputError& e) {
-        doc->Error(
-            r.Child("model"), r.PathOf("model"),
-            "robot model '" + *model + "' is invalid: " + e.diagnostics().front().ToString());
-      }
-    }
-    if (YAML::Node sys = r.Child("systematic"); sys.IsDefined()) {
-      MapReader m(doc, sys, r.PathOf("systematic"));
-      auto& e = robot.config.systematic;
-      e.wheel_radius_ratio = m.Number("wheel_radius_ratio", e.wheel_radius_ratio, 0.9, 1.1);
-      e.wheelbase_factor = m.Number("wheelbase_factor", e.wheelbase_factor, 0.9, 1.1);
-      m.Finish();
-    }
-    robot.wheel_model = ReadWheelModel(r, s->wheel_model);
-    robot.config.encoders.noise = r.Bool("encoder_noise", robot.config.encoders.noise);
-    // laser_noise: false turns every laser's range noise, outliers and dark
-    // dropouts off (sim::LaserScannerOptions::noise).
-    if (r.Has("laser_noise")) {
-      const bool laser_noise = r.Bool("laser_noise", true);
-      for (sim::LaserMount& mount : robot.config.lasers) mount.options.noise = laser_noise;
-    }
-    YAML::Node drive = r.Child("drive");
-    if (drive.IsDefined() && !drive.IsSequence()) {
-      doc->Error(drive, r.PathOf("drive"), "expected a list of {at_s, left, right} steps");
-    }
-    for (std::size_t k = 0; drive.IsSequence() && k < drive.size(); ++k) {
-      const std::string step_path = IndexPath(r.PathOf("drive"), k);
-      MapReader d(doc, drive[k], step_path);
-      if (!d.valid()) continue;
-      DriveCommand c;
-      c.at_s = d.RequiredNumber("at_s", 0.0, kMaxDurationS).value_or(0.0);
-      const bool wheels = d.Has("left") || d.Has("right");
-      const bool body = d.Has("speed_mps") || d.Has("turn_radps");
-      if (wheels == body) {
-        doc->Error(drive[k], step_path,
-                   "give either left and right (rad/s) or speed_mps and turn_radps");
-      } else if (wheels) {
-        c.left_radps = d.RequiredNumber("left", -1000.0, 1000.0).value_or(0.0);
-        c.right_radps = d.RequiredNumber("right", -1000.0, 1000.0).value_or(0.0);
-      } else {
-        const double v = d.Number("speed_mps", 0.0, -10.0, 10.0);
-        const double w = d.Number("turn_radps", 0.0, -20.0, 20.0);
-        if (model_ok) {
-          // Inverse kinematics with the robot's calibrated odometry (eq. 2.7).
-          const auto& o = robot.config.odometry;
-          c.left_radps = (v - 0.5 * w * o.wheelbase_m) / o.left_wheel_radius_m;
-          c.right_radps = (v + 0.5 * w * o.wheelbase_m) / o.right_wheel_radius_m;
-        }
-      }
-      d.Finish();
-      if (!robot.drive.empty() && c.at_s < robot.drive.back().at_s) {
-        doc->Error(drive[k], step_path, "drive steps must be in time order");
-      }
-      robot.drive.push_back(c);
-    }
+    const bool model_ok = ReadRobotModel(doc, r, base, &models, &robot);
+    ReadModelAdjustments(doc, r, *s, &robot);
+    ReadDrive(doc, r, model_ok, &robot);
     ReadLocalization(doc, r, base, *s, &robot);
     ReadRoute(doc, r, &robot);
     ReadWander(doc, r, model_ok, &robot);
@@ -484,6 +491,87 @@ void ReadEvents(YamlDocument* doc, MapReader& top, Scenario* s) {
                    [](const TimedEvent& a, const TimedEvent& b) { return a.at_s < b.at_s; });
 }
 
+// kind, name, description, seed, duration_s, end_when_routes_done, the laser
+// backend and laser_max_tilt_deg; then the command line's seed and duration.
+void ReadHeader(YamlDocument* doc, MapReader& top, const ScenarioOverrides& overrides,
+                Scenario* s) {
+  if (auto kind = top.RequiredString("kind"); kind && *kind != "scenario") {
+    doc->Error(top.Child("kind"), "kind", "expected 'scenario', got '" + *kind + "'");
+  }
+  s->name = top.RequiredString("name").value_or("");
+  s->description = top.String("description", "");
+  s->seed = static_cast<std::uint64_t>(top.Integer("seed", 1, 0, INT64_MAX));
+  s->duration_s = top.RequiredNumber("duration_s", 1e-3, kMaxDurationS).value_or(1.0);
+  s->end_when_routes_done = top.Bool("end_when_routes_done", false);
+  s->laser_backend = top.Choice("laser_backend", {"planar", "bullet"}, "planar") == "bullet"
+                         ? LaserBackend::kBullet
+                         : LaserBackend::kPlanar;
+  ReadOptions(top, &s->planar_laser,
+              {{"laser_max_tilt_deg", "max_tilt_rad", &sim::PlanarCasterOptions::max_tilt_rad,
+                kRadPerDeg}});
+  if (overrides.seed) s->seed = *overrides.seed;
+  if (overrides.duration_s) s->duration_s = *overrides.duration_s;
+}
+
+// The optional mapping under `key` of `top`; an empty one (its defaults) when absent.
+MapReader OptionalSection(YamlDocument* doc, MapReader& top, const std::string& key) {
+  return MapReader(doc, top.Has(key) ? top.Child(key) : YAML::Node(YAML::NodeType::Map), key);
+}
+
+// physics: {rate_hz, solver_iterations, gravity_mps2, wheel_model} and
+// outputs: {trajectory_rate_hz, section_height_m, image_width_px, scan_log}.
+void ReadPhysicsAndOutputs(YamlDocument* doc, MapReader& top, Scenario* s) {
+  MapReader physics = OptionalSection(doc, top, "physics");
+  using Physics = sim::WorldOptions;
+  ReadOptions(physics, &s->physics,
+              {{"rate_hz", "physics_rate_hz", &Physics::physics_rate_hz},
+               {"solver_iterations", &Physics::solver_iterations},
+               {"gravity_mps2", &Physics::gravity_mps2}});
+  s->wheel_model = ReadWheelModel(physics, s->wheel_model);
+  physics.Finish();
+  MapReader outputs = OptionalSection(doc, top, "outputs");
+  ReadOptions(outputs, &s->outputs,
+              {{"trajectory_rate_hz", &OutputOptions::trajectory_rate_hz},
+               {"section_height_m", &OutputOptions::section_height_m},
+               {"image_width_px", &OutputOptions::image_width_px},
+               {"scan_log", &OutputOptions::scan_log}});
+  outputs.Finish();
+}
+
+// world (loaded from its own file, its problems reported against it; throws
+// with every diagnostic so far when it has any), the scenario's materials
+// added to the world's (bodies such as visitors) and door_states.
+void ReadWorldAndAdditions(YamlDocument* doc, MapReader& top, const std::string& base,
+                           Scenario* s) {
+  if (auto world = top.RequiredString("world")) {
+    try {
+      s->world_file = ResolveWorldPath(*world, base);
+      s->world = LoadWorldFile(s->world_file);
+    } catch (const InputError& e) {
+      auto all = doc->diagnostics();
+      all.insert(all.end(), e.diagnostics().begin(), e.diagnostics().end());
+      throw InputError(all);
+    }
+  }
+  if (YAML::Node mats = top.Child("materials"); mats.IsDefined()) {
+    std::map<std::string, sim::Material> extra;
+    ReadMaterialMap(doc, mats, "materials", &extra);
+    for (const auto& [name, m] : extra) {
+      if (s->world.materials.contains(name)) {
+        doc->Error(mats, "materials." + name, "material already defined by the world");
+      }
+      s->world.materials[name] = m;
+    }
+  }
+  if (YAML::Node states = top.Child("door_states"); states.IsDefined()) {
+    MapReader r(doc, states, "door_states");
+    for (auto& door : s->world.doors) {
+      if (r.Has(door.id)) door.open = r.Choice(door.id, {"open", "closed"}, "closed") == "open";
+    }
+    r.Finish();
+  }
+}
+
 }  // namespace
 
 const char* ToString(LaserBackend backend) {
@@ -500,74 +588,10 @@ Scenario LoadScenarioFile(const std::string& path, const ScenarioOverrides& over
   s.source_file = path;
   MapReader top(&doc, doc.root(), "");
   if (!top.valid()) doc.ThrowIfErrors();
-  if (auto kind = top.RequiredString("kind"); kind && *kind != "scenario") {
-    doc.Error(top.Child("kind"), "kind", "expected 'scenario', got '" + *kind + "'");
-  }
-  s.name = top.RequiredString("name").value_or("");
-  s.description = top.String("description", "");
-  s.seed = static_cast<std::uint64_t>(top.Integer("seed", 1, 0, INT64_MAX));
-  s.duration_s = top.RequiredNumber("duration_s", 1e-3, kMaxDurationS).value_or(1.0);
-  s.end_when_routes_done = top.Bool("end_when_routes_done", false);
-  s.laser_backend = top.Choice("laser_backend", {"planar", "bullet"}, "planar") == "bullet"
-                        ? LaserBackend::kBullet
-                        : LaserBackend::kPlanar;
-  s.planar_laser.max_tilt_rad =
-      top.Number("laser_max_tilt_deg", kDefaultLaserMaxTiltDeg, 0.0, kMaxLaserTiltDeg) *
-      std::numbers::pi / 180.0;
-  if (overrides.seed) s.seed = *overrides.seed;
-  if (overrides.duration_s) s.duration_s = *overrides.duration_s;
-
-  {
-    MapReader r(&doc, top.Has("physics") ? top.Child("physics") : YAML::Node(YAML::NodeType::Map),
-                "physics");
-    s.physics.physics_rate_hz = r.Number("rate_hz", s.physics.physics_rate_hz, 10.0, 10000.0);
-    s.physics.solver_iterations =
-        static_cast<int>(r.Integer("solver_iterations", s.physics.solver_iterations, 1, 100));
-    s.physics.gravity_mps2 = r.Number("gravity_mps2", s.physics.gravity_mps2, 0.0, 100.0);
-    s.wheel_model = ReadWheelModel(r, s.wheel_model);
-    r.Finish();
-  }
-  {
-    MapReader r(&doc, top.Has("outputs") ? top.Child("outputs") : YAML::Node(YAML::NodeType::Map),
-                "outputs");
-    auto& o = s.outputs;
-    o.trajectory_rate_hz = r.Number("trajectory_rate_hz", o.trajectory_rate_hz, 1e-3, 10000.0);
-    o.section_height_m = r.Number("section_height_m", o.section_height_m, 0.0, 100.0);
-    o.image_width_px = static_cast<int>(r.Integer("image_width_px", o.image_width_px, 100, 8000));
-    o.scan_log = r.Bool("scan_log", o.scan_log);
-    r.Finish();
-  }
-
-  // The world: loaded from its own file, its problems reported against it.
+  ReadHeader(&doc, top, overrides, &s);
+  ReadPhysicsAndOutputs(&doc, top, &s);
   const std::string base = std::filesystem::path(path).parent_path().string();
-  if (auto world = top.RequiredString("world")) {
-    try {
-      s.world_file = ResolveWorldPath(*world, base);
-      s.world = LoadWorldFile(s.world_file);
-    } catch (const InputError& e) {
-      auto all = doc.diagnostics();
-      all.insert(all.end(), e.diagnostics().begin(), e.diagnostics().end());
-      throw InputError(all);
-    }
-  }
-  // Scenario materials are added to the world's (bodies such as visitors).
-  if (YAML::Node mats = top.Child("materials"); mats.IsDefined()) {
-    std::map<std::string, sim::Material> extra;
-    ReadMaterialMap(&doc, mats, "materials", &extra);
-    for (const auto& [name, m] : extra) {
-      if (s.world.materials.contains(name)) {
-        doc.Error(mats, "materials." + name, "material already defined by the world");
-      }
-      s.world.materials[name] = m;
-    }
-  }
-  if (YAML::Node states = top.Child("door_states"); states.IsDefined()) {
-    MapReader r(&doc, states, "door_states");
-    for (auto& door : s.world.doors) {
-      if (r.Has(door.id)) door.open = r.Choice(door.id, {"open", "closed"}, "closed") == "open";
-    }
-    r.Finish();
-  }
+  ReadWorldAndAdditions(&doc, top, base, &s);
   ReadBodies(&doc, top, s.world, &s);
   ReadRobots(&doc, top, base, &s);
   ReadEvents(&doc, top, &s);

@@ -38,7 +38,9 @@ class YamlDocument {
   std::vector<Diagnostic> diagnostics_;
 };
 
-// Reads one YAML mapping: typed, range-checked fields with defaults, and at
+// Reads one YAML mapping: typed, range-checked fields with defaults (the fields
+// of an options struct go through ReadOptions, options_reader.h, whose ranges
+// are the struct's Validate()), and at
 // Finish() an error for every key that no one asked for (unknown keys are
 // errors). A node that is not a mapping reports one error and reads as empty.
 class MapReader {
@@ -49,6 +51,7 @@ class MapReader {
   bool Has(const std::string& key) const;
   std::string PathOf(const std::string& key) const;
   const YAML::Node& node() const { return node_; }
+  const std::string& path() const { return path_; }  // this mapping's key path
 
   // Raw child node (marks the key as known); null if absent (error if required).
   YAML::Node Child(const std::string& key, bool required = false);

@@ -2,9 +2,44 @@
 
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
+#include <string>
 #include <utility>
 
 namespace pavilion::sim {
+namespace {
+
+// Bounds that catch unit mistakes in scripted and random-walk motion.
+constexpr double kMaxSegmentS = 1e7;
+constexpr double kMaxYawRateRadps = 100.0;
+constexpr double kMaxWalkSpeedMps = 5.0;
+constexpr double kMinMeanLegS = 1e-3;  // about a physics step
+constexpr double kMaxMeanLegS = 1e4;
+
+void Require(bool ok, const char* options, const char* field, const char* expected) {
+  if (!ok) throw std::invalid_argument(std::string(options) + "." + field + " must be " + expected);
+}
+
+}  // namespace
+
+void VelocitySegment::Validate() const {
+  Require(duration_s > 0.0 && duration_s <= kMaxSegmentS, "VelocitySegment", "duration_s",
+          "in (0, 1e7] s");
+  Require(velocity_mps.allFinite(), "VelocitySegment", "velocity_mps", "finite");
+  Require(yaw_rate_radps >= -kMaxYawRateRadps && yaw_rate_radps <= kMaxYawRateRadps,
+          "VelocitySegment", "yaw_rate_radps", "in [-100, 100] rad/s");
+}
+
+void RandomWalkOptions::Validate() const {
+  Require(speed_mps >= 0.0 && speed_mps <= kMaxWalkSpeedMps, "RandomWalkOptions", "speed_mps",
+          "in [0, 5] m/s");
+  Require(mean_leg_s >= kMinMeanLegS && mean_leg_s <= kMaxMeanLegS, "RandomWalkOptions",
+          "mean_leg_s", "in [1e-3, 1e4] s");
+  Require(blocked_ratio >= 0.0 && blocked_ratio <= 1.0, "RandomWalkOptions", "blocked_ratio",
+          "in [0, 1]");
+  Require(blocked_s >= 0.0 && std::isfinite(blocked_s), "RandomWalkOptions", "blocked_s",
+          "finite and >= 0 s");
+}
 
 ScriptedMotion::ScriptedMotion(ScriptedMotionOptions options) : options_(std::move(options)) {
   for (const auto& s : options_.segments) total_s_ += s.duration_s;

@@ -26,9 +26,11 @@ class BodyMotion {
 
 // One piece of a scripted velocity profile.
 struct VelocitySegment {
-  double duration_s = 1.0;             // > 0
-  Eigen::Vector2d velocity_mps{0, 0};  // in the body frame if body_frame, else world
-  double yaw_rate_radps = 0.0;
+  double duration_s = 1.0;             // s, (0, 1e7]
+  Eigen::Vector2d velocity_mps{0, 0};  // m/s, finite; in the body frame if body_frame, else world
+  double yaw_rate_radps = 0.0;         // rad/s, [-100, 100]
+
+  void Validate() const;  // throws std::invalid_argument naming the field
 };
 
 struct ScriptedMotionOptions {
@@ -49,12 +51,14 @@ class ScriptedMotion : public BodyMotion {
 };
 
 struct RandomWalkOptions {
-  double speed_mps = 0.8;      // walking speed, [0, 5]
-  double mean_leg_s = 4.0;     // mean time between heading changes, > 0 (exponential)
-  double blocked_ratio = 0.3;  // below this fraction of the speed the walker is blocked
-  double blocked_s = 0.5;      // ... for this long, it turns to a new heading
+  double speed_mps = 0.8;      // walking speed, m/s, [0, 5]
+  double mean_leg_s = 4.0;     // mean time between heading changes (exponential), s, [1e-3, 1e4]
+  double blocked_ratio = 0.3;  // below this fraction of the speed the walker is blocked, [0, 1]
+  double blocked_s = 0.5;      // ... for this long (s, >= 0), it turns to a new heading
   // When set, a walker found outside this polygon heads back to its centroid.
   std::optional<core::Polygon2> roam_area;
+
+  void Validate() const;  // throws std::invalid_argument naming the field
 };
 
 // A walker that keeps a heading for exponentially distributed times and picks a

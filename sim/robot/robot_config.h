@@ -25,22 +25,24 @@ struct CameraMount {
   std::string id;
   std::string link;
   MountSpec mount;                         // the link's pose in the base frame
-  int width_px = 640;                      // >= 1
-  int height_px = 480;                     // >= 1
-  double hfov_rad = std::numbers::pi / 3;  // horizontal field of view, (0, π)
-  double rate_hz = 10.0;                   // images per second, > 0
+  int width_px = 640;                      // px, [1, 100000]
+  int height_px = 480;                     // px, [1, 100000]
+  double hfov_rad = std::numbers::pi / 3;  // horizontal field of view (pinhole), rad, (0, π)
+  double rate_hz = 10.0;                   // images per second, Hz, (0, 1000]
   bool grayscale = false;
+
+  void Validate() const;  // throws std::invalid_argument naming the field
 };
 
 // The odometry parameters the localization uses: the result of calibrating the
 // robot (the calibration scenario estimates them from the simulated robot).
 struct OdometryCalibration {
-  double left_wheel_radius_m = 0.1;   // > 0
-  double right_wheel_radius_m = 0.1;  // > 0
-  double wheelbase_m = 0.4;           // > 0
-  double k_left_m = 5e-6;   // §2.3 wheel-space noise per metre of travel, >= 0 (thesis: 5e-6 m)
-  double k_right_m = 5e-6;  // >= 0
-  double k_turn_m = 0.0;    // turn slip (core::WheelNoise), >= 0
+  double left_wheel_radius_m = 0.1;   // m, (0, 10]
+  double right_wheel_radius_m = 0.1;  // m, (0, 10]
+  double wheelbase_m = 0.4;           // m, (0, 10]
+  double k_left_m = 5e-6;   // §2.3 wheel-space noise per metre of travel, m, [0, 1] (thesis: 5e-6)
+  double k_right_m = 5e-6;  // m, [0, 1]
+  double k_turn_m = 0.0;    // turn slip (core::WheelNoise), m, [0, 1]
 
   void Validate() const;  // throws std::invalid_argument naming the field
 };

@@ -114,41 +114,51 @@ double RelativeAmplitude(double reflectivity, double range_m, double cos_inciden
 }
 
 void LaserScannerOptions::Validate() const {
+  // Bounds that catch unit mistakes (millimetres, degrees, milliseconds).
+  constexpr double kMaxRangeM = 1000.0;
+  constexpr double kMaxScanRateHz = 1e4;
+  constexpr double kMaxTimestampBiasS = 1.0;
+  constexpr double kMaxSigmaM = 10.0;
+  constexpr double kMaxResolutionM = 1.0;
+  constexpr double kMaxDarkSigmaFactor = 1000.0;
+  constexpr double kMaxMixedPixelGapM = 100.0;
   Require(profile == "sick_lms200" || profile == "acuity_accurange" || profile == "custom",
           "profile", "sick_lms200, acuity_accurange or custom", 0.0);
   Require(fov_rad > 0.0 && fov_rad <= kTwoPi + kFullTurnToleranceRad, "fov_rad", "in (0, 2π]",
           fov_rad);
   Require(beams >= 2 && beams <= kMaxBeams, "beams", "in [2, 100000]", beams);
-  Require(std::isfinite(first_bearing_rad), "first_bearing_rad", "finite", first_bearing_rad);
-  Require(max_range_m > 0.0 && std::isfinite(max_range_m), "max_range_m", "finite and > 0",
+  Require(first_bearing_rad >= -kTwoPi && first_bearing_rad <= kTwoPi, "first_bearing_rad",
+          "in [-2π, 2π]", first_bearing_rad);
+  Require(max_range_m > 0.0 && max_range_m <= kMaxRangeM, "max_range_m", "in (0, 1000] m",
           max_range_m);
-  Require(scan_rate_hz > 0.0 && std::isfinite(scan_rate_hz), "scan_rate_hz", "finite and > 0",
+  Require(scan_rate_hz > 0.0 && scan_rate_hz <= kMaxScanRateHz, "scan_rate_hz", "in (0, 1e4] Hz",
           scan_rate_hz);
   Require(sweep_s >= 0.0 && sweep_s <= 1.0 / scan_rate_hz, "sweep_s",
           "in [0, 1/scan_rate_hz] (a sweep ends before the next begins)", sweep_s);
   Require(interlaced_turns >= 1 && interlaced_turns <= beams - 1, "interlaced_turns",
           "in [1, beams - 1]", interlaced_turns);
-  Require(std::isfinite(timestamp_bias_s), "timestamp_bias_s", "finite", timestamp_bias_s);
-  Require(range_sigma_m >= 0.0 && std::isfinite(range_sigma_m), "range_sigma_m", "finite and >= 0",
+  Require(timestamp_bias_s >= -kMaxTimestampBiasS && timestamp_bias_s <= kMaxTimestampBiasS,
+          "timestamp_bias_s", "in [-1, 1] s", timestamp_bias_s);
+  Require(range_sigma_m >= 0.0 && range_sigma_m <= kMaxSigmaM, "range_sigma_m", "in [0, 10] m",
           range_sigma_m);
-  Require(range_resolution_m >= 0.0 && std::isfinite(range_resolution_m), "range_resolution_m",
-          "finite and >= 0", range_resolution_m);
+  Require(range_resolution_m >= 0.0 && range_resolution_m <= kMaxResolutionM, "range_resolution_m",
+          "in [0, 1] m", range_resolution_m);
   Require(min_amplitude >= 0.0 && min_amplitude <= 1.0, "min_amplitude", "in [0, 1]",
           min_amplitude);
-  Require(low_amplitude_sigma_m >= 0.0 && std::isfinite(low_amplitude_sigma_m),
-          "low_amplitude_sigma_m", "finite and >= 0", low_amplitude_sigma_m);
+  Require(low_amplitude_sigma_m >= 0.0 && low_amplitude_sigma_m <= kMaxSigmaM,
+          "low_amplitude_sigma_m", "in [0, 10] m", low_amplitude_sigma_m);
   Require(outlier_probability >= 0.0 && outlier_probability <= 1.0, "outlier_probability",
           "in [0, 1]", outlier_probability);
   Require(dark_dropout_probability >= 0.0 && dark_dropout_probability <= 1.0,
           "dark_dropout_probability", "in [0, 1]", dark_dropout_probability);
-  Require(dark_sigma_factor >= 1.0 && std::isfinite(dark_sigma_factor), "dark_sigma_factor",
-          "finite and >= 1", dark_sigma_factor);
+  Require(dark_sigma_factor >= 1.0 && dark_sigma_factor <= kMaxDarkSigmaFactor, "dark_sigma_factor",
+          "in [1, 1000]", dark_sigma_factor);
   Require(specular_max_incidence_rad >= 0.0 && specular_max_incidence_rad <= std::numbers::pi / 2,
           "specular_max_incidence_rad", "in [0, π/2]", specular_max_incidence_rad);
   Require(beam_divergence_rad >= 0.0 && beam_divergence_rad <= kMaxBeamDivergenceRad,
           "beam_divergence_rad", "in [0, 0.1]", beam_divergence_rad);
-  Require(mixed_pixel_min_gap_m > 0.0 && std::isfinite(mixed_pixel_min_gap_m),
-          "mixed_pixel_min_gap_m", "finite and > 0", mixed_pixel_min_gap_m);
+  Require(mixed_pixel_min_gap_m > 0.0 && mixed_pixel_min_gap_m <= kMaxMixedPixelGapM,
+          "mixed_pixel_min_gap_m", "in (0, 100] m", mixed_pixel_min_gap_m);
 }
 
 LaserScannerOptions LaserScannerOptions::Profile(const std::string& name) {

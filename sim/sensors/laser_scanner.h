@@ -25,30 +25,31 @@ inline constexpr double kLms200SweepS = (1.0 + 179.5 / 360.0) / kLms200MirrorRat
 // the thesis configured it (§2.2.2: 180°, 0.5°, 8 m, σ_ρ = 1 cm, 1 mm resolution).
 struct LaserScannerOptions {
   std::string profile = "sick_lms200";             // sick_lms200 | acuity_accurange | custom
-  double fov_rad = 3.14159265358979323846;         // angular range covered, (0, 2π]
+  double fov_rad = 3.14159265358979323846;         // angular range covered, rad, (0, 2π]
   int beams = 361;                                 // readings per scan, [2, 100000]
-  double first_bearing_rad = -1.5707963267948966;  // bearing of the first reading, finite
-  double max_range_m = 8.0;                        // readings beyond are "no return", > 0
-  double scan_rate_hz = 10.0;                      // scans delivered per second, > 0
-  double sweep_s = kLms200SweepS;  // first to last reading in time, [0, 1/scan_rate_hz]
+  double first_bearing_rad = -1.5707963267948966;  // bearing of the first reading, rad, [-2π, 2π]
+  double max_range_m = 8.0;                        // readings beyond are "no return", m, (0, 1000]
+  double scan_rate_hz = 10.0;                      // scans delivered per second, Hz, (0, 1e4]
+  double sweep_s = kLms200SweepS;  // first to last reading in time, s, [0, 1/scan_rate_hz]
   int interlaced_turns = 2;        // mirror turns a sweep spreads its readings over, [1, beams-1]
-  double timestamp_bias_s = 0.0;   // constant error added to the stamp (§2.2.1.5), finite
-  double range_sigma_m = 0.01;     // range noise σ on normal surfaces, >= 0
-  double range_resolution_m = 0.001;  // quantization of reported ranges, >= 0 (0: none)
+  double timestamp_bias_s = 0.0;   // constant error added to the stamp (§2.2.1.5), s, [-1, 1]
+  double range_sigma_m = 0.01;     // range noise σ on normal surfaces, m, [0, 10]
+  double range_resolution_m = 0.001;  // quantization of reported ranges, m, [0, 1] (0: none)
 
   // Acuity AccuRange amplitude model (§2.2.1.3): amplitude ∝ reflectivity·cos(incidence)/r²
   // (RelativeAmplitude below), σ = range_sigma_m above min_amplitude, low_amplitude_sigma_m below.
   bool amplitude_model = false;
   double min_amplitude = 0.05;         // relative amplitude threshold s_min, [0, 1]
-  double low_amplitude_sigma_m = 0.1;  // σ of readings below s_min, >= 0
+  double low_amplitude_sigma_m = 0.1;  // σ of readings below s_min, m, [0, 10]
   double outlier_probability = 0.0;    // chance of a uniform random range, [0, 1]
 
   // Surface effects (thesis §2.2.1.6).
-  double dark_dropout_probability = 0.3;    // `dark` surfaces: chance of no return, [0, 1]
-  double dark_sigma_factor = 5.0;           // ... and range σ multiplied by this, >= 1
-  double specular_max_incidence_rad = 1.0;  // `specular`: no return beyond this incidence, [0, π/2]
-  double beam_divergence_rad = 0.0087;      // full footprint width for mixed pixels, [0, 0.1]
-  double mixed_pixel_min_gap_m = 0.05;      // depth jump that can produce a mixed pixel, > 0
+  double dark_dropout_probability = 0.3;  // `dark` surfaces: chance of no return, [0, 1]
+  double dark_sigma_factor = 5.0;         // ... and range σ multiplied by this, [1, 1000]
+  // `specular`: no return beyond this incidence, rad, [0, π/2].
+  double specular_max_incidence_rad = 1.0;
+  double beam_divergence_rad = 0.0087;  // full footprint width for mixed pixels, rad, [0, 0.1]
+  double mixed_pixel_min_gap_m = 0.05;  // depth jump that can produce a mixed pixel, m, (0, 100]
 
   // noise=false: no range noise, outliers or dark dropouts. effects=false: every
   // surface answers as `normal` (no dark/specular behaviour, no mixed pixels);

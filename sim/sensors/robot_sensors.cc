@@ -7,21 +7,30 @@
 namespace pavilion::sim {
 
 void EncoderOptions::Validate() const {
-  if (ticks_per_revolution < 1) throw std::invalid_argument("ticks_per_revolution must be >= 1");
-  if (!(rate_hz > 0.0) || !std::isfinite(rate_hz))
-    throw std::invalid_argument("rate_hz must be > 0");
-  if (!(k_left_m >= 0.0) || !std::isfinite(k_left_m))
-    throw std::invalid_argument("k_left_m must be >= 0");
-  if (!(k_right_m >= 0.0) || !std::isfinite(k_right_m))
-    throw std::invalid_argument("k_right_m must be >= 0");
+  constexpr double kMaxRateHz = 1e5;  // beyond any physics rate: a unit mistake
+  constexpr double kMaxK = 1.0;       // §2.3 k_L, k_R (m); the thesis found 5e-6
+  if (ticks_per_revolution < 1) {
+    throw std::invalid_argument("EncoderOptions.ticks_per_revolution must be >= 1");
+  }
+  if (!(rate_hz > 0.0 && rate_hz <= kMaxRateHz)) {
+    throw std::invalid_argument("EncoderOptions.rate_hz must be in (0, 1e5] Hz");
+  }
+  if (!(k_left_m >= 0.0 && k_left_m <= kMaxK)) {
+    throw std::invalid_argument("EncoderOptions.k_left_m must be in [0, 1] m");
+  }
+  if (!(k_right_m >= 0.0 && k_right_m <= kMaxK)) {
+    throw std::invalid_argument("EncoderOptions.k_right_m must be in [0, 1] m");
+  }
 }
 
 void SystematicErrors::Validate() const {
-  if (!(wheel_radius_ratio > 0.5 && wheel_radius_ratio < 2.0)) {
-    throw std::invalid_argument("wheel_radius_ratio must be in (0.5, 2)");
+  // Systematic errors of real robots are of the order of 1 % (UMBmark); 10 %
+  // is a badly built robot, beyond it a unit or ratio mistake.
+  if (!(wheel_radius_ratio >= 0.9 && wheel_radius_ratio <= 1.1)) {
+    throw std::invalid_argument("SystematicErrors.wheel_radius_ratio must be in [0.9, 1.1]");
   }
-  if (!(wheelbase_factor > 0.5 && wheelbase_factor < 2.0)) {
-    throw std::invalid_argument("wheelbase_factor must be in (0.5, 2)");
+  if (!(wheelbase_factor >= 0.9 && wheelbase_factor <= 1.1)) {
+    throw std::invalid_argument("SystematicErrors.wheelbase_factor must be in [0.9, 1.1]");
   }
 }
 

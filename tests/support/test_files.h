@@ -1,13 +1,15 @@
 #pragma once
 
 // Helpers for tests that write input files: a fresh folder per test, file
-// writing, and locating lines in the text written.
+// writing, locating lines in the text written, and options' Validate() messages.
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -39,6 +41,24 @@ inline int LineOf(const std::string& text, const std::string& marker) {
   EXPECT_NE(at, std::string::npos) << "marker '" << marker << "' not in the text";
   return 1 +
          static_cast<int>(std::count(text.begin(), text.begin() + std::min(at, text.size()), '\n'));
+}
+
+// What `options.Validate()` throws (std::invalid_argument); empty when it accepts them.
+template <typename Options>
+std::string ValidateMessage(const Options& options) {
+  try {
+    options.Validate();
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// `value` written so that YAML reads back the same double.
+inline std::string ExactText(double value) {
+  char text[64];
+  std::snprintf(text, sizeof text, "%.17g", value);
+  return text;
 }
 
 inline ::testing::AssertionResult Contains(const std::string& text, const std::string& part) {

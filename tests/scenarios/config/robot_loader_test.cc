@@ -6,10 +6,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <numbers>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -25,8 +28,10 @@ namespace {
 
 namespace fs = std::filesystem;
 using pavilion::testing::Contains;
+using pavilion::testing::ExactText;
 using pavilion::testing::LineOf;
 using pavilion::testing::TestDir;
+using pavilion::testing::ValidateMessage;
 using pavilion::testing::WriteFile;
 
 constexpr double kPi = std::numbers::pi;
@@ -453,6 +458,112 @@ TEST(RobotLoaderTest, InconsistentValuesAreReported) {
   d = ExpectError(Edited("  ticks_per_revolution: 50000\n", "  rate_hz: 100\n"),
                   "encoders.ticks_per_revolution", "rate_hz: 100");  // the mapping's line
   EXPECT_TRUE(Contains(d.message, "required key is missing"));
+}
+
+// Confirms that an out-of-range option of four options structs (encoders,
+// odometry, laser scanner, systematic errors) is one error `file:line:
+// key.path: <Validate's message>` at the key's line, degrees turned into the
+// struct's radians before Validate() sees them.
+TEST(RobotLoaderTest, OutOfRangeOptionsReportValidateMessageAtTheirKey) {
+  sim::EncoderOptions encoders;
+  encoders.rate_hz = 0.0;
+  sim::OdometryCalibration odometry;
+  odometry.k_left_m = 2.0;
+  sim::LaserScannerOptions laser = sim::LaserScannerOptions::Profile("sick_lms200");
+  laser.beam_divergence_rad = 6.0 * kDeg;
+  sim::SystematicErrors systematic;
+  systematic.wheelbase_factor = 1.2;
+  struct Case {
+    std::string yaml, key_path, marker, message;
+  };
+  const std::vector<Case> cases = {
+      {Edited("  ticks_per_revolution: 50000\n", "  ticks_per_revolution: 50000\n  rate_hz: 0\n"),
+       "encoders.rate_hz", "rate_hz: 0", ValidateMessage(encoders)},
+      {Edited("  k_left_m: 5.0e-6\n", "  k_left_m: 2\n"), "odometry.k_left_m", "k_left_m: 2",
+       ValidateMessage(odometry)},
+      {Edited("    profile: sick_lms200\n",
+              "    profile: sick_lms200\n    beam_divergence_deg: 6\n"),
+       "lasers[0].beam_divergence_deg", "beam_divergence_deg", ValidateMessage(laser)},
+      {kRobot + "systematic:\n  wheelbase_factor: 1.2\n", "systematic.wheelbase_factor",
+       "wheelbase_factor: 1.2", ValidateMessage(systematic)},
+  };
+  for (const Case& c : cases) {
+    ASSERT_FALSE(c.message.empty()) << c.key_path;
+    const Diagnostic d = ExpectError(c.yaml, c.key_path, c.marker);
+    EXPECT_EQ(d.ToString(), d.file + ":" + std::to_string(LineOf(c.yaml, c.marker)) + ": " +
+                                c.key_path + ": " + c.message);
+  }
+}
+
+// Confirms that the robot loader and Validate() agree at the boundaries where
+// they used to differ: beam divergence (loader [0, 5.7°], Validate [0, 0.1
+// rad]), systematic errors (loader [0.5, 2], Validate (0.5, 2), now [0.9,
+// 1.1]), a camera's field of view (loader [1°, 179°], now (0, π)) and the
+// encoders' rate (loader [1e-3, 1e5] Hz, Validate > 0).
+TEST(RobotLoaderTest, LoaderAndValidateAgreeAtTheRangeBoundaries) {
+  struct Case {
+    std::string key_path;
+    std::function<std::string(const std::string&)> yaml;
+    std::function<std::string(double)> validate;  // Validate's message for the value
+    std::vector<double> values;
+  };
+  const std::vector<Case> cases = {
+      {"lasers[0].beam_divergence_deg",
+       [](const std::string& v) {
+         return Edited("    profile: sick_lms200\n",
+                       "    profile: sick_lms200\n    beam_divergence_deg: " + v + "\n");
+       },
+       [](double v) {
+         sim::LaserScannerOptions o = sim::LaserScannerOptions::Profile("sick_lms200");
+         o.beam_divergence_rad = v * kDeg;
+         return ValidateMessage(o);
+       },
+       {-0.01, 0.0, 5.7, 5.72, 0.1 / kDeg, 5.73}},
+      {"systematic.wheel_radius_ratio",
+       [](const std::string& v) {
+         return kRobot + "systematic:\n  wheel_radius_ratio: " + v + "\n";
+       },
+       [](double v) {
+         sim::SystematicErrors o;
+         o.wheel_radius_ratio = v;
+         return ValidateMessage(o);
+       },
+       {0.5, 0.89, 0.9, 1.0, 1.1, 1.11, 2.0}},
+      {"cameras[0].hfov_deg",
+       [](const std::string& v) {
+         return kRobot + "cameras:\n  - id: cam\n    link: laser_front\n    hfov_deg: " + v + "\n";
+       },
+       [](double v) {
+         sim::CameraMount o;
+         o.hfov_rad = v * kDeg;
+         return ValidateMessage(o);
+       },
+       {0.0, 0.5, 1.0, 179.0, 179.5, 180.0}},
+      {"encoders.rate_hz",
+       [](const std::string& v) {
+         return Edited("  ticks_per_revolution: 50000\n",
+                       "  ticks_per_revolution: 50000\n  rate_hz: " + v + "\n");
+       },
+       [](double v) {
+         sim::EncoderOptions o;
+         o.rate_hz = v;
+         return ValidateMessage(o);
+       },
+       {0.0, 1e-4, 1e-3, 1e5, 1e5 + 1}},
+  };
+  for (const Case& c : cases) {
+    for (const double value : c.values) {
+      const std::string yaml = c.yaml(ExactText(value));
+      const std::string message = c.validate(value);
+      if (message.empty()) {
+        EXPECT_NO_THROW(LoadRobotFile(WriteRobot(yaml))) << c.key_path << " = " << value;
+      } else {
+        const Diagnostic d =
+            ExpectError(yaml, c.key_path, c.key_path.substr(c.key_path.rfind('.') + 1));
+        EXPECT_EQ(d.message, message) << c.key_path << " = " << value;
+      }
+    }
+  }
 }
 
 }  // namespace

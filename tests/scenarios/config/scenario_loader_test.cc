@@ -1,11 +1,14 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <numbers>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -20,8 +23,10 @@ namespace {
 
 namespace fs = std::filesystem;
 using pavilion::testing::Contains;
+using pavilion::testing::ExactText;
 using pavilion::testing::LineOf;
 using pavilion::testing::TestDir;
+using pavilion::testing::ValidateMessage;
 using pavilion::testing::WriteFile;
 
 // A 16 m square hall with a door and a spawn area; no scenario materials.
@@ -597,6 +602,187 @@ TEST(ScenarioLoaderTest, ReadsAndValidatesTheLaserBackend) {
       LoadErrors(WriteScenario(ScenarioText() + "laser_max_tilt_deg: 90\n"));
   ASSERT_EQ(tilt.size(), 1u);
   EXPECT_EQ(tilt[0].key_path, "laser_max_tilt_deg");
+}
+
+}  // namespace
+}  // namespace pavilion::scenarios
+
+namespace pavilion::scenarios {
+namespace {
+
+// A robot entry of pygmalion at (1, 2) with `extra` lines under it.
+std::string PygmalionWith(const std::string& extra) {
+  return WithRobot(ScenarioText(),
+                   "  - id: r1\n"
+                   "    model: pygmalion\n"
+                   "    pose: [1, 2, 0]\n" +
+                       extra);
+}
+
+// Confirms that an out-of-range option of six different options structs is
+// one error `file:line: key.path: <Validate's message>` at the key's line:
+// the range lives in the struct's Validate() and the loader reports it.
+TEST(ScenarioLoaderTest, OutOfRangeOptionsReportValidateMessageAtTheirKey) {
+  struct Case {
+    std::string text;      // the scenario
+    std::string marker;    // text on the key's line
+    std::string key_path;  // expected key path
+    std::string message;   // Validate's message for the same value
+  };
+  nav::WanderOptions wander;
+  wander.avoid_turn_rate_radps = 0.0;
+  nav::PathFollowerOptions follower;
+  follower.lookahead_m = 20.0;
+  sim::RandomWalkOptions walk;
+  walk.speed_mps = 9.0;
+  sim::WorldOptions physics;
+  physics.solver_iterations = 500;
+  OutputOptions outputs;
+  outputs.image_width_px = 50;
+  sim::SystematicErrors systematic;
+  systematic.wheelbase_factor = 1.5;
+  std::string walker = ScenarioText();
+  walker.replace(walker.find("speed_mps: 0.8"), 14, "speed_mps: 9");
+  std::string solver = ScenarioText();
+  solver.replace(solver.find("  rate_hz: 200\n"), 15, "  rate_hz: 200\n  solver_iterations: 500\n");
+  const std::vector<Case> cases = {
+      {PygmalionWith("    wander:\n      avoid_turn_rate_radps: 0\n"), "avoid_turn_rate_radps: 0",
+       "robots[0].wander.avoid_turn_rate_radps", ValidateMessage(wander)},
+      {PygmalionWith("    route:\n      stops: [a, b]\n      lookahead_m: 20\n"), "lookahead_m: 20",
+       "robots[0].route.lookahead_m", ValidateMessage(follower)},
+      {walker, "speed_mps: 9", "groups[0].motion.speed_mps", ValidateMessage(walk)},
+      {solver, "solver_iterations: 500", "physics.solver_iterations", ValidateMessage(physics)},
+      {ScenarioText() + "outputs:\n  image_width_px: 50\n", "image_width_px: 50",
+       "outputs.image_width_px", ValidateMessage(outputs)},
+      {PygmalionWith("    systematic: {wheelbase_factor: 1.5}\n"), "wheelbase_factor: 1.5",
+       "robots[0].systematic.wheelbase_factor", ValidateMessage(systematic)},
+  };
+  for (const Case& c : cases) {
+    ASSERT_FALSE(c.message.empty()) << c.key_path;
+    const std::string path = WriteScenario(c.text);
+    const std::vector<Diagnostic> all = LoadErrors(path);
+    ASSERT_EQ(all.size(), 1u) << c.key_path;
+    EXPECT_EQ(all[0].ToString(), path + ":" + std::to_string(LineOf(c.text, c.marker)) + ": " +
+                                     c.key_path + ": " + c.message);
+  }
+}
+
+// Confirms that the loader and Validate() agree at the boundaries of their
+// ranges: a value Validate() accepts loads, one it rejects is an error at its
+// key (avoid_turn_rate_radps was [1e-6, 10] in the loader, (0, 10] in Validate).
+TEST(ScenarioLoaderTest, LoaderAndValidateAgreeAtTheRangeBoundaries) {
+  using Mutate = std::function<void(double)>;
+  nav::WanderOptions wander;
+  nav::PathFollowerOptions follower;
+  sim::WorldOptions physics;
+  struct Case {
+    std::string key;  // under the block
+    std::string block;
+    std::function<std::string(const std::string& value)> text;
+    Mutate set;
+    std::function<std::string()> validate;
+    std::vector<double> values;
+  };
+  const auto wander_text = [](const std::string& key) {
+    return [key](const std::string& v) {
+      return PygmalionWith("    wander:\n      " + key + ": " + v + "\n");
+    };
+  };
+  const std::vector<Case> cases = {
+      {"avoid_turn_rate_radps",
+       "robots[0].wander",
+       wander_text("avoid_turn_rate_radps"),
+       [&](double v) { wander = {}, wander.avoid_turn_rate_radps = v; },
+       [&] { return ValidateMessage(wander); },
+       {-1e-9, 0.0, 1e-9, 1e-7, 1e-6, 10.0, std::nextafter(10.0, 11.0)}},
+      {"obstruction_distance_m",
+       "robots[0].wander",
+       [](const std::string& v) {  // with stop_distance_m 0, below any obstruction distance
+         return PygmalionWith(
+             "    wander:\n      stop_distance_m: 0\n      obstruction_distance_m: " + v + "\n");
+       },
+       [&](double v) {
+         wander = {};
+         wander.stop_distance_m = 0.0;
+         wander.obstruction_distance_m = v;
+       },
+       [&] { return ValidateMessage(wander); },
+       {0.0, 1e-4, 0.5, 1000.0, 1000.5}},
+      {"max_speed_mps",
+       "robots[0].route",
+       [](const std::string& v) {
+         return PygmalionWith("    route:\n      stops: [a, b]\n      max_speed_mps: " + v + "\n");
+       },
+       [&](double v) { follower.max_speed_mps = v; },
+       [&] { return ValidateMessage(follower); },
+       {0.005, 0.01, 5.0, 5.5}},
+      {"rate_hz",
+       "physics",
+       [](const std::string& v) {
+         std::string text = ScenarioText();
+         text.replace(text.find("  rate_hz: 200\n"), 15, "  rate_hz: " + v + "\n");
+         return text;
+       },
+       [&](double v) { physics.physics_rate_hz = v; },
+       [&] { return ValidateMessage(physics); },
+       {9.999, 10.0, 10000.0, 10000.5}},
+  };
+  for (const Case& c : cases) {
+    for (const double value : c.values) {
+      c.set(value);
+      const std::string message = c.validate();
+      const std::string path = WriteScenario(c.text(ExactText(value)));
+      if (message.empty()) {
+        EXPECT_NO_THROW(LoadScenarioFile(path)) << c.key << " = " << value;
+        EXPECT_TRUE(ValidateFile(path).empty()) << c.key << " = " << value;
+      } else {
+        const std::vector<Diagnostic> all = LoadErrors(path);
+        ASSERT_EQ(all.size(), 1u) << c.key << " = " << value;
+        EXPECT_EQ(all[0].key_path, c.block + "." + c.key);
+        EXPECT_EQ(all[0].message, message);
+        EXPECT_GT(all[0].line, 0);
+      }
+    }
+  }
+}
+
+// Confirms that every out-of-range field of one options struct is reported,
+// each at its own key, and that a relation between fields (stop distance
+// beyond the obstruction distance) is reported at the field Validate() names
+// even when that key is absent (at the block's line).
+TEST(ScenarioLoaderTest, ReportsEveryBadFieldOfAnOptionsStruct) {
+  const std::string text = PygmalionWith(
+      "    wander:\n"
+      "      cruise_speed_mps: 11\n"
+      "      avoid_speed_mps: -1\n"
+      "      max_avoid_scans: 2000000\n"
+      "  - id: r2\n"
+      "    model: pygmalion\n"
+      "    pose: [3, 2, 0]\n"
+      "    wander:\n"
+      "      obstruction_distance_m: 0.2\n");
+  const std::string path = WriteScenario(text);
+  std::map<std::string, int> lines;
+  for (const Diagnostic& d : LoadErrors(path)) lines[d.key_path] = d.line;
+  EXPECT_EQ(lines.size(), 4u);
+  EXPECT_EQ(lines["robots[0].wander.cruise_speed_mps"], LineOf(text, "cruise_speed_mps: 11"));
+  EXPECT_EQ(lines["robots[0].wander.avoid_speed_mps"], LineOf(text, "avoid_speed_mps: -1"));
+  EXPECT_EQ(lines["robots[0].wander.max_avoid_scans"], LineOf(text, "max_avoid_scans: 2000000"));
+  EXPECT_EQ(lines["robots[1].wander.stop_distance_m"], LineOf(text, "obstruction_distance_m: 0.2"));
+}
+
+// Confirms that type errors stay the reader's (before Validate): a string for a
+// number and a fraction for an integer are errors at their key.
+TEST(ScenarioLoaderTest, ReportsOptionTypeErrorsAtTheirKey) {
+  const std::string text = PygmalionWith(
+      "    wander:\n"
+      "      cruise_speed_mps: fast\n"
+      "      min_avoid_scans: 2.5\n");
+  std::map<std::string, std::string> messages;
+  for (const Diagnostic& d : LoadErrors(WriteScenario(text))) messages[d.key_path] = d.message;
+  EXPECT_EQ(messages.size(), 2u);
+  EXPECT_EQ(messages["robots[0].wander.cruise_speed_mps"], "expected a number, got 'fast'");
+  EXPECT_EQ(messages["robots[0].wander.min_avoid_scans"], "expected an integer");
 }
 
 }  // namespace

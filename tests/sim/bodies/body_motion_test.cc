@@ -4,6 +4,8 @@
 
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
+#include <string>
 
 namespace pavilion::sim {
 namespace {
@@ -77,6 +79,45 @@ TEST(BodyMotionTest, RandomWalkLegsAndBlocking) {
     now = c.Update(t, stuck).linear_mps;
   }
   EXPECT_LE(t, o.blocked_s + 2 * kDt);  // turned once blocked for blocked_s
+}
+
+// The message Validate() throws; empty when it accepts.
+template <typename Options>
+std::string ValidateMessage(const Options& o) {
+  try {
+    o.Validate();
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// Confirms that the defaults are valid and each out-of-range field is rejected
+// with its name (the scenario loader reports it at that field's key).
+TEST(BodyMotionOptions, ValidateNamesTheField) {
+  EXPECT_EQ(ValidateMessage(VelocitySegment{}), "");
+  EXPECT_EQ(ValidateMessage(RandomWalkOptions{}), "");
+  VelocitySegment seg;
+  seg.duration_s = 0.0;
+  EXPECT_NE(ValidateMessage(seg).find("duration_s"), std::string::npos);
+  seg = {};
+  seg.velocity_mps.x() = std::nan("");
+  EXPECT_NE(ValidateMessage(seg).find("velocity_mps"), std::string::npos);
+  seg = {};
+  seg.yaw_rate_radps = -101.0;
+  EXPECT_NE(ValidateMessage(seg).find("yaw_rate_radps"), std::string::npos);
+  RandomWalkOptions walk;
+  walk.speed_mps = 5.5;
+  EXPECT_NE(ValidateMessage(walk).find("speed_mps"), std::string::npos);
+  walk = {};
+  walk.mean_leg_s = 0.0;
+  EXPECT_NE(ValidateMessage(walk).find("mean_leg_s"), std::string::npos);
+  walk = {};
+  walk.blocked_ratio = 1.5;
+  EXPECT_NE(ValidateMessage(walk).find("blocked_ratio"), std::string::npos);
+  walk = {};
+  walk.blocked_s = -1.0;
+  EXPECT_NE(ValidateMessage(walk).find("blocked_s"), std::string::npos);
 }
 
 }  // namespace
