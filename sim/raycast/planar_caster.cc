@@ -273,9 +273,14 @@ RayHit PlanarSlice::Cast(const Eigen::Vector3d& origin_m, const Eigen::Vector2d&
   for (const Segment& s : outside_segments_) best.Test(s);
   for (const Circle& c : outside_circles_) best.Test(c);
 
+  WalkGrid(max_range_m, &best);
+  return ToHit(best, origin_m.z());
+}
+
+void PlanarSlice::WalkGrid(double max_range_m, Best* best) const {
   // The ray's part inside the grid.
-  const Eigen::Vector2d& o = best.o;
-  const Eigen::Vector2d& d = best.d;
+  const Eigen::Vector2d& o = best->o;
+  const Eigen::Vector2d& d = best->d;
   double t_in = 0.0;
   double t_out = max_range_m;
   const Eigen::Vector2d hi = origin_m_ + Eigen::Vector2d(nx_ * cell_m_, ny_ * cell_m_);
@@ -310,21 +315,21 @@ RayHit PlanarSlice::Cast(const Eigen::Vector3d& origin_m, const Eigen::Vector2d&
     for (;;) {
       const int cell = iy * nx_ + ix;
       for (int k = static_.segment_begin[cell]; k < static_.segment_begin[cell + 1]; ++k) {
-        best.Test(static_.segments[k]);
+        best->Test(static_.segments[k]);
       }
       for (int k = static_.circle_begin[cell]; k < static_.circle_begin[cell + 1]; ++k) {
-        best.Test(static_.circles[k]);
+        best->Test(static_.circles[k]);
       }
       for (int k = dynamic_.segment_begin[cell]; k < dynamic_.segment_begin[cell + 1]; ++k) {
-        best.Test(dynamic_.segments[k]);
+        best->Test(dynamic_.segments[k]);
       }
       for (int k = dynamic_.circle_begin[cell]; k < dynamic_.circle_begin[cell + 1]; ++k) {
-        best.Test(dynamic_.circles[k]);
+        best->Test(dynamic_.circles[k]);
       }
       // Every hit closer than the best lies in a cell visited by now once the
       // best is no farther than this cell's exit (or the ray ends in it).
       const double exit_t = std::min(next_x, next_y);
-      if (best.t <= exit_t || exit_t >= t_out) break;
+      if (best->t <= exit_t || exit_t >= t_out) break;
       if (next_x < next_y) {
         ix += step_x;
         if (ix < 0 || ix >= nx_) break;
@@ -336,13 +341,17 @@ RayHit PlanarSlice::Cast(const Eigen::Vector3d& origin_m, const Eigen::Vector2d&
       }
     }
   }
+}
 
+RayHit PlanarSlice::ToHit(const Best& best, double z_m) {
+  const Eigen::Vector2d& o = best.o;
+  const Eigen::Vector2d& d = best.d;
   RayHit hit;
   if (best.segment == nullptr && best.circle == nullptr) return hit;
   hit.hit = true;
   hit.distance_m = best.t;
   const Eigen::Vector2d point = o + best.t * d;
-  hit.point_m = {point.x(), point.y(), origin_m.z()};
+  hit.point_m = {point.x(), point.y(), z_m};
   Eigen::Vector2d n;
   if (best.segment != nullptr) {
     const Eigen::Vector2d& e = best.segment->edge_m;
