@@ -267,20 +267,14 @@ struct PlanarSlice::Best {
   }
 };
 
-RayHit PlanarSlice::Cast(const Eigen::Vector3d& origin_m, const Eigen::Vector2d& direction,
-                         double max_range_m, int ignore_group) const {
-  Best best{origin_m.head<2>(), direction, max_range_m, ignore_group};
-  for (const Segment& s : outside_segments_) best.Test(s);
-  for (const Circle& c : outside_circles_) best.Test(c);
-
-  WalkGrid(max_range_m, &best);
-  return ToHit(best, origin_m.z());
-}
-
-void PlanarSlice::WalkGrid(double max_range_m, Best* best) const {
+// Inlined into Cast, the caster's hot path (called once per ray).
+[[gnu::always_inline]] inline void PlanarSlice::WalkGrid(double max_range_m, Best* best_io) const {
+  // A local copy, which nothing else can alias: the compiler keeps it in
+  // registers over the walk (the caster's hot loop).
+  Best best = *best_io;
   // The ray's part inside the grid.
-  const Eigen::Vector2d& o = best->o;
-  const Eigen::Vector2d& d = best->d;
+  const Eigen::Vector2d& o = best.o;
+  const Eigen::Vector2d& d = best.d;
   double t_in = 0.0;
   double t_out = max_range_m;
   const Eigen::Vector2d hi = origin_m_ + Eigen::Vector2d(nx_ * cell_m_, ny_ * cell_m_);
@@ -315,21 +309,21 @@ void PlanarSlice::WalkGrid(double max_range_m, Best* best) const {
     for (;;) {
       const int cell = iy * nx_ + ix;
       for (int k = static_.segment_begin[cell]; k < static_.segment_begin[cell + 1]; ++k) {
-        best->Test(static_.segments[k]);
+        best.Test(static_.segments[k]);
       }
       for (int k = static_.circle_begin[cell]; k < static_.circle_begin[cell + 1]; ++k) {
-        best->Test(static_.circles[k]);
+        best.Test(static_.circles[k]);
       }
       for (int k = dynamic_.segment_begin[cell]; k < dynamic_.segment_begin[cell + 1]; ++k) {
-        best->Test(dynamic_.segments[k]);
+        best.Test(dynamic_.segments[k]);
       }
       for (int k = dynamic_.circle_begin[cell]; k < dynamic_.circle_begin[cell + 1]; ++k) {
-        best->Test(dynamic_.circles[k]);
+        best.Test(dynamic_.circles[k]);
       }
       // Every hit closer than the best lies in a cell visited by now once the
       // best is no farther than this cell's exit (or the ray ends in it).
       const double exit_t = std::min(next_x, next_y);
-      if (best->t <= exit_t || exit_t >= t_out) break;
+      if (best.t <= exit_t || exit_t >= t_out) break;
       if (next_x < next_y) {
         ix += step_x;
         if (ix < 0 || ix >= nx_) break;
@@ -341,9 +335,11 @@ void PlanarSlice::WalkGrid(double max_range_m, Best* best) const {
       }
     }
   }
+  *best_io = best;
 }
 
-RayHit PlanarSlice::ToHit(const Best& best, double z_m) {
+// Inlined into Cast, the caster's hot path (called once per ray).
+[[gnu::always_inline]] inline RayHit PlanarSlice::ToHit(const Best& best, double z_m) {
   const Eigen::Vector2d& o = best.o;
   const Eigen::Vector2d& d = best.d;
   RayHit hit;
@@ -364,6 +360,16 @@ RayHit PlanarSlice::ToHit(const Best& best, double z_m) {
   }
   hit.normal = {n.x(), n.y(), 0.0};
   return hit;
+}
+
+RayHit PlanarSlice::Cast(const Eigen::Vector3d& origin_m, const Eigen::Vector2d& direction,
+                         double max_range_m, int ignore_group) const {
+  Best best{origin_m.head<2>(), direction, max_range_m, ignore_group};
+  for (const Segment& s : outside_segments_) best.Test(s);
+  for (const Circle& c : outside_circles_) best.Test(c);
+
+  WalkGrid(max_range_m, &best);
+  return ToHit(best, origin_m.z());
 }
 
 PlanarCaster::PlanarCaster(const World* world, PlanarCasterOptions options)

@@ -88,30 +88,13 @@ struct RaycastDrive::Step {
   }
 };
 
-void RaycastDrive::Solve(double dt_s, const std::vector<double>& command_radps,
-                         RaycastChassis* chassis) {
-  const Eigen::Vector3d up(0, 0, 1);
-  const Eigen::Matrix3d& R = chassis->world_from_body;
-  Step step;
-  step.inv_mass = chassis->inverse_mass;
-  step.inv_inertia = &chassis->inverse_inertia;
-  step.v = chassis->linear_mps - options_.gravity_mps2 * dt_s * up;
-  step.w = chassis->angular_radps;
-  step.forward = R.col(0);
-  step.forward.z() = 0.0;
-  step.level_enough = step.forward.norm() > kMinForwardNorm;
-  if (step.level_enough) step.forward.normalize();
-  step.left = up.cross(step.forward);
-
-  AddContactRows(dt_s, command_radps, *chassis, &step);
-  SolveRows(dt_s, &step);
-  SetWheelRates(dt_s, command_radps, step);
-  chassis->linear_mps = step.v + options_.gravity_mps2 * dt_s * up;
-  chassis->angular_radps = step.w;
-}
-
-void RaycastDrive::AddContactRows(double dt_s, const std::vector<double>& command_radps,
-                                  const RaycastChassis& chassis, Step* step) {
+// Inlined into Solve (called once per robot and step).
+[[gnu::always_inline]] inline void RaycastDrive::AddContactRows(
+    double dt_s, const std::vector<double>& command_radps, const RaycastChassis& chassis,
+    Step* step_io) {
+  // A local copy, which nothing else can alias: the velocities stay in
+  // registers while the impulses accumulate into the wheel states.
+  Step step = *step_io;
   const Eigen::Vector3d up(0, 0, 1);
   const Eigen::Matrix3d& R = chassis.world_from_body;
   normal_rows_.clear();
@@ -136,59 +119,65 @@ void RaycastDrive::AddContactRows(double dt_s, const std::vector<double>& comman
     const Eigen::Vector3d arm =
         Eigen::Vector3d(centre.x(), centre.y(), options_.floor_z_m) - chassis.com_m;
     const double target = gap > 0.0 ? -gap / dt_s : -kPenetrationErp * gap / dt_s;
-    normal_rows_.push_back(step->MakeRow(up, arm, target));
+    normal_rows_.push_back(step.MakeRow(up, arm, target));
     // Friction rows exist for drive wheels only; casters hold empty rows so
     // that the row lists stay parallel.
-    const bool friction = spec.driven && step->level_enough;
+    const bool friction = spec.driven && step.level_enough;
     traction_rows_.push_back(
-        friction ? step->MakeRow(step->forward, arm, spec.radius_m * command_radps[i]) : Row{});
-    lateral_rows_.push_back(friction ? step->MakeRow(step->left, arm, 0.0) : Row{});
+        friction ? step.MakeRow(step.forward, arm, spec.radius_m * command_radps[i]) : Row{});
+    lateral_rows_.push_back(friction ? step.MakeRow(step.left, arm, 0.0) : Row{});
     contact_wheel_.push_back(i);
     if (s.contact) {
       s.normal_ns *= kWarmStartFactor;
       s.traction_ns = friction ? kWarmStartFactor * s.traction_ns : 0.0;
       s.lateral_ns = friction ? kWarmStartFactor * s.lateral_ns : 0.0;
-      step->Apply(normal_rows_.back(), s.normal_ns);
+      step.Apply(normal_rows_.back(), s.normal_ns);
       if (friction) {
-        step->Apply(traction_rows_.back(), s.traction_ns);
-        step->Apply(lateral_rows_.back(), s.lateral_ns);
+        step.Apply(traction_rows_.back(), s.traction_ns);
+        step.Apply(lateral_rows_.back(), s.lateral_ns);
       }
     } else {
       s.normal_ns = s.traction_ns = s.lateral_ns = 0.0;
     }
     s.contact = true;
   }
+  *step_io = step;
 }
 
-void RaycastDrive::SolveRows(double dt_s, Step* step) {
+// Inlined into Solve (called once per robot and step).
+[[gnu::always_inline]] inline void RaycastDrive::SolveRows(double dt_s, Step* step_io) {
+  // A local copy, as in AddContactRows.
+  Step step = *step_io;
   const std::size_t contacts = contact_wheel_.size();
   // Passes stop early once no impulse changes by more than kConvergedFraction
   // of the robot's weight over the step.
   const double converged_ns =
-      kConvergedFraction * options_.gravity_mps2 * dt_s / std::max(step->inv_mass, 1e-12);
+      kConvergedFraction * options_.gravity_mps2 * dt_s / std::max(step.inv_mass, 1e-12);
   for (int pass = 0; pass < options_.iterations; ++pass) {
-    step->largest_change_ns = 0.0;
+    step.largest_change_ns = 0.0;
     for (std::size_t c = 0; c < contacts; ++c) {
       WheelState& s = state_[contact_wheel_[c]];
-      step->SolveRow(normal_rows_[c], 0.0, std::numeric_limits<double>::infinity(), &s.normal_ns);
+      step.SolveRow(normal_rows_[c], 0.0, std::numeric_limits<double>::infinity(), &s.normal_ns);
     }
     // Friction after the normals, bounded by their current impulses (a
     // friction pyramid, as the reference's two friction rows per contact).
     for (std::size_t c = 0; c < contacts; ++c) {
       const RaycastWheelSpec& spec = wheels_[contact_wheel_[c]];
-      if (!spec.driven || !step->level_enough) continue;
+      if (!spec.driven || !step.level_enough) continue;
       WheelState& s = state_[contact_wheel_[c]];
       const double grip = spec.friction * s.normal_ns;
       const double drive = std::min(grip, spec.max_torque_nm / spec.radius_m * dt_s);
-      step->SolveRow(traction_rows_[c], -drive, drive, &s.traction_ns);
-      step->SolveRow(lateral_rows_[c], -grip, grip, &s.lateral_ns);
+      step.SolveRow(traction_rows_[c], -drive, drive, &s.traction_ns);
+      step.SolveRow(lateral_rows_[c], -grip, grip, &s.lateral_ns);
     }
-    if (step->largest_change_ns <= converged_ns) break;
+    if (step.largest_change_ns <= converged_ns) break;
   }
+  *step_io = step;
 }
 
-void RaycastDrive::SetWheelRates(double dt_s, const std::vector<double>& command_radps,
-                                 const Step& step) {
+// Inlined into Solve (called once per robot and step).
+[[gnu::always_inline]] inline void RaycastDrive::SetWheelRates(
+    double dt_s, const std::vector<double>& command_radps, const Step& step) {
   // The wheels' rates: the commanded one while the motor holds it (rolling or
   // skidding); rolling with the ground when the torque limit binds first.
   for (int i = 0; i < wheel_count(); ++i) {
@@ -208,6 +197,28 @@ void RaycastDrive::SetWheelRates(double dt_s, const std::vector<double>& command
       state_[i].rate_radps = (row.linear.dot(step.v) + row.angular.dot(step.w)) / spec.radius_m;
     }
   }
+}
+
+void RaycastDrive::Solve(double dt_s, const std::vector<double>& command_radps,
+                         RaycastChassis* chassis) {
+  const Eigen::Vector3d up(0, 0, 1);
+  const Eigen::Matrix3d& R = chassis->world_from_body;
+  Step step;
+  step.inv_mass = chassis->inverse_mass;
+  step.inv_inertia = &chassis->inverse_inertia;
+  step.v = chassis->linear_mps - options_.gravity_mps2 * dt_s * up;
+  step.w = chassis->angular_radps;
+  step.forward = R.col(0);
+  step.forward.z() = 0.0;
+  step.level_enough = step.forward.norm() > kMinForwardNorm;
+  if (step.level_enough) step.forward.normalize();
+  step.left = up.cross(step.forward);
+
+  AddContactRows(dt_s, command_radps, *chassis, &step);
+  SolveRows(dt_s, &step);
+  SetWheelRates(dt_s, command_radps, step);
+  chassis->linear_mps = step.v + options_.gravity_mps2 * dt_s * up;
+  chassis->angular_radps = step.w;
 }
 
 void RaycastDrive::Integrate(double dt_s) {

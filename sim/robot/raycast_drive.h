@@ -97,9 +97,9 @@ class RaycastDrive {
 
   // The contact rows of the wheels on the floor, with their warm-start impulses applied.
   void AddContactRows(double dt_s, const std::vector<double>& command_radps,
-                      const RaycastChassis& chassis, Step* step);
+                      const RaycastChassis& chassis, Step* step_io);
   // Sequential-impulse passes over the contact rows until they converge.
-  void SolveRows(double dt_s, Step* step);
+  void SolveRows(double dt_s, Step* step_io);
   // The drive wheels' rates after the solve.
   void SetWheelRates(double dt_s, const std::vector<double>& command_radps, const Step& step);
 

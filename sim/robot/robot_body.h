@@ -6,11 +6,18 @@
 
 #include "core/geometry/planar_section.h"
 #include "core/types/pose2.h"
+#include "sim/robot/raycast_drive.h"
 #include "sim/world/element_table.h"
 #include "sim/world/physics_world.h"
 #include "sim/world/prism_registry.h"
 #include "sim/world/world.h"
 #include "sim/world/world_description.h"
+
+// Bullet types are only declared here (the layer lint keeps Bullet includes out
+// of every sim/ header); robot_body.cc and its users include Bullet.
+class btCompoundShape;
+class btHingeConstraint;
+class btRigidBody;
 
 namespace pavilion::sim {
 
@@ -29,15 +36,17 @@ struct RobotBodyContext {
 // wheels on hinge motors and caster spheres on ball joints, or with
 // WheelModel::kRaycast the chassis alone on ray-cast wheels (RaycastDrive).
 // Its parts share one element group; the chassis is its element and the
-// attachments follow it. The physics world owns the Bullet objects.
+// attachments follow it. The physics world owns the Bullet objects; the body
+// holds its state by value, so that a world's robots lie side by side in
+// memory (World::Step and the sections visit them all every tick).
 class RobotBody {
  public:
   // Validates `spec` (std::invalid_argument naming the robot) and builds the
   // robot at spec.pose, at rest. `group` is the robot index.
   RobotBody(const RobotSpec& spec, int group, const RobotBodyContext& world);
   ~RobotBody();
-  RobotBody(const RobotBody&) = delete;
-  RobotBody& operator=(const RobotBody&) = delete;
+  RobotBody(RobotBody&&) noexcept;
+  RobotBody& operator=(RobotBody&&) noexcept;
 
   const RobotSpec& spec() const;
   int group() const;
@@ -65,8 +74,65 @@ class RobotBody {
                      core::PlanarSection* out, std::vector<UncutElement>* uncut) const;
 
  private:
-  struct Impl;
-  std::unique_ptr<Impl> impl_;
+  // A rigid part and where it sits in the robot's base frame (robot_body.cc).
+  struct Part;
+  // The masses of the articulated reference's bodies; they add up to the
+  // model's total mass.
+  struct PartMasses {
+    double chassis_kg = 0.0;
+    double wheel_kg[2] = {0.0, 0.0};  // left, right: the drive units lumped at the axles
+    double caster_kg = 0.0;
+  };
+  // Where the physical robot's parts go: the drive wheels' radii and wheelbase
+  // carry the systematic errors (mean radius and the wheel positions' midpoint
+  // kept).
+  struct PartLayout {
+    double radius[2] = {0, 0};   // left, right drive wheel
+    double wheel_y[2] = {0, 0};  // base frame
+    // The chassis' centre of mass from the model, kept on the base's z axis
+    // (the drive is symmetric) and inside the chassis' height.
+    double chassis_com_z_m = 0.0;
+    // Centre of mass of the body that carries the chassis: the chassis', or
+    // the reference's parts welded together with WheelModel::kRaycast.
+    double com_z_m = 0.0;
+    PartMasses masses;
+  };
+
+  static PartMasses ReferencePartMasses(const RobotDescription& m);
+  static PartLayout LayOutParts(const RobotSpec& spec);
+  std::unique_ptr<btCompoundShape> BuildChassisShape();
+  btVector3 WeldedInertia(btCompoundShape* compound, const PartLayout& layout) const;
+  void AddRaycastParts(std::unique_ptr<btCompoundShape> compound,
+                       const btTransform& base_from_chassis, const PartLayout& layout,
+                       const Material& material, int first_attachment);
+  void AddRaycastDrive(const PartLayout& layout);
+  void AddArticulatedParts(std::unique_ptr<btCompoundShape> compound,
+                           const btTransform& base_from_chassis, const PartLayout& layout,
+                           const Material& material, int first_attachment);
+  void Place(const core::Pose2& pose);
+  btTransform WorldFromBase() const;
+  void SolveRaycastContacts(double dt);
+  void UpdateWheelAngles();
+  bool raycast() const { return drive_ != nullptr; }
+  btRigidBody* chassis() const;
+  btRigidBody* wheel(int side) const;
+
+  RobotBodyContext world_;
+  RobotSpec spec_;
+  int group_ = -1;
+  int element_ = -1;         // chassis (and attachments' object)
+  std::vector<Part> parts_;  // chassis first, then left, right wheel, casters
+  btHingeConstraint* hinge_[2] = {nullptr, nullptr};
+  double com_z_m_ = 0.0;  // chassis centre of mass above the base origin
+  double target_radps_[2] = {0, 0};
+  double command_radps_[2] = {0, 0};
+  double wheel_rad_[2] = {0, 0};  // unwrapped, positive forward
+  double last_hinge_rad_[2] = {0, 0};
+  // WheelModel::kRaycast: the contact solver (left, right wheel, then
+  // casters) and its per-wheel commands; parts_ then holds the chassis alone.
+  std::unique_ptr<RaycastDrive> drive_;
+  std::vector<double> drive_command_radps_;
+  double push_height_m_ = 0.0;  // where pushes act, above the chassis body's centre of mass
 };
 
 }  // namespace pavilion::sim

@@ -24,7 +24,12 @@ SimRobot::SimRobot(World* world, SimRobotSetup setup, std::uint64_t seed)
   AddSensor(std::make_unique<EncoderSensor>(
       id, setup_.encoders, setup_.spec.model.left_wheel.radius_m,
       setup_.spec.model.right_wheel.radius_m, StreamFor(seed, id, "encoders"), physics_hz));
-  AddSensor(std::make_unique<BumperSensor>(setup_.bumpers, setup_.bumper_rate_hz));
+  if (setup_.bumpers.empty()) {
+    // No zones, no readings: the rate is still checked.
+    PeriodTicks(physics_hz, setup_.bumper_rate_hz, id + " bumpers");
+  } else {
+    AddSensor(std::make_unique<BumperSensor>(setup_.bumpers, setup_.bumper_rate_hz));
+  }
   std::set<std::string> ids;
   for (const LaserMountSetup& mount : setup_.lasers) {
     if (!ids.insert(mount.id).second) {

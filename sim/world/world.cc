@@ -91,7 +91,7 @@ struct World::Impl {
   mutable std::mutex ray_mutex;        // serializes CastRay (world.h)
 
   std::vector<Body> bodies;
-  std::vector<std::unique_ptr<RobotBody>> robots;
+  std::vector<RobotBody> robots;
   std::vector<btRigidBody*> doors;  // parallel to description.doors
   ContactTracker contacts;
   std::vector<ContactChange> pending_changes;
@@ -156,8 +156,8 @@ struct World::Impl {
 
   void AppendRobotSection(double z, double max_cylinder_tilt_rad, core::PlanarSection* out,
                           std::vector<UncutElement>* uncut) const {
-    for (const auto& robot : robots)
-      robot->AppendSection(z, max_cylinder_tilt_rad, prisms, out, uncut);
+    for (const RobotBody& robot : robots)
+      robot.AppendSection(z, max_cylinder_tilt_rad, prisms, out, uncut);
   }
 };
 
@@ -233,31 +233,31 @@ int World::AddBody(const BodySpec& spec) {
 int World::AddRobot(const RobotSpec& spec) {
   Impl& im = *impl_;
   const int group = static_cast<int>(im.robots.size());
-  im.robots.push_back(std::make_unique<RobotBody>(spec, group, im.robot_context()));
+  im.robots.emplace_back(spec, group, im.robot_context());
   return static_cast<int>(im.robots.size()) - 1;
 }
 
 int World::robot_count() const { return static_cast<int>(impl_->robots.size()); }
-const RobotSpec& World::robot_spec(int robot) const { return impl_->robots.at(robot)->spec(); }
-int World::robot_group(int robot) const { return impl_->robots.at(robot)->group(); }
-int World::robot_element(int robot) const { return impl_->robots.at(robot)->element(); }
+const RobotSpec& World::robot_spec(int robot) const { return impl_->robots.at(robot).spec(); }
+int World::robot_group(int robot) const { return impl_->robots.at(robot).group(); }
+int World::robot_element(int robot) const { return impl_->robots.at(robot).element(); }
 
-RobotState World::robot_state(int robot) const { return impl_->robots.at(robot)->State(); }
+RobotState World::robot_state(int robot) const { return impl_->robots.at(robot).State(); }
 
 void World::SetWheelSpeeds(int robot, double left_radps, double right_radps) {
-  impl_->robots.at(robot)->SetWheelSpeeds(left_radps, right_radps);
+  impl_->robots.at(robot).SetWheelSpeeds(left_radps, right_radps);
 }
 
 std::vector<Eigen::Vector2d> World::RobotContactPoints(int robot) const {
-  return impl_->robots.at(robot)->ContactPoints(impl_->physics.dispatcher());
+  return impl_->robots.at(robot).ContactPoints(impl_->physics.dispatcher());
 }
 
 void World::ApplyRobotImpulse(int robot, const Eigen::Vector2d& impulse_ns) {
-  impl_->robots.at(robot)->ApplyImpulse(impulse_ns);
+  impl_->robots.at(robot).ApplyImpulse(impulse_ns);
 }
 
 void World::TeleportRobot(int robot, const core::Pose2& pose) {
-  impl_->robots.at(robot)->Teleport(pose);
+  impl_->robots.at(robot).Teleport(pose);
 }
 
 int World::body_count() const { return static_cast<int>(impl_->bodies.size()); }
@@ -323,9 +323,9 @@ void World::Step() {
   Impl& im = *impl_;
   const double dt = step_s();
   for (Impl::Body& b : im.bodies) Impl::ApplyPlanarMotion(&b, dt);
-  for (auto& r : im.robots) r->BeforeStep(dt);
+  for (RobotBody& r : im.robots) r.BeforeStep(dt);
   im.physics.dynamics().stepSimulation(dt, 0, dt);
-  for (auto& r : im.robots) r->AfterStep(dt);
+  for (RobotBody& r : im.robots) r.AfterStep(dt);
   ++im.tick;
   im.contacts.Update(im.physics.dispatcher(), &im.pending_changes);
 }
