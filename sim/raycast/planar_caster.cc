@@ -269,9 +269,7 @@ struct PlanarSlice::Best {
 
 // Inlined into Cast, the caster's hot path (called once per ray).
 [[gnu::always_inline]] inline void PlanarSlice::WalkGrid(double max_range_m, Best* best_io) const {
-  // A local copy, which nothing else can alias: the compiler keeps it in
-  // registers over the walk (the caster's hot loop).
-  Best best = *best_io;
+  Best& best = *best_io;
   // The ray's part inside the grid.
   const Eigen::Vector2d& o = best.o;
   const Eigen::Vector2d& d = best.d;
@@ -335,7 +333,6 @@ struct PlanarSlice::Best {
       }
     }
   }
-  *best_io = best;
 }
 
 // Inlined into Cast, the caster's hot path (called once per ray).

@@ -6,6 +6,7 @@
 
 #include "sim/sensors/bumper_sensor.h"
 #include "sim/sensors/encoder_sensor.h"
+#include "sim/sensors/laser_sensor.h"
 
 namespace pavilion::sim {
 namespace {

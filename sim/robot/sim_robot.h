@@ -10,7 +10,6 @@
 #include "sim/raycast/planar_caster.h"
 #include "sim/runtime/schedule.h"
 #include "sim/sensors/laser_scanner.h"
-#include "sim/sensors/laser_sensor.h"
 #include "sim/sensors/robot_sensors.h"
 #include "sim/sensors/sensor.h"
 #include "sim/world/world.h"
