@@ -413,10 +413,6 @@ RobotBody& RobotBody::operator=(RobotBody&&) noexcept = default;
 btRigidBody* RobotBody::chassis() const { return parts_[0].rigid; }
 btRigidBody* RobotBody::wheel(int side) const { return parts_[1 + side].rigid; }
 
-const RobotSpec& RobotBody::spec() const { return spec_; }
-int RobotBody::group() const { return group_; }
-int RobotBody::element() const { return element_; }
-
 RobotState RobotBody::State() const {
   const btRigidBody* body = chassis();
   const btTransform world_from_base = WorldFromBase();

@@ -48,9 +48,9 @@ class RobotBody {
   RobotBody(RobotBody&&) noexcept;
   RobotBody& operator=(RobotBody&&) noexcept;
 
-  const RobotSpec& spec() const;
-  int group() const;
-  int element() const;
+  const RobotSpec& spec() const { return spec_; }
+  int group() const { return group_; }
+  int element() const { return element_; }
 
   RobotState State() const;
   // Targets of the motors (rad/s, positive forward), clamped to the speed limit.
