@@ -267,12 +267,9 @@ struct PlanarSlice::Best {
   }
 };
 
-RayHit PlanarSlice::Cast(const Eigen::Vector3d& origin_m, const Eigen::Vector2d& direction,
-                         double max_range_m, int ignore_group) const {
-  Best best{origin_m.head<2>(), direction, max_range_m, ignore_group};
-  for (const Segment& s : outside_segments_) best.Test(s);
-  for (const Circle& c : outside_circles_) best.Test(c);
-
+// Inlined into Cast, the caster's hot path (called once per ray).
+[[gnu::always_inline]] inline void PlanarSlice::WalkGrid(double max_range_m, Best* best_io) const {
+  Best& best = *best_io;
   // The ray's part inside the grid.
   const Eigen::Vector2d& o = best.o;
   const Eigen::Vector2d& d = best.d;
@@ -336,13 +333,18 @@ RayHit PlanarSlice::Cast(const Eigen::Vector3d& origin_m, const Eigen::Vector2d&
       }
     }
   }
+}
 
+// Inlined into Cast, the caster's hot path (called once per ray).
+[[gnu::always_inline]] inline RayHit PlanarSlice::ToHit(const Best& best, double z_m) {
+  const Eigen::Vector2d& o = best.o;
+  const Eigen::Vector2d& d = best.d;
   RayHit hit;
   if (best.segment == nullptr && best.circle == nullptr) return hit;
   hit.hit = true;
   hit.distance_m = best.t;
   const Eigen::Vector2d point = o + best.t * d;
-  hit.point_m = {point.x(), point.y(), origin_m.z()};
+  hit.point_m = {point.x(), point.y(), z_m};
   Eigen::Vector2d n;
   if (best.segment != nullptr) {
     const Eigen::Vector2d& e = best.segment->edge_m;
@@ -355,6 +357,16 @@ RayHit PlanarSlice::Cast(const Eigen::Vector3d& origin_m, const Eigen::Vector2d&
   }
   hit.normal = {n.x(), n.y(), 0.0};
   return hit;
+}
+
+RayHit PlanarSlice::Cast(const Eigen::Vector3d& origin_m, const Eigen::Vector2d& direction,
+                         double max_range_m, int ignore_group) const {
+  Best best{origin_m.head<2>(), direction, max_range_m, ignore_group};
+  for (const Segment& s : outside_segments_) best.Test(s);
+  for (const Circle& c : outside_circles_) best.Test(c);
+
+  WalkGrid(max_range_m, &best);
+  return ToHit(best, origin_m.z());
 }
 
 PlanarCaster::PlanarCaster(const World* world, PlanarCasterOptions options)

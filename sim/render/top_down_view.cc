@@ -118,6 +118,112 @@ constexpr Rgb kSectionColour{20, 20, 20};
 constexpr Rgb kTransparentColour{90, 170, 230};
 constexpr Rgb kPlaceColour{40, 150, 60};
 
+Rgb MaterialRgb(const WorldDescription& d, const std::string& material) {
+  return ToRgb(d.MaterialNamed(material).rgba);
+}
+
+double MaterialAlpha(const WorldDescription& d, const std::string& material) {
+  return d.MaterialNamed(material).rgba[3];
+}
+
+// The floor, place areas and static elements of the description, filled.
+void DrawStatics(const WorldDescription& d, const TopDownOptions& options, Canvas* canvas) {
+  const auto colour = [&](const std::string& material) { return MaterialRgb(d, material); };
+  const auto alpha = [&](const std::string& material) { return MaterialAlpha(d, material); };
+  canvas->FillPolygon({d.floor.min_m,
+                       {d.floor.max_m.x(), d.floor.min_m.y()},
+                       d.floor.max_m,
+                       {d.floor.min_m.x(), d.floor.max_m.y()}},
+                      colour(d.floor.material));
+  for (const auto& [name, place] : d.places) {
+    if (options.draw_places && place.area) canvas->FillPolygon(*place.area, kPlaceColour, 0.15);
+  }
+  for (const Wall& w : d.walls) {
+    for (const Quad& q : WallFootprint(w))
+      canvas->FillPolygon({q.begin(), q.end()}, colour(w.material), alpha(w.material));
+  }
+  for (const Box& b : d.boxes) {
+    const Quad q = BoxFootprint(b);
+    canvas->FillPolygon({q.begin(), q.end()}, colour(b.material), alpha(b.material));
+  }
+  for (const Door& door : d.doors) {
+    const Quad q = BoxFootprint(door.AsBox());
+    canvas->FillPolygon({q.begin(), q.end()}, colour(door.material), alpha(door.material));
+  }
+  for (const Cylinder& c : d.cylinders) {
+    canvas->FillCircle(c.position_m, c.radius_m, colour(c.material), alpha(c.material));
+  }
+}
+
+// The cut of the static elements at beam height: what a laser there can meet.
+void DrawStaticSection(const World& world, const TopDownOptions& options, Canvas* canvas) {
+  const core::PlanarSection section = world.SectionAt(options.section_height_m);
+  for (const auto& s : section.segments) {
+    const bool glass = section.elements[s.element].laser == core::LaserResponse::kTransparent;
+    if (section.elements[s.element].dynamic) continue;
+    canvas->Line(s.a_m, s.b_m, glass ? kTransparentColour : kSectionColour, 1.5);
+  }
+  for (const auto& c : section.circles) {
+    if (section.elements[c.element].dynamic) continue;
+    canvas->Circle(c.center_m, c.radius_m, kSectionColour, 1.5);
+  }
+}
+
+// Every body at its pose, with a heading tick.
+void DrawBodies(const World& world, Canvas* canvas) {
+  const WorldDescription& d = world.description();
+  for (int b = 0; b < world.body_count(); ++b) {
+    const BodySpec& spec = world.body_spec(b);
+    const BodyState state = world.body_state(b);
+    const Rgb c = MaterialRgb(d, spec.material);
+    if (spec.shape.type == BodyShapeType::kBox) {
+      Box box;
+      box.pose = state.pose;
+      box.size_m = spec.shape.box_size_m;
+      const Quad q = BoxFootprint(box);
+      canvas->FillPolygon({q.begin(), q.end()}, c);
+    } else {
+      canvas->FillCircle(state.pose.translation(), spec.shape.radius_m, c);
+    }
+    const double r = spec.shape.type == BodyShapeType::kBox ? 0.5 * spec.shape.box_size_m.x()
+                                                            : spec.shape.radius_m;
+    const Eigen::Vector2d heading(std::cos(state.pose.theta_rad), std::sin(state.pose.theta_rad));
+    canvas->Line(state.pose.translation(), state.pose.translation() + r * heading, {0, 0, 0}, 1.0);
+  }
+}
+
+// Every robot's footprint and attachments at its true pose, with a heading tick.
+void DrawRobots(const World& world, Canvas* canvas) {
+  const WorldDescription& d = world.description();
+  for (int r = 0; r < world.robot_count(); ++r) {
+    const RobotSpec& spec = world.robot_spec(r);
+    const RobotState state = world.robot_state(r);
+    std::vector<Eigen::Vector2d> outline;
+    for (const Eigen::Vector2d& p : spec.model.footprint_m) outline.push_back(state.pose * p);
+    canvas->FillPolygon(outline, MaterialRgb(d, spec.model.material));
+    for (const RobotAttachment& a : spec.attachments) {
+      canvas->FillCircle(state.pose * a.position_m, a.radius_m, MaterialRgb(d, a.material));
+    }
+    double reach = 0.0;
+    for (const Eigen::Vector2d& p : spec.model.footprint_m) reach = std::max(reach, p.x());
+    const Eigen::Vector2d heading(std::cos(state.pose.theta_rad), std::sin(state.pose.theta_rad));
+    canvas->Line(state.pose.translation(), state.pose.translation() + reach * heading, {0, 0, 0},
+                 1.5);
+  }
+}
+
+// The places' poses as dots with a direction tick.
+void DrawPlacePoses(const WorldDescription& d, const TopDownOptions& options, double scale,
+                    Canvas* canvas) {
+  for (const auto& [name, place] : d.places) {
+    if (!options.draw_places || !place.pose) continue;
+    const Eigen::Vector2d p = place.pose->translation();
+    canvas->FillCircle(p, 3.0 / scale, kPlaceColour);
+    const Eigen::Vector2d dir(std::cos(place.pose->theta_rad), std::sin(place.pose->theta_rad));
+    canvas->Line(p, p + (10.0 / scale) * dir, kPlaceColour, 1.0);
+  }
+}
+
 }  // namespace
 
 core::RgbImage RenderTopDown(const World& world, const std::vector<TopDownTrack>& tracks,
@@ -130,91 +236,16 @@ core::RgbImage RenderTopDown(const World& world, const std::vector<TopDownTrack>
   const int height = std::max(1, static_cast<int>(std::lround((hi.y() - lo.y()) * scale)));
   core::RgbImage image(width, height, 250, 250, 250);
   Canvas canvas(&image, {lo.x(), hi.y()}, scale);
-
-  auto colour = [&](const std::string& material) { return ToRgb(d.MaterialNamed(material).rgba); };
-  auto alpha = [&](const std::string& material) { return d.MaterialNamed(material).rgba[3]; };
-
-  canvas.FillPolygon({d.floor.min_m,
-                      {d.floor.max_m.x(), d.floor.min_m.y()},
-                      d.floor.max_m,
-                      {d.floor.min_m.x(), d.floor.max_m.y()}},
-                     colour(d.floor.material));
-  for (const auto& [name, place] : d.places) {
-    if (options.draw_places && place.area) canvas.FillPolygon(*place.area, kPlaceColour, 0.15);
-  }
-  for (const Wall& w : d.walls) {
-    for (const Quad& q : WallFootprint(w))
-      canvas.FillPolygon({q.begin(), q.end()}, colour(w.material), alpha(w.material));
-  }
-  for (const Box& b : d.boxes) {
-    const Quad q = BoxFootprint(b);
-    canvas.FillPolygon({q.begin(), q.end()}, colour(b.material), alpha(b.material));
-  }
-  for (const Door& door : d.doors) {
-    const Quad q = BoxFootprint(door.AsBox());
-    canvas.FillPolygon({q.begin(), q.end()}, colour(door.material), alpha(door.material));
-  }
-  for (const Cylinder& c : d.cylinders) {
-    canvas.FillCircle(c.position_m, c.radius_m, colour(c.material), alpha(c.material));
-  }
-
-  // The cut at beam height: what a laser there can meet.
-  const core::PlanarSection section = world.SectionAt(options.section_height_m);
-  for (const auto& s : section.segments) {
-    const bool glass = section.elements[s.element].laser == core::LaserResponse::kTransparent;
-    if (section.elements[s.element].dynamic) continue;
-    canvas.Line(s.a_m, s.b_m, glass ? kTransparentColour : kSectionColour, 1.5);
-  }
-  for (const auto& c : section.circles) {
-    if (section.elements[c.element].dynamic) continue;
-    canvas.Circle(c.center_m, c.radius_m, kSectionColour, 1.5);
-  }
-
+  DrawStatics(d, options, &canvas);
+  DrawStaticSection(world, options, &canvas);
   for (const auto& track : tracks) {
     for (std::size_t i = 1; i < track.points_m.size(); ++i) {
       canvas.Line(track.points_m[i - 1], track.points_m[i], track.rgb, track.width_px, track.alpha);
     }
   }
-  for (int b = 0; b < world.body_count(); ++b) {
-    const BodySpec& spec = world.body_spec(b);
-    const BodyState state = world.body_state(b);
-    const Rgb c = colour(spec.material);
-    if (spec.shape.type == BodyShapeType::kBox) {
-      Box box;
-      box.pose = state.pose;
-      box.size_m = spec.shape.box_size_m;
-      const Quad q = BoxFootprint(box);
-      canvas.FillPolygon({q.begin(), q.end()}, c);
-    } else {
-      canvas.FillCircle(state.pose.translation(), spec.shape.radius_m, c);
-    }
-    const double r = spec.shape.type == BodyShapeType::kBox ? 0.5 * spec.shape.box_size_m.x()
-                                                            : spec.shape.radius_m;
-    const Eigen::Vector2d heading(std::cos(state.pose.theta_rad), std::sin(state.pose.theta_rad));
-    canvas.Line(state.pose.translation(), state.pose.translation() + r * heading, {0, 0, 0}, 1.0);
-  }
-  for (int r = 0; r < world.robot_count(); ++r) {
-    const RobotSpec& spec = world.robot_spec(r);
-    const RobotState state = world.robot_state(r);
-    std::vector<Eigen::Vector2d> outline;
-    for (const Eigen::Vector2d& p : spec.model.footprint_m) outline.push_back(state.pose * p);
-    canvas.FillPolygon(outline, colour(spec.model.material));
-    for (const RobotAttachment& a : spec.attachments) {
-      canvas.FillCircle(state.pose * a.position_m, a.radius_m, colour(a.material));
-    }
-    double reach = 0.0;
-    for (const Eigen::Vector2d& p : spec.model.footprint_m) reach = std::max(reach, p.x());
-    const Eigen::Vector2d heading(std::cos(state.pose.theta_rad), std::sin(state.pose.theta_rad));
-    canvas.Line(state.pose.translation(), state.pose.translation() + reach * heading, {0, 0, 0},
-                1.5);
-  }
-  for (const auto& [name, place] : d.places) {
-    if (!options.draw_places || !place.pose) continue;
-    const Eigen::Vector2d p = place.pose->translation();
-    canvas.FillCircle(p, 3.0 / scale, kPlaceColour);
-    const Eigen::Vector2d dir(std::cos(place.pose->theta_rad), std::sin(place.pose->theta_rad));
-    canvas.Line(p, p + (10.0 / scale) * dir, kPlaceColour, 1.0);
-  }
+  DrawBodies(world, &canvas);
+  DrawRobots(world, &canvas);
+  DrawPlacePoses(d, options, scale, &canvas);
   return image;
 }
 

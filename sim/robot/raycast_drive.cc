@@ -51,36 +51,52 @@ RaycastDrive::RaycastDrive(std::vector<RaycastWheelSpec> wheels, const RaycastDr
   contact_wheel_.reserve(wheels_.size());
 }
 
-void RaycastDrive::Solve(double dt_s, const std::vector<double>& command_radps,
-                         RaycastChassis* chassis) {
-  const Eigen::Vector3d up(0, 0, 1);
-  const Eigen::Matrix3d& R = chassis->world_from_body;
-  const double inv_mass = chassis->inverse_mass;
-  const Eigen::Matrix3d& inv_inertia = chassis->inverse_inertia;
-  // Velocities at the end of the step without the contacts.
-  Eigen::Vector3d v = chassis->linear_mps - options_.gravity_mps2 * dt_s * up;
-  Eigen::Vector3d w = chassis->angular_radps;
-  const auto make_row = [&](const Eigen::Vector3d& direction, const Eigen::Vector3d& arm,
-                            double target) {
+struct RaycastDrive::Step {
+  double inv_mass = 0.0;
+  const Eigen::Matrix3d* inv_inertia = nullptr;
+  // Velocities at the end of the step, gravity taken out while the contacts act.
+  Eigen::Vector3d v{0, 0, 0};
+  Eigen::Vector3d w{0, 0, 0};
+  // The rolling direction on the floor: the chassis' forward axis made level.
+  Eigen::Vector3d forward{0, 0, 0};
+  Eigen::Vector3d left{0, 0, 0};
+  bool level_enough = false;
+  double largest_change_ns = 0.0;  // of the current pass
+
+  Row MakeRow(const Eigen::Vector3d& direction, const Eigen::Vector3d& arm, double target) const {
     Row row;
     row.linear = direction;
     row.angular = arm.cross(direction);
-    row.inv_inertia_angular = inv_inertia * row.angular;
+    row.inv_inertia_angular = *inv_inertia * row.angular;
     row.inverse_effective_mass = 1.0 / (inv_mass + row.angular.dot(row.inv_inertia_angular));
     row.target_mps = target;
     return row;
-  };
-  const auto apply = [&](const Row& row, double impulse) {
+  }
+
+  void Apply(const Row& row, double impulse) {
     v += inv_mass * impulse * row.linear;
     w += impulse * row.inv_inertia_angular;
-  };
-  // The rolling direction on the floor: the chassis' forward axis made level.
-  Eigen::Vector3d forward = R.col(0);
-  forward.z() = 0.0;
-  const bool level_enough = forward.norm() > kMinForwardNorm;
-  if (level_enough) forward.normalize();
-  const Eigen::Vector3d left = up.cross(forward);
+  }
 
+  void SolveRow(const Row& row, double lo, double hi, double* accumulated) {
+    const double velocity = row.linear.dot(v) + row.angular.dot(w);
+    const double wanted = *accumulated + (row.target_mps - velocity) * row.inverse_effective_mass;
+    const double clamped = std::clamp(wanted, lo, hi);
+    Apply(row, clamped - *accumulated);
+    largest_change_ns = std::max(largest_change_ns, std::abs(clamped - *accumulated));
+    *accumulated = clamped;
+  }
+};
+
+// Inlined into Solve (called once per robot and step).
+[[gnu::always_inline]] inline void RaycastDrive::AddContactRows(
+    double dt_s, const std::vector<double>& command_radps, const RaycastChassis& chassis,
+    Step* step_io) {
+  // A local copy, which nothing else can alias: the velocities stay in
+  // registers while the impulses accumulate into the wheel states.
+  Step step = *step_io;
+  const Eigen::Vector3d up(0, 0, 1);
+  const Eigen::Matrix3d& R = chassis.world_from_body;
   normal_rows_.clear();
   traction_rows_.clear();
   lateral_rows_.clear();
@@ -88,7 +104,7 @@ void RaycastDrive::Solve(double dt_s, const std::vector<double>& command_radps,
   for (int i = 0; i < wheel_count(); ++i) {
     const RaycastWheelSpec& spec = wheels_[i];
     WheelState& s = state_[i];
-    const Eigen::Vector3d centre = chassis->com_m + R * spec.centre_m;
+    const Eigen::Vector3d centre = chassis.com_m + R * spec.centre_m;
     const double gap = centre.z() - options_.floor_z_m - spec.radius_m;
     const bool on_floor = centre.x() >= options_.floor_min_m.x() &&
                           centre.x() <= options_.floor_max_m.x() &&
@@ -101,86 +117,108 @@ void RaycastDrive::Solve(double dt_s, const std::vector<double>& command_radps,
     // The ray from the sphere's centre straight down meets the floor at the
     // sphere's contact point.
     const Eigen::Vector3d arm =
-        Eigen::Vector3d(centre.x(), centre.y(), options_.floor_z_m) - chassis->com_m;
+        Eigen::Vector3d(centre.x(), centre.y(), options_.floor_z_m) - chassis.com_m;
     const double target = gap > 0.0 ? -gap / dt_s : -kPenetrationErp * gap / dt_s;
-    normal_rows_.push_back(make_row(up, arm, target));
+    normal_rows_.push_back(step.MakeRow(up, arm, target));
     // Friction rows exist for drive wheels only; casters hold empty rows so
     // that the row lists stay parallel.
-    const bool friction = spec.driven && level_enough;
-    traction_rows_.push_back(friction ? make_row(forward, arm, spec.radius_m * command_radps[i])
-                                      : Row{});
-    lateral_rows_.push_back(friction ? make_row(left, arm, 0.0) : Row{});
+    const bool friction = spec.driven && step.level_enough;
+    traction_rows_.push_back(
+        friction ? step.MakeRow(step.forward, arm, spec.radius_m * command_radps[i]) : Row{});
+    lateral_rows_.push_back(friction ? step.MakeRow(step.left, arm, 0.0) : Row{});
     contact_wheel_.push_back(i);
     if (s.contact) {
       s.normal_ns *= kWarmStartFactor;
       s.traction_ns = friction ? kWarmStartFactor * s.traction_ns : 0.0;
       s.lateral_ns = friction ? kWarmStartFactor * s.lateral_ns : 0.0;
-      apply(normal_rows_.back(), s.normal_ns);
+      step.Apply(normal_rows_.back(), s.normal_ns);
       if (friction) {
-        apply(traction_rows_.back(), s.traction_ns);
-        apply(lateral_rows_.back(), s.lateral_ns);
+        step.Apply(traction_rows_.back(), s.traction_ns);
+        step.Apply(lateral_rows_.back(), s.lateral_ns);
       }
     } else {
       s.normal_ns = s.traction_ns = s.lateral_ns = 0.0;
     }
     s.contact = true;
   }
+  *step_io = step;
+}
 
+// Inlined into Solve (called once per robot and step).
+[[gnu::always_inline]] inline void RaycastDrive::SolveRows(double dt_s, Step* step_io) {
+  // A local copy, as in AddContactRows.
+  Step step = *step_io;
   const std::size_t contacts = contact_wheel_.size();
-  double largest_change_ns = 0.0;
-  const auto solve_row = [&](const Row& row, double lo, double hi, double* accumulated) {
-    const double velocity = row.linear.dot(v) + row.angular.dot(w);
-    const double wanted = *accumulated + (row.target_mps - velocity) * row.inverse_effective_mass;
-    const double clamped = std::clamp(wanted, lo, hi);
-    apply(row, clamped - *accumulated);
-    largest_change_ns = std::max(largest_change_ns, std::abs(clamped - *accumulated));
-    *accumulated = clamped;
-  };
   // Passes stop early once no impulse changes by more than kConvergedFraction
   // of the robot's weight over the step.
   const double converged_ns =
-      kConvergedFraction * options_.gravity_mps2 * dt_s / std::max(inv_mass, 1e-12);
+      kConvergedFraction * options_.gravity_mps2 * dt_s / std::max(step.inv_mass, 1e-12);
   for (int pass = 0; pass < options_.iterations; ++pass) {
-    largest_change_ns = 0.0;
+    step.largest_change_ns = 0.0;
     for (std::size_t c = 0; c < contacts; ++c) {
       WheelState& s = state_[contact_wheel_[c]];
-      solve_row(normal_rows_[c], 0.0, std::numeric_limits<double>::infinity(), &s.normal_ns);
+      step.SolveRow(normal_rows_[c], 0.0, std::numeric_limits<double>::infinity(), &s.normal_ns);
     }
     // Friction after the normals, bounded by their current impulses (a
     // friction pyramid, as the reference's two friction rows per contact).
     for (std::size_t c = 0; c < contacts; ++c) {
       const RaycastWheelSpec& spec = wheels_[contact_wheel_[c]];
-      if (!spec.driven || !level_enough) continue;
+      if (!spec.driven || !step.level_enough) continue;
       WheelState& s = state_[contact_wheel_[c]];
       const double grip = spec.friction * s.normal_ns;
       const double drive = std::min(grip, spec.max_torque_nm / spec.radius_m * dt_s);
-      solve_row(traction_rows_[c], -drive, drive, &s.traction_ns);
-      solve_row(lateral_rows_[c], -grip, grip, &s.lateral_ns);
+      step.SolveRow(traction_rows_[c], -drive, drive, &s.traction_ns);
+      step.SolveRow(lateral_rows_[c], -grip, grip, &s.lateral_ns);
     }
-    if (largest_change_ns <= converged_ns) break;
+    if (step.largest_change_ns <= converged_ns) break;
   }
+  *step_io = step;
+}
 
+// Inlined into Solve (called once per robot and step).
+[[gnu::always_inline]] inline void RaycastDrive::SetWheelRates(
+    double dt_s, const std::vector<double>& command_radps, const Step& step) {
   // The wheels' rates: the commanded one while the motor holds it (rolling or
   // skidding); rolling with the ground when the torque limit binds first.
   for (int i = 0; i < wheel_count(); ++i) {
     if (!wheels_[i].driven) continue;
     state_[i].rate_radps = command_radps[i];
   }
-  for (std::size_t c = 0; c < contacts; ++c) {
+  for (std::size_t c = 0; c < contact_wheel_.size(); ++c) {
     const int i = contact_wheel_[c];
     const RaycastWheelSpec& spec = wheels_[i];
-    if (!spec.driven || !level_enough) continue;
+    if (!spec.driven || !step.level_enough) continue;
     const WheelState& s = state_[i];
     const double torque_bound = spec.max_torque_nm / spec.radius_m * dt_s;
     const bool torque_limited =
         torque_bound < spec.friction * s.normal_ns && std::abs(s.traction_ns) >= torque_bound;
     if (torque_limited) {
       const Row& row = traction_rows_[c];
-      state_[i].rate_radps = (row.linear.dot(v) + row.angular.dot(w)) / spec.radius_m;
+      state_[i].rate_radps = (row.linear.dot(step.v) + row.angular.dot(step.w)) / spec.radius_m;
     }
   }
-  chassis->linear_mps = v + options_.gravity_mps2 * dt_s * up;
-  chassis->angular_radps = w;
+}
+
+void RaycastDrive::Solve(double dt_s, const std::vector<double>& command_radps,
+                         RaycastChassis* chassis) {
+  const Eigen::Vector3d up(0, 0, 1);
+  const Eigen::Matrix3d& R = chassis->world_from_body;
+  Step step;
+  step.inv_mass = chassis->inverse_mass;
+  step.inv_inertia = &chassis->inverse_inertia;
+  step.v = chassis->linear_mps - options_.gravity_mps2 * dt_s * up;
+  step.w = chassis->angular_radps;
+  step.forward = R.col(0);
+  step.forward.z() = 0.0;
+  step.level_enough = step.forward.norm() > kMinForwardNorm;
+  if (step.level_enough) step.forward.normalize();
+  step.left = up.cross(step.forward);
+
+  AddContactRows(dt_s, command_radps, *chassis, &step);
+  SolveRows(dt_s, &step);
+  SetWheelRates(dt_s, command_radps, step);
+  chassis->linear_mps = step.v + options_.gravity_mps2 * dt_s * up;
+  chassis->angular_radps = step.w;
 }
 
 void RaycastDrive::Integrate(double dt_s) {

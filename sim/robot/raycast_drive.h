@@ -92,6 +92,17 @@ class RaycastDrive {
     double target_mps = 0.0;              // wanted J·v
   };
 
+  // The chassis' velocities and mass properties while one step is solved.
+  struct Step;
+
+  // The contact rows of the wheels on the floor, with their warm-start impulses applied.
+  void AddContactRows(double dt_s, const std::vector<double>& command_radps,
+                      const RaycastChassis& chassis, Step* step_io);
+  // Sequential-impulse passes over the contact rows until they converge.
+  void SolveRows(double dt_s, Step* step_io);
+  // The drive wheels' rates after the solve.
+  void SetWheelRates(double dt_s, const std::vector<double>& command_radps, const Step& step);
+
   std::vector<RaycastWheelSpec> wheels_;
   RaycastDriveOptions options_;
   std::vector<WheelState> state_;

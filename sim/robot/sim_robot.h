@@ -1,14 +1,17 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "core/types/sensor_data.h"
 #include "sim/raycast/planar_caster.h"
+#include "sim/runtime/schedule.h"
 #include "sim/sensors/laser_scanner.h"
 #include "sim/sensors/robot_sensors.h"
+#include "sim/sensors/sensor.h"
 #include "sim/world/world.h"
 
 namespace pavilion::sim {
@@ -30,25 +33,10 @@ struct SimRobotSetup {
   double bumper_rate_hz = 50.0;  // bumper polling rate, a divisor of the physics rate
 };
 
-// A finished scan with its ground truth.
-struct ScanRecord {
-  core::LaserScan scan;
-  core::LaserScanTruth truth;
-  // Some readings were cast with Bullet instead of the planar caster (the beam
-  // plane tilted, or a body the plane does not cut exactly was in range).
-  bool fallback = false;
-};
-
-// What a robot's sensors produced during one tick, in the order they fired.
-struct SensorOutputs {
-  std::vector<core::EncoderReading> encoders;
-  std::vector<core::BumperReading> bumpers;  // only when the pressed set changed
-  std::vector<ScanRecord> scans;
-};
-
-// A simulated robot: its articulated body in the world, wheel encoders,
-// bumpers and laser scanners, all sampled in simulation time. Every random
-// draw comes from streams derived from (seed, robot id, sensor id).
+// A simulated robot: its articulated body in the world and its sensors (wheel
+// encoders, bumpers, laser scanners, and any added with AddSensor), all
+// sampled in simulation time. Every random draw comes from streams derived
+// from (seed, robot id, sensor id).
 class SimRobot {
  public:
   // Adds the robot to `world`. Throws std::invalid_argument for inconsistent
@@ -60,7 +48,14 @@ class SimRobot {
   const std::string& id() const { return setup_.spec.id; }
   int index() const { return index_; }
   const SimRobotSetup& setup() const { return setup_; }
-  const std::vector<LaserScanner>& lasers() const { return lasers_; }
+  // The laser scanners of the setup, in setup order.
+  const std::vector<std::reference_wrapper<const LaserScanner>>& lasers() const { return lasers_; }
+
+  // Adds a sensor, sampled after those added before it (the setup's encoders,
+  // bumpers and lasers come first, in that order). Throws std::invalid_argument
+  // for an id already used on this robot or a rate that does not divide the
+  // physics rate.
+  void AddSensor(std::unique_ptr<Sensor> sensor);
 
   // Casts this robot's scans with `caster` (shared by the world's robots; it
   // must outlive the robot) where the beam plane allows, Bullet elsewhere;
@@ -70,35 +65,30 @@ class SimRobot {
   // Wheel-speed command (rad/s, positive forward), held until changed.
   void SetWheelSpeeds(double left_radps, double right_radps);
 
-  // Samples the sensors for the tick that just ended: `before` and `after` are
-  // the robot's true states at its start and end (times world.time_s() −
-  // step and world.time_s()). Laser readings due in the tick are cast from
-  // poses interpolated between the two. With a planar caster, a sweep's
-  // readings of this tick fall back to Bullet when the robot's tilt at either
-  // end exceeds the caster's max_tilt_rad or a body the plane does not cut
-  // exactly is within range.
+  // Samples the sensors due in the tick that just ended, in the order they
+  // were added: `before` and `after` are the robot's true states at its start
+  // and end (times world.time_s() − step and world.time_s()). Laser readings
+  // due in the tick are cast from poses interpolated between the two. With a
+  // planar caster, a sweep's readings of this tick fall back to Bullet when the
+  // robot's tilt at either end exceeds the caster's max_tilt_rad or a body the
+  // plane does not cut exactly is within range.
   //
   // Robots may sample from several threads at once (each robot from one) when
   // the world is not stepped meanwhile and the planar caster has been brought
   // up to date (PlanarCaster::Update) after the step: each robot then writes
   // only its own state, draws from its own streams, and Bullet fallback casts
-  // are serialized by the world.
+  // are serialized by the world (Sensor states the same contract for every
+  // sensor).
   SensorOutputs AfterStep(const RobotState& before, const RobotState& after);
 
  private:
   World* world_;
   SimRobotSetup setup_;
   int index_ = -1;
-  WheelEncoders encoders_;
-  std::vector<LaserScanner> lasers_;
-  std::vector<double> next_sweep_s_;  // start of each scanner's next sweep
-  std::vector<bool> sweeping_;
-  std::vector<bool> fell_back_;  // this sweep used the Bullet fallback
+  PeriodicSchedule schedule_;  // task i samples sensors_[i]
+  std::vector<std::unique_ptr<Sensor>> sensors_;
+  std::vector<std::reference_wrapper<const LaserScanner>> lasers_;
   PlanarCaster* planar_ = nullptr;
-  std::int64_t encoder_period_ticks_ = 1;
-  int encoder_readings_per_tick_ = 1;  // > 1 when the encoders are faster than the physics
-  std::int64_t bumper_period_ticks_ = 1;
-  std::uint32_t pressed_ = 0;
 };
 
 }  // namespace pavilion::sim

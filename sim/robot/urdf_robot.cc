@@ -405,29 +405,25 @@ WheelSpec ReadWheel(const Context& ctx, const WheelLink& w, const char* side) {
   return spec;
 }
 
-}  // namespace
-
-RobotDescription LoadUrdfRobot(const std::string& urdf_path, const UrdfDriveNames& names) {
-  Context ctx(urdf_path);
-  const std::string xml = ReadAndIndex(&ctx);
-  const urdf::ModelInterfaceSharedPtr model = ParseModel(ctx, xml);
+// Fails unless the links and joints the caller names exist (the base link
+// being the root of the tree).
+void CheckDriveNames(const Context& ctx, const urdf::ModelInterface& model,
+                     const UrdfDriveNames& names) {
   using Name = UrdfError::Name;
-
-  // Names given by the caller.
-  if (!model->getLink(names.base_link)) {
+  if (!model.getLink(names.base_link)) {
     ctx.Fail(ctx.AtFile() + "base link '" + names.base_link + "' does not exist", Name::kBaseLink);
   }
-  if (model->getRoot()->name != names.base_link) {
+  if (model.getRoot()->name != names.base_link) {
     ctx.Fail(ctx.AtLink(names.base_link) +
                  "the base link must be the root of the URDF tree (the root is '" +
-                 model->getRoot()->name + "')",
+                 model.getRoot()->name + "')",
              Name::kBaseLink);
   }
-  if (!model->getJoint(names.left_wheel_joint)) {
+  if (!model.getJoint(names.left_wheel_joint)) {
     ctx.Fail(ctx.AtFile() + "joint '" + names.left_wheel_joint + "' does not exist",
              Name::kLeftWheelJoint);
   }
-  if (!model->getJoint(names.right_wheel_joint)) {
+  if (!model.getJoint(names.right_wheel_joint)) {
     ctx.Fail(ctx.AtFile() + "joint '" + names.right_wheel_joint + "' does not exist",
              Name::kRightWheelJoint);
   }
@@ -435,21 +431,27 @@ RobotDescription LoadUrdfRobot(const std::string& urdf_path, const UrdfDriveName
     ctx.Fail(ctx.AtJoint(names.right_wheel_joint) + "is named as both the left and right wheel",
              Name::kRightWheelJoint);
   }
-  if (!model->getLink(names.chassis_link)) {
+  if (!model.getLink(names.chassis_link)) {
     ctx.Fail(ctx.AtFile() + "chassis link '" + names.chassis_link + "' does not exist",
              Name::kChassisLink);
   }
   for (std::size_t i = 0; i < names.caster_links.size(); ++i) {
-    if (!model->getLink(names.caster_links[i])) {
+    if (!model.getLink(names.caster_links[i])) {
       ctx.Fail(ctx.AtFile() + "caster link '" + names.caster_links[i] + "' does not exist",
                Name::kCasterLink, static_cast<int>(i));
     }
   }
+}
 
-  // Walk the tree: fixed joints chain the rigid assembly, the wheel joints end it.
-  std::vector<RigidLink> rigid;
-  std::map<std::string, WheelLink> wheels;  // by joint name
-  std::vector<RigidLink> stack{{model->getRoot(), Eigen::Isometry3d::Identity()}};
+// Walks the tree from the root: fixed joints chain the rigid assembly (its
+// links sorted by name, a deterministic order whatever the XML order), the
+// wheel joints end it; any other moving joint fails.
+void WalkRigidAssembly(const Context& ctx, const urdf::ModelInterface& model,
+                       const UrdfDriveNames& names, std::vector<RigidLink>* rigid_out,
+                       std::map<std::string, WheelLink>* wheels_out) {
+  std::vector<RigidLink>& rigid = *rigid_out;
+  std::map<std::string, WheelLink>& wheels = *wheels_out;  // by joint name
+  std::vector<RigidLink> stack{{model.getRoot(), Eigen::Isometry3d::Identity()}};
   while (!stack.empty()) {
     const RigidLink current = stack.back();
     stack.pop_back();
@@ -457,7 +459,7 @@ RobotDescription LoadUrdfRobot(const std::string& urdf_path, const UrdfDriveName
     for (const urdf::JointSharedPtr& joint : current.link->child_joints) {
       const Eigen::Isometry3d base_from_child =
           current.base_from_link * ToIsometry(joint->parent_to_joint_origin_transform);
-      const urdf::LinkConstSharedPtr child = model->getLink(joint->child_link_name);
+      const urdf::LinkConstSharedPtr child = model.getLink(joint->child_link_name);
       if (joint->name == names.left_wheel_joint || joint->name == names.right_wheel_joint) {
         wheels[joint->name] = {joint, child, base_from_child};
       } else if (joint->type == urdf::Joint::FIXED) {
@@ -471,18 +473,19 @@ RobotDescription LoadUrdfRobot(const std::string& urdf_path, const UrdfDriveName
   std::sort(rigid.begin(), rigid.end(), [](const RigidLink& a, const RigidLink& b) {
     return a.link->name < b.link->name;  // deterministic order, whatever the XML order
   });
-  auto find_rigid = [&](const std::string& name) -> const RigidLink* {
-    for (const RigidLink& r : rigid) {
-      if (r.link->name == name) return &r;
-    }
-    return nullptr;
-  };
+}
 
-  RobotDescription d;
-  d.urdf_file = urdf_path;
-  d.model = model->getName();
+const RigidLink* FindRigid(const std::vector<RigidLink>& rigid, const std::string& name) {
+  for (const RigidLink& r : rigid) {
+    if (r.link->name == name) return &r;
+  }
+  return nullptr;
+}
 
-  // Wheels.
+// The two drive wheels, nominally identical and symmetric about the base's x axis.
+void ReadWheels(const Context& ctx, const std::map<std::string, WheelLink>& wheels,
+                const UrdfDriveNames& names, RobotDescription* out) {
+  RobotDescription& d = *out;
   for (const std::string& joint : {names.left_wheel_joint, names.right_wheel_joint}) {
     if (!wheels.contains(joint)) {
       ctx.Fail(ctx.AtJoint(joint) + "a wheel joint's parent must be fixed to the base link");
@@ -510,9 +513,13 @@ RobotDescription LoadUrdfRobot(const std::string& urdf_path, const UrdfDriveName
              Fmt(d.right_wheel.radius_m) +
              " m); give a built-in difference as a systematic error in robot.yaml");
   }
+}
 
-  // Chassis and casters must belong to the rigid assembly.
-  const RigidLink* chassis = find_rigid(names.chassis_link);
+// The chassis link: fixed to the base link, with mass.
+void CheckChassis(const Context& ctx, const std::vector<RigidLink>& rigid,
+                  const UrdfDriveNames& names) {
+  using Name = UrdfError::Name;
+  const RigidLink* chassis = FindRigid(rigid, names.chassis_link);
   if (chassis == nullptr) {
     ctx.Fail(ctx.AtLink(names.chassis_link) + "the chassis must be fixed to the base link",
              Name::kChassisLink);
@@ -522,10 +529,17 @@ RobotDescription LoadUrdfRobot(const std::string& urdf_path, const UrdfDriveName
              "the chassis needs an <inertial> with mass > 0, got " +
              (chassis->link->inertial ? Fmt(chassis->link->inertial->mass) + " kg" : "none"));
   }
+}
+
+// The casters: spheres on the floor, fixed to the base link. Returns their names.
+std::set<std::string> ReadCasters(const Context& ctx, const std::vector<RigidLink>& rigid,
+                                  const UrdfDriveNames& names, RobotDescription* out) {
+  using Name = UrdfError::Name;
+  RobotDescription& d = *out;
   std::set<std::string> caster_names;
   for (std::size_t i = 0; i < names.caster_links.size(); ++i) {
     const std::string& name = names.caster_links[i];
-    const RigidLink* caster = find_rigid(name);
+    const RigidLink* caster = FindRigid(rigid, name);
     if (caster == nullptr) {
       ctx.Fail(ctx.AtLink(name) + "a caster must be fixed to the base link", Name::kCasterLink,
                static_cast<int>(i));
@@ -548,7 +562,13 @@ RobotDescription LoadUrdfRobot(const std::string& urdf_path, const UrdfDriveName
     d.casters.push_back(CasterSpec{name, c.head<2>(), s.radius_m});
   }
 
-  // The rigid assembly: mass properties, mounts, collision shapes (casters apart).
+  return caster_names;
+}
+
+// Mass, centre of mass and inertia of the rigid assembly.
+void ReadMassProperties(const Context& ctx, const std::vector<RigidLink>& rigid,
+                        RobotDescription* out) {
+  RobotDescription& d = *out;
   double mass = 0.0;
   Eigen::Vector3d moment = Eigen::Vector3d::Zero();
   for (const RigidLink& rl : rigid) {
@@ -573,7 +593,14 @@ RobotDescription LoadUrdfRobot(const std::string& urdf_path, const UrdfDriveName
                               in.mass * (offset.squaredNorm() * Eigen::Matrix3d::Identity() -
                                          offset * offset.transpose());
   }
+}
 
+// Mounts and collision shapes of the rigid assembly (casters apart), and the
+// footprint and height range of the chassis they make.
+void ReadChassisShape(const Context& ctx, const std::vector<RigidLink>& rigid,
+                      const std::set<std::string>& caster_names, const UrdfDriveNames& names,
+                      RobotDescription* out) {
+  RobotDescription& d = *out;
   std::vector<Eigen::Vector3d> hull_points;
   for (const RigidLink& rl : rigid) {
     d.mounts.push_back(ToMount(rl.link->name, rl.base_from_link));
@@ -609,6 +636,26 @@ RobotDescription LoadUrdfRobot(const std::string& urdf_path, const UrdfDriveName
   }
   d.chassis_base_z_m = std::max(0.0, z_min);
   d.chassis_height_m = z_max - d.chassis_base_z_m;
+}
+
+}  // namespace
+
+RobotDescription LoadUrdfRobot(const std::string& urdf_path, const UrdfDriveNames& names) {
+  Context ctx(urdf_path);
+  const std::string xml = ReadAndIndex(&ctx);
+  const urdf::ModelInterfaceSharedPtr model = ParseModel(ctx, xml);
+  CheckDriveNames(ctx, *model, names);
+  std::vector<RigidLink> rigid;
+  std::map<std::string, WheelLink> wheels;  // by joint name
+  WalkRigidAssembly(ctx, *model, names, &rigid, &wheels);
+  RobotDescription d;
+  d.urdf_file = urdf_path;
+  d.model = model->getName();
+  ReadWheels(ctx, wheels, names, &d);
+  CheckChassis(ctx, rigid, names);
+  const std::set<std::string> caster_names = ReadCasters(ctx, rigid, names, &d);
+  ReadMassProperties(ctx, rigid, &d);
+  ReadChassisShape(ctx, rigid, caster_names, names, &d);
   return d;
 }
 

@@ -26,11 +26,6 @@ int PeriodicSchedule::Add(const std::string& name, double rate_hz, std::int64_t 
   return static_cast<int>(tasks_.size()) - 1;
 }
 
-bool PeriodicSchedule::IsDue(int task, std::int64_t tick) const {
-  const Task& t = tasks_.at(task);
-  return tick >= t.phase && (tick - t.phase) % t.period == 0;
-}
-
 std::vector<int> PeriodicSchedule::Due(std::int64_t tick) const {
   std::vector<int> due;
   for (int i = 0; i < static_cast<int>(tasks_.size()); ++i) {

@@ -23,7 +23,11 @@ class PeriodicSchedule {
   int Add(const std::string& name, double rate_hz, std::int64_t phase_ticks = 0);
   // Ids of the tasks due at `tick`, in the order added.
   std::vector<int> Due(std::int64_t tick) const;
-  bool IsDue(int task, std::int64_t tick) const;
+  bool IsDue(int task, std::int64_t tick) const {  // inline: robots ask every tick
+    const Task& t = tasks_.at(task);
+    if (t.period == 1) return tick >= t.phase;  // every tick: no division
+    return tick >= t.phase && (tick - t.phase) % t.period == 0;
+  }
   std::int64_t period_ticks(int task) const { return tasks_.at(task).period; }
   const std::string& name(int task) const { return tasks_.at(task).name; }
 

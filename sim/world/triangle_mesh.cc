@@ -4,6 +4,7 @@
 #include <assimp/scene.h>
 
 #include <assimp/Importer.hpp>
+#include <cmath>
 #include <map>
 #include <mutex>
 #include <stdexcept>
@@ -55,6 +56,20 @@ std::shared_ptr<const TriangleMesh> LoadTriangleMesh(const std::string& path) {
   }
   cache.emplace(path, mesh);
   return mesh;
+}
+
+std::vector<Eigen::Vector3d> PlacedVertices(const Mesh& m) {
+  const auto source = LoadTriangleMesh(m.file);
+  const double c = std::cos(m.yaw_rad);
+  const double s = std::sin(m.yaw_rad);
+  std::vector<Eigen::Vector3d> out;
+  out.reserve(source->vertices.size());
+  for (const Eigen::Vector3d& v : source->vertices) {
+    const Eigen::Vector3d p = v.cwiseProduct(m.scale);
+    out.emplace_back(m.position_m.x() + c * p.x() - s * p.y(),
+                     m.position_m.y() + s * p.x() + c * p.y(), m.position_m.z() + p.z());
+  }
+  return out;
 }
 
 }  // namespace pavilion::sim

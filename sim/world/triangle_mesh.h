@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "sim/world/world_description.h"
+
 namespace pavilion::sim {
 
 // A triangle soup in the mesh file's own frame and units.
@@ -19,5 +21,9 @@ struct TriangleMesh {
 // Throws std::runtime_error naming the file when it cannot be read or holds no
 // triangles.
 std::shared_ptr<const TriangleMesh> LoadTriangleMesh(const std::string& path);
+
+// A mesh element's vertices scaled, yawed and placed in the world frame
+// (indexed as the triangles of LoadTriangleMesh(m.file)).
+std::vector<Eigen::Vector3d> PlacedVertices(const Mesh& m);
 
 }  // namespace pavilion::sim

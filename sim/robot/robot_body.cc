@@ -1,0 +1,521 @@
+#include "sim/robot/robot_body.h"
+
+#include <btBulletDynamicsCommon.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+#include "sim/robot/raycast_drive.h"
+#include "sim/world/bullet_conversions.h"
+#include "sim/world/contact_tracker.h"
+#include "sim/world/shape_sections.h"
+
+namespace pavilion::sim {
+namespace {
+
+// Robots (chosen, not from the thesis): friction coefficient of the drive
+// wheels' tread (combined by product with the floor's) and the casters' mass
+// (taken from the chassis' so that the robot weighs what its model says).
+constexpr double kWheelTreadFriction = 1.0;
+constexpr double kCasterMassKg = 0.5;
+// Each drive wheel body carries at least this fraction of the chassis' mass:
+// the drive unit (wheel, gearbox, motor) lumped at the axle, taken from the
+// chassis so that the total stays as modelled. Bullet's sequential-impulse
+// solver converges poorly across large mass ratios: with Robox's 2.5 kg wheels
+// under a 110 kg chassis and 10 iterations, wheel-floor friction slipped by
+// 72 mm over a 0.6 m/s half circle and 15 mm in each 0.5 s start; at 1/8 of the
+// chassis the slip falls to ≈ 1 cm and a few millimetres (measured with the
+// same half circle; tests/sim/robot/robot_world_test.cc holds the straight drive).
+constexpr double kMinWheelMassFraction = 1.0 / 8.0;
+// Sign relating Bullet's hinge angle and motor velocity (B relative to A about
+// the axis in A) to "positive forward" wheel rotation; established by the
+// forward-drive test in tests/sim/robot/robot_world_test.cc.
+constexpr double kHingeSign = -1.0;
+
+double WrapAngle(double a) { return std::remainder(a, 2.0 * std::numbers::pi); }
+
+// True when the polygon is convex and counter-clockwise with non-zero area.
+bool IsConvexCcw(const std::vector<Eigen::Vector2d>& p) {
+  if (p.size() < 3) return false;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const Eigen::Vector2d a = p[(i + 1) % p.size()] - p[i];
+    const Eigen::Vector2d b = p[(i + 2) % p.size()] - p[(i + 1) % p.size()];
+    if (a.x() * b.y() - a.y() * b.x() <= 0.0) return false;
+  }
+  return true;
+}
+
+// Throws std::invalid_argument naming the robot for an inconsistent spec.
+void ValidateRobotSpec(const RobotSpec& spec, const ElementTable& elements) {
+  const RobotDescription& m = spec.model;
+  const auto fail = [&](const std::string& what) {
+    throw std::invalid_argument("robot '" + spec.id + "': " + what);
+  };
+  if (spec.id.empty()) throw std::invalid_argument("robot id must not be empty");
+  if (elements.Contains(spec.id)) fail("id is already used by a world element or body");
+  if (!IsConvexCcw(m.footprint_m)) fail("footprint must be a convex counter-clockwise polygon");
+  if (!(m.chassis_height_m > 0.0)) fail("chassis height must be > 0");
+  if (!(m.chassis_base_z_m >= 0.0)) fail("chassis base height must be >= 0");
+  if (!(m.chassis_mass_kg > 0.0)) fail("chassis mass must be > 0");
+  if (!(m.wheelbase_m() > 0.0)) fail("left wheel must be left of the right wheel");
+  for (const WheelSpec* w : {&m.left_wheel, &m.right_wheel}) {
+    if (!(w->radius_m > 0.0) || !(w->mass_kg > 0.0)) {
+      fail("wheel '" + w->joint + "' needs radius > 0 and mass > 0");
+    }
+  }
+  for (const CasterSpec& c : m.casters) {
+    if (!(c.radius_m > 0.0)) fail("caster '" + c.link + "' needs radius > 0");
+  }
+  if (!(m.max_wheel_torque_nm > 0.0 && m.max_wheel_speed_radps > 0.0 &&
+        m.max_wheel_accel_radps2 > 0.0)) {
+    fail("motor torque, speed and acceleration limits must be > 0");
+  }
+  for (const RobotAttachment& a : spec.attachments) {
+    if (!(a.radius_m > 0.0 && a.height_m > 0.0 && a.base_z_m >= 0.0)) {
+      fail("attachment '" + a.name + "' needs radius > 0, height > 0 and base >= 0");
+    }
+  }
+  try {
+    spec.systematic.Validate();
+  } catch (const std::invalid_argument& e) {
+    fail(std::string("systematic errors: ") + e.what());
+  }
+}
+
+}  // namespace
+
+struct RobotBody::Part {
+  btRigidBody* rigid = nullptr;
+  btTransform base_from_part;  // where the part sits in the robot's base frame
+};
+
+RobotBody::PartMasses RobotBody::ReferencePartMasses(const RobotDescription& m) {
+  PartMasses p;
+  p.caster_kg = kCasterMassKg;
+  p.chassis_kg =
+      std::max(0.5 * m.chassis_mass_kg,
+               m.chassis_mass_kg - kCasterMassKg * static_cast<double>(m.casters.size()));
+  p.wheel_kg[0] = m.left_wheel.mass_kg;
+  p.wheel_kg[1] = m.right_wheel.mass_kg;
+  const double min_wheel_mass_kg = kMinWheelMassFraction * p.chassis_kg;
+  for (double& mass : p.wheel_kg) {
+    const double lumped = std::max(mass, min_wheel_mass_kg);
+    p.chassis_kg -= lumped - mass;
+    mass = lumped;
+  }
+  return p;
+}
+
+RobotBody::PartLayout RobotBody::LayOutParts(const RobotSpec& spec) {
+  const RobotDescription& m = spec.model;
+  PartLayout layout;
+  layout.com_z_m =
+      std::clamp(m.chassis_com_m.z(), m.chassis_base_z_m, m.chassis_base_z_m + m.chassis_height_m);
+  layout.chassis_com_z_m = layout.com_z_m;
+  const double ratio = spec.systematic.wheel_radius_ratio;
+  const double mean_radius = 0.5 * (m.left_wheel.radius_m + m.right_wheel.radius_m);
+  layout.radius[0] = 2.0 * mean_radius / (1.0 + ratio);
+  layout.radius[1] = 2.0 * mean_radius * ratio / (1.0 + ratio);
+  const double mid_y = 0.5 * (m.left_wheel.position_m.y() + m.right_wheel.position_m.y());
+  const double half_base = 0.5 * m.wheelbase_m() * spec.systematic.wheelbase_factor;
+  layout.wheel_y[0] = mid_y + half_base;
+  layout.wheel_y[1] = mid_y - half_base;
+  layout.masses = ReferencePartMasses(m);
+  if (spec.wheel_model == WheelModel::kRaycast) {
+    // One body carries the reference's parts as if welded together: its centre
+    // of mass is theirs (kept on the base's z axis, as the chassis').
+    const PartMasses& masses = layout.masses;
+    double moment = masses.chassis_kg * layout.chassis_com_z_m;
+    for (int side = 0; side < 2; ++side) moment += masses.wheel_kg[side] * layout.radius[side];
+    for (const CasterSpec& c : m.casters) moment += masses.caster_kg * c.radius_m;
+    layout.com_z_m = moment / m.total_mass_kg();
+  }
+  return layout;
+}
+
+// The chassis: the footprint prism and the attachments in one compound whose
+// origin is the centre of mass. Child 0 is the prism (the chassis element);
+// child k >= 1 is attachment k - 1, its own element.
+std::unique_ptr<btCompoundShape> RobotBody::BuildChassisShape() {
+  const RobotDescription& m = spec_.model;
+  auto compound = std::make_unique<btCompoundShape>();
+  auto hull = std::make_unique<btConvexHullShape>();
+  for (const Eigen::Vector2d& p : m.footprint_m) {
+    hull->addPoint(btVector3(p.x(), p.y(), m.chassis_base_z_m - com_z_m_), false);
+    hull->addPoint(btVector3(p.x(), p.y(), m.chassis_base_z_m + m.chassis_height_m - com_z_m_),
+                   false);
+  }
+  if (spec_.wheel_model == WheelModel::kRaycast) {
+    hull->setMargin(0.0);  // the true outline, as walls (rays and contacts agree)
+    // Bounds cached after the margin is gone: with the default 4 cm margin
+    // in them, a chassis 4 cm above the floor overlaps it in the broadphase
+    // and every step runs a convex test of chassis against floor for nothing.
+    hull->recalcLocalAabb();
+  } else {
+    // The reference keeps the bounds with the margin: its robots' odometry
+    // calibrations (robot.yaml) were made with the floor pairs this gives,
+    // whose order in the solver changes the trajectories measurably.
+    hull->recalcLocalAabb();
+    hull->setMargin(0.0);
+  }
+  (*world_.prisms)[hull.get()] = {m.footprint_m, m.chassis_base_z_m - com_z_m_,
+                                  m.chassis_base_z_m + m.chassis_height_m - com_z_m_};
+  btTransform identity;
+  identity.setIdentity();
+  compound->addChildShape(identity, hull.get());
+  world_.physics->KeepShape(std::move(hull));
+  for (const RobotAttachment& a : spec_.attachments) {
+    auto cylinder =
+        std::make_unique<btCylinderShapeZ>(btVector3(a.radius_m, a.radius_m, 0.5 * a.height_m));
+    btTransform t;
+    t.setIdentity();
+    t.setOrigin(
+        btVector3(a.position_m.x(), a.position_m.y(), a.base_z_m + 0.5 * a.height_m - com_z_m_));
+    compound->addChildShape(t, cylinder.get());
+    world_.physics->KeepShape(std::move(cylinder));
+  }
+  return compound;
+}
+
+// The inertia of the reference's bodies welded together, about their common
+// centre of mass: the chassis' as the reference computes it (its compound's)
+// plus each wheel and caster as a solid sphere, by the parallel-axis theorem.
+btVector3 RobotBody::WeldedInertia(btCompoundShape* compound, const PartLayout& layout) const {
+  const RobotDescription& m = spec_.model;
+  const PartMasses& masses = layout.masses;
+  const double com_z = com_z_m_;
+  btVector3 inertia(0, 0, 0);
+  compound->calculateLocalInertia(masses.chassis_kg, inertia);
+  const double dz = layout.chassis_com_z_m - com_z;
+  inertia += masses.chassis_kg * btVector3(dz * dz, dz * dz, 0.0);
+  const auto add_sphere = [&](double mass, const btVector3& centre, double r) {
+    const btVector3 p = centre - btVector3(0, 0, com_z);
+    const double own = 0.4 * mass * r * r;
+    inertia += btVector3(mass * (p.y() * p.y() + p.z() * p.z()) + own,
+                         mass * (p.x() * p.x() + p.z() * p.z()) + own,
+                         mass * (p.x() * p.x() + p.y() * p.y()) + own);
+  };
+  const WheelSpec* wheels[2] = {&m.left_wheel, &m.right_wheel};
+  for (int side = 0; side < 2; ++side) {
+    add_sphere(masses.wheel_kg[side],
+               btVector3(wheels[side]->position_m.x(), layout.wheel_y[side], layout.radius[side]),
+               layout.radius[side]);
+  }
+  for (const CasterSpec& c : m.casters) {
+    add_sphere(masses.caster_kg, btVector3(c.position_m.x(), c.position_m.y(), c.radius_m),
+               c.radius_m);
+  }
+  return inertia;
+}
+
+// The chassis of a WheelModel::kRaycast robot: `compound` (origin at the
+// common centre of mass of the reference's parts, `base_from_chassis`)
+// carrying the mass of the whole robot, so that a push or a collision tips
+// and slides the robot as it does the reference (whose lumped drive units
+// make it bottom-heavy), and the contact solver of its wheels and casters.
+void RobotBody::AddRaycastParts(std::unique_ptr<btCompoundShape> compound,
+                                const btTransform& base_from_chassis, const PartLayout& layout,
+                                const Material& material, int first_attachment) {
+  const RobotDescription& m = spec_.model;
+  const btVector3 inertia = WeldedInertia(compound.get(), layout);
+  // Pushes act where they act on the reference: at its chassis' centre of mass.
+  push_height_m_ = layout.chassis_com_z_m - com_z_m_;
+  btRigidBody* body =
+      world_.physics->AddDynamic(std::move(compound), m.total_mass_kg(), base_from_chassis,
+                                 material.friction, material.restitution, element_, &inertia);
+  body->setUserIndex2(spec_.attachments.empty() ? -1 : first_attachment);
+  parts_.push_back({body, base_from_chassis});
+  AddRaycastDrive(layout);
+}
+
+// Wheels as the reference builds them (systematic errors applied), then casters.
+void RobotBody::AddRaycastDrive(const PartLayout& layout) {
+  const RobotDescription& m = spec_.model;
+  const WorldDescription& description = *world_.description;
+  const double com_z = com_z_m_;
+  const WheelSpec* wheels[2] = {&m.left_wheel, &m.right_wheel};
+  const double tread =
+      kWheelTreadFriction * description.MaterialNamed(description.floor.material).friction;
+  std::vector<RaycastWheelSpec> specs;
+  for (int side = 0; side < 2; ++side) {
+    specs.push_back(
+        {{wheels[side]->position_m.x(), layout.wheel_y[side], layout.radius[side] - com_z},
+         layout.radius[side],
+         true,
+         tread,
+         m.max_wheel_torque_nm});
+  }
+  for (const CasterSpec& c : m.casters) {
+    specs.push_back({{c.position_m.x(), c.position_m.y(), c.radius_m - com_z}, c.radius_m});
+  }
+  RaycastDriveOptions options;
+  options.iterations = world_.options->solver_iterations;
+  options.gravity_mps2 = world_.options->gravity_mps2;
+  options.floor_min_m = description.floor.min_m;
+  options.floor_max_m = description.floor.max_m;
+  drive_command_radps_.assign(specs.size(), 0.0);
+  drive_ = std::make_unique<RaycastDrive>(std::move(specs), options);
+}
+
+// The articulated reference: chassis, drive wheels on hinge motors, casters
+// (nearly frictionless spheres) on ball joints.
+void RobotBody::AddArticulatedParts(std::unique_ptr<btCompoundShape> compound,
+                                    const btTransform& base_from_chassis, const PartLayout& layout,
+                                    const Material& material, int first_attachment) {
+  const RobotDescription& m = spec_.model;
+  PhysicsWorld& physics = *world_.physics;
+  btRigidBody* body =
+      physics.AddDynamic(std::move(compound), layout.masses.chassis_kg, base_from_chassis,
+                         material.friction, material.restitution, element_);
+  body->setUserIndex2(spec_.attachments.empty() ? -1 : first_attachment);
+  parts_.push_back({body, base_from_chassis});
+  const WheelSpec* wheel_specs[2] = {&m.left_wheel, &m.right_wheel};
+  for (int side = 0; side < 2; ++side) {
+    const WheelSpec& w = *wheel_specs[side];
+    btTransform base_from_wheel;
+    base_from_wheel.setIdentity();
+    base_from_wheel.setOrigin(
+        btVector3(w.position_m.x(), layout.wheel_y[side], layout.radius[side]));
+    const int wheel_element = world_.elements->Add(
+        spec_.id + (side == 0 ? "/left_wheel" : "/right_wheel"), m.material, true, group_);
+    btRigidBody* wheel_body = physics.AddDynamic(
+        std::make_unique<btSphereShape>(layout.radius[side]), layout.masses.wheel_kg[side],
+        base_from_wheel, kWheelTreadFriction, 0.0, wheel_element);
+    parts_.push_back({wheel_body, base_from_wheel});
+    const btVector3 pivot_in_chassis = base_from_chassis.inverse() * base_from_wheel.getOrigin();
+    auto joint = std::make_unique<btHingeConstraint>(*body, *wheel_body, pivot_in_chassis,
+                                                     btVector3(0, 0, 0), btVector3(0, 1, 0),
+                                                     btVector3(0, 1, 0));
+    hinge_[side] = joint.get();
+    physics.AddConstraint(std::move(joint), true);
+  }
+  for (const CasterSpec& c : m.casters) {
+    btTransform base_from_caster;
+    base_from_caster.setIdentity();
+    base_from_caster.setOrigin(btVector3(c.position_m.x(), c.position_m.y(), c.radius_m));
+    const int caster_element =
+        world_.elements->Add(spec_.id + "/" + c.link, m.material, true, group_);
+    btRigidBody* caster =
+        physics.AddDynamic(std::make_unique<btSphereShape>(c.radius_m), layout.masses.caster_kg,
+                           base_from_caster, 0.0, 0.0, caster_element);
+    parts_.push_back({caster, base_from_caster});
+    auto joint = std::make_unique<btPoint2PointConstraint>(
+        *body, *caster, base_from_chassis.inverse() * base_from_caster.getOrigin(),
+        btVector3(0, 0, 0));
+    physics.AddConstraint(std::move(joint), true);
+  }
+}
+
+// Places every part at `pose`, at rest.
+void RobotBody::Place(const core::Pose2& pose) {
+  const btTransform world_from_base = PlanarTransform(pose, 0.0);
+  for (Part& part : parts_) {
+    const btTransform t = world_from_base * part.base_from_part;
+    part.rigid->setWorldTransform(t);
+    part.rigid->setInterpolationWorldTransform(t);
+    part.rigid->getMotionState()->setWorldTransform(t);
+    part.rigid->setLinearVelocity(btVector3(0, 0, 0));
+    part.rigid->setAngularVelocity(btVector3(0, 0, 0));
+    part.rigid->clearForces();
+  }
+  if (raycast()) {
+    // Its contact solver reads the world inertia tensor before Bullet
+    // refreshes it; the reference's bodies are left as they always were.
+    chassis()->updateInertiaTensor();
+    drive_->Reset();
+  }
+}
+
+btTransform RobotBody::WorldFromBase() const {
+  btTransform com_from_base;
+  com_from_base.setIdentity();
+  com_from_base.setOrigin(btVector3(0, 0, -com_z_m_));
+  return chassis()->getWorldTransform() * com_from_base;
+}
+
+// Solves a WheelModel::kRaycast robot's wheel contacts for the coming step
+// and leaves their impulses in the chassis' velocities.
+void RobotBody::SolveRaycastContacts(double dt) {
+  btRigidBody* body = chassis();
+  const btMatrix3x3& basis = body->getWorldTransform().getBasis();
+  const btMatrix3x3& inv_inertia = body->getInvInertiaTensorWorld();
+  RaycastChassis c;
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      c.world_from_body(i, j) = basis[i][j];
+      c.inverse_inertia(i, j) = inv_inertia[i][j];
+    }
+  }
+  const btVector3& com = body->getCenterOfMassPosition();
+  const btVector3& v = body->getLinearVelocity();
+  const btVector3& w = body->getAngularVelocity();
+  c.com_m = {com.x(), com.y(), com.z()};
+  c.inverse_mass = body->getInvMass();
+  c.linear_mps = {v.x(), v.y(), v.z()};
+  c.angular_radps = {w.x(), w.y(), w.z()};
+  drive_command_radps_[0] = command_radps_[0];
+  drive_command_radps_[1] = command_radps_[1];
+  drive_->Solve(dt, drive_command_radps_, &c);
+  body->setLinearVelocity(ToBt(c.linear_mps));
+  body->setAngularVelocity(ToBt(c.angular_radps));
+}
+
+// Accumulates each wheel's rotation from its hinge angle (wrapped by Bullet).
+void RobotBody::UpdateWheelAngles() {
+  for (int side = 0; side < 2; ++side) {
+    const double h = hinge_[side]->getHingeAngle();
+    wheel_rad_[side] += kHingeSign * WrapAngle(h - last_hinge_rad_[side]);
+    last_hinge_rad_[side] = h;
+  }
+}
+
+RobotBody::RobotBody(const RobotSpec& robot_spec, int group, const RobotBodyContext& world)
+    : world_(world), group_(group) {
+  ValidateRobotSpec(robot_spec, *world.elements);
+  const RobotDescription& m = robot_spec.model;
+  const Material& material = world.description->MaterialNamed(m.material);
+  spec_ = robot_spec;
+  const PartLayout layout = LayOutParts(robot_spec);
+  com_z_m_ = layout.com_z_m;
+  std::unique_ptr<btCompoundShape> compound = BuildChassisShape();
+  element_ = world.elements->Add(robot_spec.id, m.material, true, group);
+  const int first_attachment = world.elements->size();
+  for (const RobotAttachment& a : robot_spec.attachments) {
+    world.elements->Add(robot_spec.id + "/" + a.name, a.material, true, group);
+  }
+  btTransform base_from_chassis;
+  base_from_chassis.setIdentity();
+  base_from_chassis.setOrigin(btVector3(0, 0, com_z_m_));
+  if (robot_spec.wheel_model == WheelModel::kRaycast) {
+    AddRaycastParts(std::move(compound), base_from_chassis, layout, material, first_attachment);
+    Place(robot_spec.pose);
+    return;
+  }
+  AddArticulatedParts(std::move(compound), base_from_chassis, layout, material, first_attachment);
+  Place(robot_spec.pose);
+  // The parts entered the broadphase at their base-frame transforms, around the
+  // origin; move their bounding boxes to the robot's pose now. Left to the next
+  // step, every robot added meanwhile would overlap every earlier one there:
+  // N^2/2 pairs created and dropped again (for the hall benchmark's 1000 robots,
+  // 12.5 million pairs, 400 MB and seconds of start-up).
+  for (Part& part : parts_) world.physics->dynamics().updateSingleAabb(part.rigid);
+  for (int side = 0; side < 2; ++side) last_hinge_rad_[side] = hinge_[side]->getHingeAngle();
+}
+
+RobotBody::~RobotBody() = default;
+RobotBody::RobotBody(RobotBody&&) noexcept = default;
+RobotBody& RobotBody::operator=(RobotBody&&) noexcept = default;
+
+btRigidBody* RobotBody::chassis() const { return parts_[0].rigid; }
+btRigidBody* RobotBody::wheel(int side) const { return parts_[1 + side].rigid; }
+
+RobotState RobotBody::State() const {
+  const btRigidBody* body = chassis();
+  const btTransform world_from_base = WorldFromBase();
+  RobotState s;
+  s.pose = {world_from_base.getOrigin().x(), world_from_base.getOrigin().y(),
+            YawOf(world_from_base)};
+  const btVector3 up = world_from_base.getBasis().getColumn(2);
+  s.tilt_rad = std::acos(std::clamp(static_cast<double>(up.z()), -1.0, 1.0));
+  const btVector3 v =
+      body->getVelocityInLocalPoint(world_from_base.getOrigin() - body->getCenterOfMassPosition());
+  s.velocity_mps = {v.x(), v.y()};
+  s.yaw_rate_radps = body->getAngularVelocity().z();
+  if (raycast()) {
+    s.left_wheel_rad = drive_->angle_rad(0);
+    s.right_wheel_rad = drive_->angle_rad(1);
+    s.left_wheel_radps = drive_->rate_radps(0);
+    s.right_wheel_radps = drive_->rate_radps(1);
+    return s;
+  }
+  const btVector3 axis = body->getWorldTransform().getBasis().getColumn(1);
+  const double rates[2] = {(wheel(0)->getAngularVelocity() - body->getAngularVelocity()).dot(axis),
+                           (wheel(1)->getAngularVelocity() - body->getAngularVelocity()).dot(axis)};
+  s.left_wheel_rad = wheel_rad_[0];
+  s.right_wheel_rad = wheel_rad_[1];
+  s.left_wheel_radps = rates[0];
+  s.right_wheel_radps = rates[1];
+  return s;
+}
+
+void RobotBody::SetWheelSpeeds(double left_radps, double right_radps) {
+  const double limit = spec_.model.max_wheel_speed_radps;
+  target_radps_[0] = std::clamp(left_radps, -limit, limit);
+  target_radps_[1] = std::clamp(right_radps, -limit, limit);
+}
+
+std::vector<Eigen::Vector2d> RobotBody::ContactPoints(
+    const btCollisionDispatcher& dispatcher) const {
+  return TouchPoints(dispatcher, chassis(), WorldFromBase().inverse());
+}
+
+void RobotBody::ApplyImpulse(const Eigen::Vector2d& impulse_ns) {
+  const btVector3 impulse(impulse_ns.x(), impulse_ns.y(), 0.0);
+  if (push_height_m_ == 0.0) {
+    chassis()->applyCentralImpulse(impulse);
+  } else {
+    const btVector3 up = chassis()->getWorldTransform().getBasis().getColumn(2);
+    chassis()->applyImpulse(impulse, push_height_m_ * up);
+  }
+}
+
+void RobotBody::Teleport(const core::Pose2& pose) {
+  Place(pose);
+  for (int side = 0; side < 2; ++side) {
+    command_radps_[side] = 0.0;
+    target_radps_[side] = 0.0;
+    if (!raycast()) last_hinge_rad_[side] = hinge_[side]->getHingeAngle();
+  }
+}
+
+void RobotBody::BeforeStep(double dt) {
+  const RobotDescription& m = spec_.model;
+  for (int side = 0; side < 2; ++side) {
+    // Acceleration ramp towards the commanded speed; the motor delivers at
+    // most the torque limit over the step.
+    const double step = m.max_wheel_accel_radps2 * dt;
+    command_radps_[side] += std::clamp(target_radps_[side] - command_radps_[side], -step, step);
+    if (!raycast()) {
+      hinge_[side]->enableAngularMotor(true, kHingeSign * command_radps_[side],
+                                       m.max_wheel_torque_nm * dt);
+    }
+  }
+  if (raycast()) SolveRaycastContacts(dt);
+}
+
+void RobotBody::AfterStep(double dt) {
+  if (raycast()) {
+    drive_->Integrate(dt);
+  } else {
+    UpdateWheelAngles();
+  }
+}
+
+void RobotBody::AppendSection(double z, double max_cylinder_tilt_rad, const PrismRegistry& prisms,
+                              core::PlanarSection* out, std::vector<UncutElement>* uncut) const {
+  // The chassis compound (origin at the centre of mass): child 0 the
+  // footprint prism, child k >= 1 attachment k - 1.
+  const btRigidBody* body = chassis();
+  const btTransform& t = body->getWorldTransform();
+  const auto* compound = static_cast<const btCompoundShape*>(body->getCollisionShape());
+  const RayPrism& prism = prisms.at(compound->getChildShape(0));
+  CutPrism(t * compound->getChildTransform(0), prism.polygon, prism.z0, prism.z1, z, element_, out,
+           uncut);
+  for (std::size_t k = 0; k < spec_.attachments.size(); ++k) {
+    const RobotAttachment& a = spec_.attachments[k];
+    const int child = static_cast<int>(k) + 1;
+    CutCylinder(t * compound->getChildTransform(child), a.radius_m, 0.5 * a.height_m, z,
+                max_cylinder_tilt_rad, body->getUserIndex2() + static_cast<int>(k), out, uncut);
+  }
+  for (std::size_t p = 1; p < parts_.size(); ++p) {
+    const btRigidBody* rb = parts_[p].rigid;
+    const auto* sphere = static_cast<const btSphereShape*>(rb->getCollisionShape());
+    CutSphere(rb->getWorldTransform().getOrigin(), sphere->getRadius(), z, rb->getUserIndex(), out);
+  }
+}
+
+}  // namespace pavilion::sim

@@ -1,0 +1,34 @@
+#pragma once
+
+#include <string>
+
+#include "core/random/random_stream.h"
+#include "sim/sensors/robot_sensors.h"
+#include "sim/sensors/sensor.h"
+
+namespace pavilion::sim {
+
+// A robot's wheel encoders as a Sensor (id "encoders"), reading into
+// SensorOutputs::encoders. They may run at a whole multiple of the physics
+// rate: they are then sampled every tick and read several times in it, at
+// wheel angles interpolated between the tick's two states.
+class EncoderSensor final : public Sensor {
+ public:
+  // `robot_id` names the robot in errors. Throws std::invalid_argument for
+  // invalid options or a rate that is neither a divisor nor a whole multiple
+  // of `physics_rate_hz`.
+  EncoderSensor(const std::string& robot_id, const EncoderOptions& options, double left_radius_m,
+                double right_radius_m, core::RandomStream stream, double physics_rate_hz);
+
+  const std::string& id() const override { return id_; }
+  double sample_rate_hz() const override { return sample_rate_hz_; }
+  void Sample(const SensorTick& tick, SensorOutputs* out) override;
+
+ private:
+  std::string id_ = "encoders";
+  WheelEncoders encoders_;
+  double sample_rate_hz_;
+  int readings_per_tick_ = 1;  // > 1 when the encoders are faster than the physics
+};
+
+}  // namespace pavilion::sim

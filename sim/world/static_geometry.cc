@@ -1,0 +1,122 @@
+#include "sim/world/static_geometry.h"
+
+#include <btBulletDynamicsCommon.h>
+
+#include <memory>
+#include <utility>
+
+#include "sim/world/bullet_conversions.h"
+#include "sim/world/triangle_mesh.h"
+#include "sim/world/wall_geometry.h"
+
+namespace pavilion::sim {
+namespace {
+
+// Floor slab thickness below z = 0 (m); thick enough that nothing tunnels.
+constexpr double kFloorThicknessM = 1.0;
+// Collision margin for triangle meshes (m); small so that rays and contacts
+// meet the surface the description gives.
+constexpr double kMeshMarginM = 0.001;
+
+// Adds static bodies of one world description to a physics world.
+class StaticBuilder {
+ public:
+  StaticBuilder(const WorldDescription& description, ElementTable* elements, PhysicsWorld* physics)
+      : description_(description), elements_(*elements), physics_(*physics) {}
+
+  void AddFloor() {
+    const Floor& floor = description_.floor;
+    const int element = elements_.Add("floor", floor.material, false);
+    const Eigen::Vector2d half = 0.5 * (floor.max_m - floor.min_m);
+    const Eigen::Vector2d centre = 0.5 * (floor.max_m + floor.min_m);
+    auto shape =
+        std::make_unique<btBoxShape>(btVector3(half.x(), half.y(), 0.5 * kFloorThicknessM));
+    btTransform t;
+    t.setIdentity();
+    t.setOrigin(btVector3(centre.x(), centre.y(), -0.5 * kFloorThicknessM));
+    AddStatic(std::move(shape), t, floor.material, element);
+  }
+
+  void AddWall(const Wall& wall) {
+    const int element = elements_.Add(wall.id, wall.material, false);
+    // One convex prism per mitred quad in a compound: convex-convex contacts
+    // are several times cheaper than contacts with a triangle mesh.
+    auto compound = std::make_unique<btCompoundShape>();
+    btTransform identity;
+    identity.setIdentity();
+    for (const Quad& q : WallFootprint(wall)) {
+      auto hull = std::make_unique<btConvexHullShape>();
+      for (const auto& corner : q) {
+        hull->addPoint(btVector3(corner.x(), corner.y(), wall.base_z_m), false);
+        hull->addPoint(btVector3(corner.x(), corner.y(), wall.base_z_m + wall.height_m), false);
+      }
+      hull->recalcLocalAabb();
+      // No margin: Bullet would inflate the hull by it, and rays would meet
+      // the wall a margin early (1 mm/cos(incidence) short ranges).
+      hull->setMargin(0.0);
+      compound->addChildShape(identity, hull.get());
+      physics_.KeepShape(std::move(hull));
+    }
+    AddStatic(std::move(compound), identity, wall.material, element);
+  }
+
+  btRigidBody* AddBox(const Box& box) {
+    const int element = elements_.Add(box.id, box.material, false);
+    auto shape = MakeBox(0.5 * box.size_m);
+    return AddStatic(std::move(shape), BoxTransform(box), box.material, element);
+  }
+
+  void AddCylinder(const Cylinder& c) {
+    const int element = elements_.Add(c.id, c.material, false);
+    auto shape =
+        std::make_unique<btCylinderShapeZ>(btVector3(c.radius_m, c.radius_m, 0.5 * c.height_m));
+    btTransform t;
+    t.setIdentity();
+    t.setOrigin(btVector3(c.position_m.x(), c.position_m.y(), c.base_z_m + 0.5 * c.height_m));
+    AddStatic(std::move(shape), t, c.material, element);
+  }
+
+  void AddMesh(const Mesh& m) {
+    const int element = elements_.Add(m.id, m.material, false);
+    const std::vector<Eigen::Vector3d> vertices = PlacedVertices(m);
+    const auto source = LoadTriangleMesh(m.file);
+    auto mesh = std::make_unique<btTriangleMesh>();
+    for (const auto& tri : source->triangles) {
+      mesh->addTriangle(ToBt(vertices[tri[0]]), ToBt(vertices[tri[1]]), ToBt(vertices[tri[2]]));
+    }
+    auto shape = std::make_unique<btBvhTriangleMeshShape>(mesh.get(), true);
+    shape->setMargin(kMeshMarginM);
+    physics_.KeepMesh(std::move(mesh));
+    btTransform identity;
+    identity.setIdentity();
+    AddStatic(std::move(shape), identity, m.material, element);
+  }
+
+ private:
+  btRigidBody* AddStatic(std::unique_ptr<btCollisionShape> shape, const btTransform& transform,
+                         const std::string& material, int element) {
+    return physics_.AddStatic(std::move(shape), transform, description_.MaterialNamed(material),
+                              element);
+  }
+
+  const WorldDescription& description_;
+  ElementTable& elements_;
+  PhysicsWorld& physics_;
+};
+
+}  // namespace
+
+std::vector<btRigidBody*> AddStaticGeometry(const WorldDescription& description,
+                                            ElementTable* elements, PhysicsWorld* physics) {
+  StaticBuilder builder(description, elements, physics);
+  builder.AddFloor();
+  for (const Wall& wall : description.walls) builder.AddWall(wall);
+  for (const Box& box : description.boxes) builder.AddBox(box);
+  for (const Cylinder& c : description.cylinders) builder.AddCylinder(c);
+  for (const Mesh& m : description.meshes) builder.AddMesh(m);
+  std::vector<btRigidBody*> doors;
+  for (const Door& door : description.doors) doors.push_back(builder.AddBox(door.AsBox()));
+  return doors;
+}
+
+}  // namespace pavilion::sim

@@ -1,0 +1,148 @@
+// The Sensor interface of a simulated robot: a sensor type the simulator does
+// not know, added through SimRobot::AddSensor, is sampled at its scheduled
+// rate after the built-in sensors and reports into SensorOutputs::custom.
+#include "sim/sensors/sensor.h"
+
+#include <gtest/gtest.h>
+
+#include <any>
+#include <cmath>
+#include <cstdint>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "sim/robot/sim_robot.h"
+#include "sim/world/world.h"
+#include "tests/support/floor_world.h"
+
+namespace pavilion::sim {
+namespace {
+
+// What the test sensor reports each time it is sampled.
+struct TickCount {
+  std::int64_t tick = 0;
+  double left_wheel_rad = 0.0;
+};
+
+// A test-only sensor: reports the tick index and the true left wheel angle.
+class TickCounter final : public Sensor {
+ public:
+  TickCounter(std::string id, double rate_hz) : id_(std::move(id)), rate_hz_(rate_hz) {}
+
+  const std::string& id() const override { return id_; }
+  double sample_rate_hz() const override { return rate_hz_; }
+  void Sample(const SensorTick& tick, SensorOutputs* out) override {
+    ++samples;
+    out->custom.push_back({id_, tick.end_s, TickCount{tick.tick, tick.after.left_wheel_rad}});
+  }
+
+  int samples = 0;
+
+ private:
+  std::string id_;
+  double rate_hz_;
+};
+
+// Pygmalion-like: 45 cm square, wheels r = 9 cm, b = 0.4 m.
+SimRobotSetup TestSetup() {
+  SimRobotSetup setup;
+  RobotDescription& m = setup.spec.model;
+  m.model = "test";
+  m.footprint_m = {{-0.225, -0.225}, {0.225, -0.225}, {0.225, 0.225}, {-0.225, 0.225}};
+  m.chassis_base_z_m = 0.04;
+  m.chassis_height_m = 0.66;
+  m.chassis_mass_kg = 50.0;
+  m.left_wheel = {"left", 0.09, 0.03, 1.5, {0.0, 0.2}};
+  m.right_wheel = {"right", 0.09, 0.03, 1.5, {0.0, -0.2}};
+  m.casters = {{"caster_front", {0.17, 0.0}, 0.03}, {"caster_rear", {-0.17, 0.0}, 0.03}};
+  m.max_wheel_torque_nm = 15.0;
+  m.max_wheel_speed_radps = 15.0;
+  m.max_wheel_accel_radps2 = 10.0;
+  m.material = "floor";
+  setup.spec.id = "r";
+  setup.encoders.rate_hz = 100.0;
+  return setup;
+}
+
+// Steps the world and samples the robot for `ticks` ticks; returns every output.
+std::vector<SensorOutputs> StepAndSample(World* world, SimRobot* robot, int ticks) {
+  std::vector<SensorOutputs> outputs;
+  for (int k = 0; k < ticks; ++k) {
+    const RobotState before = world->robot_state(robot->index());
+    world->Step();
+    outputs.push_back(robot->AfterStep(before, world->robot_state(robot->index())));
+  }
+  return outputs;
+}
+
+// A 50 Hz sensor on 200 Hz physics is sampled every fourth tick, stamped with
+// the tick's end time, and its readings come out in `custom` beside the encoders.
+TEST(SensorTest, AddedSensorIsSampledAtItsRateIntoCustom) {
+  World world(testing::FloorWorld(5, false), WorldOptions{});  // 200 Hz physics
+  SimRobot robot(&world, TestSetup(), 1);
+  auto sensor = std::make_unique<TickCounter>("tick_counter", 50.0);
+  TickCounter* counter = sensor.get();
+  robot.AddSensor(std::move(sensor));
+  robot.SetWheelSpeeds(2.0, 2.0);
+
+  const std::vector<SensorOutputs> outputs = StepAndSample(&world, &robot, 200);  // 1 s
+  int customs = 0, encoders = 0;
+  for (std::size_t k = 0; k < outputs.size(); ++k) {
+    const std::int64_t tick = static_cast<std::int64_t>(k) + 1;
+    const SensorOutputs& out = outputs[k];
+    encoders += static_cast<int>(out.encoders.size());
+    ASSERT_EQ(out.custom.size(), tick % 4 == 0 ? 1u : 0u) << "tick " << tick;
+    for (const CustomReading& r : out.custom) {
+      ++customs;
+      EXPECT_EQ(r.sensor_id, "tick_counter");
+      EXPECT_NEAR(r.stamp_s, static_cast<double>(tick) / 200.0, 1e-12);
+      const TickCount* value = std::any_cast<TickCount>(&r.value);
+      ASSERT_NE(value, nullptr);
+      EXPECT_EQ(value->tick, tick);
+    }
+  }
+  EXPECT_EQ(customs, 50);
+  EXPECT_EQ(counter->samples, 50);
+  EXPECT_EQ(encoders, 100);  // the built-in encoders keep their 100 Hz
+  // The sensor saw the robot's true state: the wheels turned forward.
+  const TickCount& last = std::any_cast<const TickCount&>(outputs.back().custom.back().value);
+  EXPECT_GT(last.left_wheel_rad, 0.5);
+}
+
+// Two sensors of one robot may not share an id, and a sensor's rate must
+// divide the physics rate.
+TEST(SensorTest, AddSensorRejectsDuplicateIdsAndRatesOffTheTickGrid) {
+  World world(testing::FloorWorld(5, false), WorldOptions{});
+  SimRobot robot(&world, TestSetup(), 1);
+  robot.AddSensor(std::make_unique<TickCounter>("a", 100.0));
+  EXPECT_THROW(robot.AddSensor(std::make_unique<TickCounter>("a", 100.0)), std::invalid_argument);
+  EXPECT_THROW(robot.AddSensor(std::make_unique<TickCounter>("encoders", 100.0)),
+               std::invalid_argument);
+  EXPECT_THROW(robot.AddSensor(std::make_unique<TickCounter>("b", 70.0)), std::invalid_argument);
+}
+
+// Sensors are sampled in the order added: a second custom sensor at the same
+// rate reports after the first within a tick.
+TEST(SensorTest, SensorsReportInTheOrderAdded) {
+  World world(testing::FloorWorld(5, false), WorldOptions{});
+  SimRobot robot(&world, TestSetup(), 1);
+  robot.AddSensor(std::make_unique<TickCounter>("first", 100.0));
+  robot.AddSensor(std::make_unique<TickCounter>("second", 100.0));
+  const std::vector<SensorOutputs> outputs = StepAndSample(&world, &robot, 4);
+  for (std::size_t k = 0; k < outputs.size(); ++k) {
+    const std::vector<CustomReading>& custom = outputs[k].custom;
+    if (k % 2 == 0) {
+      EXPECT_TRUE(custom.empty());
+      continue;
+    }
+    ASSERT_EQ(custom.size(), 2u);
+    EXPECT_EQ(custom[0].sensor_id, "first");
+    EXPECT_EQ(custom[1].sensor_id, "second");
+  }
+}
+
+}  // namespace
+}  // namespace pavilion::sim
