@@ -268,8 +268,35 @@ struct PlanarSlice::Best {
 };
 
 // Inlined into Cast, the caster's hot path (called once per ray).
-[[gnu::always_inline]] inline void PlanarSlice::WalkGrid(double max_range_m, Best* best_io) const {
-  Best& best = *best_io;
+[[gnu::always_inline]] inline RayHit PlanarSlice::ToHit(const Best& best, double z_m) {
+  const Eigen::Vector2d& o = best.o;
+  const Eigen::Vector2d& d = best.d;
+  RayHit hit;
+  if (best.segment == nullptr && best.circle == nullptr) return hit;
+  hit.hit = true;
+  hit.distance_m = best.t;
+  const Eigen::Vector2d point = o + best.t * d;
+  hit.point_m = {point.x(), point.y(), z_m};
+  Eigen::Vector2d n;
+  if (best.segment != nullptr) {
+    const Eigen::Vector2d& e = best.segment->edge_m;
+    n = Eigen::Vector2d(e.y(), -e.x()).normalized();
+    if (n.dot(d) > 0.0) n = -n;  // a two-sided mesh cut met from behind
+    hit.element = best.segment->element;
+  } else {
+    n = (point - best.circle->center_m).normalized();
+    hit.element = best.circle->element;
+  }
+  hit.normal = {n.x(), n.y(), 0.0};
+  return hit;
+}
+
+RayHit PlanarSlice::Cast(const Eigen::Vector3d& origin_m, const Eigen::Vector2d& direction,
+                         double max_range_m, int ignore_group) const {
+  Best best{origin_m.head<2>(), direction, max_range_m, ignore_group};
+  for (const Segment& s : outside_segments_) best.Test(s);
+  for (const Circle& c : outside_circles_) best.Test(c);
+
   // The ray's part inside the grid.
   const Eigen::Vector2d& o = best.o;
   const Eigen::Vector2d& d = best.d;
@@ -333,39 +360,6 @@ struct PlanarSlice::Best {
       }
     }
   }
-}
-
-// Inlined into Cast, the caster's hot path (called once per ray).
-[[gnu::always_inline]] inline RayHit PlanarSlice::ToHit(const Best& best, double z_m) {
-  const Eigen::Vector2d& o = best.o;
-  const Eigen::Vector2d& d = best.d;
-  RayHit hit;
-  if (best.segment == nullptr && best.circle == nullptr) return hit;
-  hit.hit = true;
-  hit.distance_m = best.t;
-  const Eigen::Vector2d point = o + best.t * d;
-  hit.point_m = {point.x(), point.y(), z_m};
-  Eigen::Vector2d n;
-  if (best.segment != nullptr) {
-    const Eigen::Vector2d& e = best.segment->edge_m;
-    n = Eigen::Vector2d(e.y(), -e.x()).normalized();
-    if (n.dot(d) > 0.0) n = -n;  // a two-sided mesh cut met from behind
-    hit.element = best.segment->element;
-  } else {
-    n = (point - best.circle->center_m).normalized();
-    hit.element = best.circle->element;
-  }
-  hit.normal = {n.x(), n.y(), 0.0};
-  return hit;
-}
-
-RayHit PlanarSlice::Cast(const Eigen::Vector3d& origin_m, const Eigen::Vector2d& direction,
-                         double max_range_m, int ignore_group) const {
-  Best best{origin_m.head<2>(), direction, max_range_m, ignore_group};
-  for (const Segment& s : outside_segments_) best.Test(s);
-  for (const Circle& c : outside_circles_) best.Test(c);
-
-  WalkGrid(max_range_m, &best);
   return ToHit(best, origin_m.z());
 }
 

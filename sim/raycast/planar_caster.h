@@ -80,9 +80,6 @@ class PlanarSlice final : public LaserHitFinder {
     std::vector<Circle> circles;
   };
   struct Best;
-  // Tests the primitives of the grid cells the ray of `best` crosses, nearest
-  // first, until no closer hit can follow.
-  void WalkGrid(double max_range_m, Best* best) const;
   // The hit `best` found, in the plane z = z_m.
   static RayHit ToHit(const Best& best, double z_m);
 
