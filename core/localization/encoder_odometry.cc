@@ -6,23 +6,26 @@
 #include <string>
 
 namespace pavilion::core {
-namespace {
-
-void Require(bool ok, const char* field, const char* expected) {
-  if (!ok) throw std::invalid_argument(std::string(field) + " must be " + expected);
-}
-
-}  // namespace
 
 void EncoderOdometryOptions::Validate() const {
-  Require(std::isfinite(left_wheel_radius_m) && left_wheel_radius_m > 0.0, "left_wheel_radius_m",
-          "a finite value > 0");
-  Require(std::isfinite(right_wheel_radius_m) && right_wheel_radius_m > 0.0, "right_wheel_radius_m",
-          "a finite value > 0");
-  Require(std::isfinite(wheelbase_m) && wheelbase_m > 0.0, "wheelbase_m", "a finite value > 0");
-  Require(std::isfinite(k_left_m) && k_left_m >= 0.0, "k_left_m", "a finite value >= 0");
-  Require(std::isfinite(k_right_m) && k_right_m >= 0.0, "k_right_m", "a finite value >= 0");
-  Require(std::isfinite(k_turn_m) && k_turn_m >= 0.0, "k_turn_m", "a finite value >= 0");
+  constexpr double kMaxLengthM = 10.0;  // beyond any robot: a unit mistake
+  constexpr double kMaxK = 1.0;         // §2.3 k (m); the thesis found 5e-6
+  const auto length = [](double v, const char* name) {
+    if (!(v > 0.0 && v <= kMaxLengthM)) {
+      throw std::invalid_argument(std::string(name) + " must be in (0, 10] m");
+    }
+  };
+  const auto noise = [](double v, const char* name) {
+    if (!(v >= 0.0 && v <= kMaxK)) {
+      throw std::invalid_argument(std::string(name) + " must be in [0, 1] m");
+    }
+  };
+  length(left_wheel_radius_m, "left_wheel_radius_m");
+  length(right_wheel_radius_m, "right_wheel_radius_m");
+  length(wheelbase_m, "wheelbase_m");
+  noise(k_left_m, "k_left_m");
+  noise(k_right_m, "k_right_m");
+  noise(k_turn_m, "k_turn_m");
 }
 
 WheelTravel WheelTravelFromEncoders(const EncoderReading& previous, const EncoderReading& current,

@@ -15,12 +15,12 @@ namespace pavilion::core {
 // scenarios/). Defaults: Robox's nominal geometry (r = 0.09 m, b = 0.50 m) and
 // the thesis' k_L = k_R = 5e-6 m (§2.3).
 struct EncoderOdometryOptions {
-  double left_wheel_radius_m = 0.09;   // calibrated r_L, m; > 0
-  double right_wheel_radius_m = 0.09;  // calibrated r_R, m; > 0
-  double wheelbase_m = 0.5;            // calibrated b, m; > 0
-  double k_left_m = 5e-6;              // k_L of eq. 2.9, m; >= 0
-  double k_right_m = 5e-6;             // k_R of eq. 2.9, m; >= 0
-  double k_turn_m = 0.0;               // turn slip (WheelNoise), m; >= 0
+  double left_wheel_radius_m = 0.09;   // calibrated r_L, m; (0, 10]
+  double right_wheel_radius_m = 0.09;  // calibrated r_R, m; (0, 10]
+  double wheelbase_m = 0.5;            // calibrated b, m; (0, 10]
+  double k_left_m = 5e-6;              // k_L of eq. 2.9, m; [0, 1]
+  double k_right_m = 5e-6;             // k_R of eq. 2.9, m; [0, 1]
+  double k_turn_m = 0.0;               // turn slip (WheelNoise), m; [0, 1]
 
   WheelNoise noise() const { return {k_left_m, k_right_m, k_turn_m}; }
   void Validate() const;  // throws std::invalid_argument naming the field

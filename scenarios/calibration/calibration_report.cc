@@ -17,7 +17,7 @@ std::string Format(const char* format, double v) {
 
 Json Vec3(const Eigen::Vector3d& v) { return Json::array({v[0], v[1], v[2]}); }
 
-Json OdometryJson(const sim::OdometryCalibration& o) {
+Json OdometryJson(const core::EncoderOdometryOptions& o) {
   return Json{{"left_wheel_radius_m", o.left_wheel_radius_m},
               {"right_wheel_radius_m", o.right_wheel_radius_m},
               {"wheelbase_m", o.wheelbase_m},

@@ -100,7 +100,7 @@ Eigen::Vector2d Dir(double angle_rad) { return {std::cos(angle_rad), std::sin(an
 
 // A tick step's wheel travels under model `m` (eq. 2.5).
 core::WheelTravel Travel(const TickStep& t, int ticks_per_revolution,
-                         const sim::OdometryCalibration& m) {
+                         const core::EncoderOdometryOptions& m) {
   core::EncoderOdometryOptions model;
   model.left_wheel_radius_m = m.left_wheel_radius_m;
   model.right_wheel_radius_m = m.right_wheel_radius_m;
@@ -222,8 +222,8 @@ std::vector<DriveRun> StandardCalibrationRuns(const OdometryCalibrationOptions& 
   return runs;
 }
 
-sim::OdometryCalibration NominalOdometry(const sim::RobotConfig& config) {
-  sim::OdometryCalibration o;
+core::EncoderOdometryOptions NominalOdometry(const sim::RobotConfig& config) {
+  core::EncoderOdometryOptions o;
   o.left_wheel_radius_m = config.description.left_wheel.radius_m;
   o.right_wheel_radius_m = config.description.right_wheel.radius_m;
   o.wheelbase_m = config.description.wheelbase_m();
@@ -358,8 +358,8 @@ class CalibrationDrive {
       : run_(run),
         nominal_(NominalOdometry(config)),
         who_("robot '" + config.description.model + "', run '" + run.name + "': "),
-        world_(MakeWorld(config, run, options, &setup_)),
-        robot_(&world_, setup_, run_seed),
+        world_(MakeWorld(config, run, options, &robot_config_)),
+        robot_(&world_, robot_config_, sim::RobotPlacement{kRobotId, {}}, run_seed),
         index_(robot_.index()) {
     const sim::RobotDescription& model = config.description;
     const double small_radius =
@@ -397,13 +397,12 @@ class CalibrationDrive {
 
  private:
   static sim::World MakeWorld(const sim::RobotConfig& config, const DriveRun& run,
-                              const OdometryCalibrationOptions& options,
-                              sim::SimRobotSetup* setup) {
+                              const OdometryCalibrationOptions& options, sim::RobotConfig* robot) {
     sim::WorldDescription description =
         BareFloor(RunExtent(run) + kFloorMarginM, options.floor_friction);
-    *setup = MakeSimRobotSetup(kRobotId, config, {}, &description);
-    setup->lasers.clear();  // not needed here, and ray casts dominate a step's cost
-    setup->bumpers.clear();
+    *robot = WithWorldMaterials(config, &description);
+    robot->lasers.clear();  // not needed here, and ray casts dominate a step's cost
+    robot->bumpers.clear();
     sim::WorldOptions world_options;
     world_options.physics_rate_hz = options.physics_rate_hz;
     return sim::World(std::move(description), world_options);
@@ -459,10 +458,10 @@ class CalibrationDrive {
   }
 
   const DriveRun& run_;
-  const sim::OdometryCalibration nominal_;
+  const core::EncoderOdometryOptions nominal_;
   const std::string who_;
   DriveLimits limits_;
-  sim::SimRobotSetup setup_;
+  sim::RobotConfig robot_config_;
   sim::World world_;
   sim::SimRobot robot_;
   const int index_;
@@ -480,7 +479,7 @@ class CalibrationDrive {
 RecordedRun DriveCalibrationRun(const sim::RobotConfig& config, const DriveRun& run,
                                 const OdometryCalibrationOptions& options, std::uint64_t run_seed) {
   options.Validate();
-  const sim::OdometryCalibration nominal = NominalOdometry(config);
+  const core::EncoderOdometryOptions nominal = NominalOdometry(config);
   const double small_radius = std::min(nominal.left_wheel_radius_m, nominal.right_wheel_radius_m);
   CheckSegments(run, config.description.max_wheel_speed_radps * small_radius,
                 "robot '" + config.description.model + "', run '" + run.name + "': ");
@@ -488,7 +487,7 @@ RecordedRun DriveCalibrationRun(const sim::RobotConfig& config, const DriveRun& 
 }
 
 core::PoseWithCovariance IntegrateRecordedRun(const RecordedRun& run,
-                                              const sim::OdometryCalibration& model,
+                                              const core::EncoderOdometryOptions& model,
                                               const core::WheelNoise& noise) {
   core::PoseWithCovariance state{run.true_start, Eigen::Matrix3d::Zero()};
   for (const TickStep& t : run.ticks) {
@@ -507,15 +506,15 @@ Eigen::Vector3d EndPoseError(const RecordedRun& run, const core::Pose2& odometry
 
 namespace {
 
-core::WheelGeometry GeometryOf(const sim::OdometryCalibration& m) {
+core::WheelGeometry GeometryOf(const core::EncoderOdometryOptions& m) {
   return {m.left_wheel_radius_m, m.right_wheel_radius_m, m.wheelbase_m};
 }
 
 // The calibrated radii and wheelbase for UMBmark's factors and the straight-run scale (C4).
-sim::OdometryCalibration CorrectedModel(const sim::OdometryCalibration& nominal,
-                                        const core::UmbmarkResult& u, double scale) {
+core::EncoderOdometryOptions CorrectedModel(const core::EncoderOdometryOptions& nominal,
+                                            const core::UmbmarkResult& u, double scale) {
   const core::WheelGeometry g = core::UmbmarkCorrectedGeometry(GeometryOf(nominal), u, scale);
-  sim::OdometryCalibration m = nominal;
+  core::EncoderOdometryOptions m = nominal;
   m.left_wheel_radius_m = g.left_wheel_radius_m;
   m.right_wheel_radius_m = g.right_wheel_radius_m;
   m.wheelbase_m = g.wheelbase_m;
@@ -544,7 +543,7 @@ double SquareSide(const std::vector<RecordedRun>& runs) {
 
 // (C1): true over odometric distance of the straight runs under the nominal model.
 double StraightRunScale(const std::vector<RecordedRun>& runs,
-                        const sim::OdometryCalibration& nominal) {
+                        const core::EncoderOdometryOptions& nominal) {
   double arc_sum = 0.0, odometric_sum = 0.0;
   for (const RecordedRun& r : runs) {
     if (r.run.kind != CalibrationRunKind::kStraight) continue;
@@ -565,7 +564,7 @@ double StraightRunScale(const std::vector<RecordedRun>& runs,
 
 // The end-pose errors of the squares re-integrated with `model` (noise-free).
 core::SquareErrors SquareErrorsOf(const std::vector<RecordedRun>& runs,
-                                  const sim::OdometryCalibration& model) {
+                                  const core::EncoderOdometryOptions& model) {
   core::SquareErrors errors;
   for (const CalibrationRunKind kind :
        {CalibrationRunKind::kSquareCcw, CalibrationRunKind::kSquareCw}) {
@@ -585,13 +584,13 @@ void EstimateSystematic(const std::vector<RecordedRun>& runs,
                         const std::vector<Eigen::Vector3d>& nominal_errors, double side_m,
                         OdometryCalibrationReport* report) {
   const double scale = report->straight_scale;
-  const sim::OdometryCalibration& nominal = report->nominal;
+  const core::EncoderOdometryOptions& nominal = report->nominal;
   report->umbmark_one_step =
       core::EstimateUmbmark(ErrorsOf(runs, nominal_errors, CalibrationRunKind::kSquareCcw),
                             ErrorsOf(runs, nominal_errors, CalibrationRunKind::kSquareCw), side_m,
                             scale, nominal.wheelbase_m);
   const auto residuals = [&](const core::WheelGeometry& g) {
-    sim::OdometryCalibration model = nominal;
+    core::EncoderOdometryOptions model = nominal;
     model.left_wheel_radius_m = g.left_wheel_radius_m;
     model.right_wheel_radius_m = g.right_wheel_radius_m;
     model.wheelbase_m = g.wheelbase_m;

@@ -94,11 +94,11 @@ RecordedRun DriveCalibrationRun(const sim::RobotConfig& config, const DriveRun& 
 // The odometry a model computes for a recorded run, started at the true start
 // pose with zero covariance and propagated with eq. 2.13 under `noise`.
 core::PoseWithCovariance IntegrateRecordedRun(const RecordedRun& run,
-                                              const sim::OdometryCalibration& model,
+                                              const core::EncoderOdometryOptions& model,
                                               const core::WheelNoise& noise);
 
 // The model of the URDF: nominal radii and wheelbase, and the given k.
-sim::OdometryCalibration NominalOdometry(const sim::RobotConfig& config);
+core::EncoderOdometryOptions NominalOdometry(const sim::RobotConfig& config);
 
 // The end-pose error true − odometry of a run, expressed in its start frame
 // ([x, y, θ], θ wrapped).
@@ -123,10 +123,10 @@ struct OdometryCalibrationReport {
   bool encoder_noise = false;        // whether the encoders added §2.3 noise
   double encoder_k_left_m = 0.0;     // the encoders' configured k (the truth when noise is on)
   double encoder_k_right_m = 0.0;
-  sim::OdometryCalibration nominal;      // URDF values (k as configured in robot.yaml)
-  sim::OdometryCalibration calibrated;   // the result
-  core::UmbmarkResult umbmark_one_step;  // Borenstein & Feng's single correction
-  core::UmbmarkResult umbmark;           // iterated on the re-integrated runs (final)
+  core::EncoderOdometryOptions nominal;     // URDF values (k as configured in robot.yaml)
+  core::EncoderOdometryOptions calibrated;  // the result
+  core::UmbmarkResult umbmark_one_step;     // Borenstein & Feng's single correction
+  core::UmbmarkResult umbmark;              // iterated on the re-integrated runs (final)
   int umbmark_iterations = 0;
   double straight_scale = 1.0;      // true / odometric distance of the straight runs
   double e_max_syst_after_m = 0.0;  // UMBmark's measure with the calibrated model

@@ -66,10 +66,10 @@ int RunScanCommand(const ScanArgs& args) {
       laser.options.effects = false;
     }
   }
-  const sim::SimRobotSetup setup =
-      scenarios::MakeSimRobotSetup("robot", config, pose, &description);
+  sim::RobotConfig robot_config = scenarios::WithWorldMaterials(config, &description);
   sim::World world(std::move(description), sim::WorldOptions{});
-  sim::SimRobot robot(&world, setup, static_cast<std::uint64_t>(args.seed));
+  sim::SimRobot robot(&world, std::move(robot_config), sim::RobotPlacement{"robot", pose},
+                      static_cast<std::uint64_t>(args.seed));
 
   scenarios::LineWriter csv(args.out);
   csv.Append(
@@ -120,7 +120,7 @@ int RunScanCommand(const ScanArgs& args) {
   std::printf("%s\n", args.out.c_str());
   if (!args.png.empty()) {
     sim::TopDownOptions view;
-    view.section_height_m = setup.lasers.empty() ? 0.5 : setup.lasers.front().mount_height_m;
+    view.section_height_m = config.lasers.empty() ? 0.5 : config.lasers.front().z_m;
     view.width_px = 1400;
     scenarios::WritePng(args.png, sim::RenderTopDown(world, overlay, view));
     std::printf("%s\n", args.png.c_str());

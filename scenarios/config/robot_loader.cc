@@ -287,13 +287,13 @@ class RobotReader {
     return s;
   }
 
-  sim::OdometryCalibration ReadOdometry(MapReader& top, const sim::RobotDescription& d) {
-    sim::OdometryCalibration o;
+  core::EncoderOdometryOptions ReadOdometry(MapReader& top, const sim::RobotDescription& d) {
+    core::EncoderOdometryOptions o;
     MapReader r(doc_, top.Child("odometry", true), "odometry");
     if (!r.valid()) return o;
     RequireKeys(
         r, {"left_wheel_radius_m", "right_wheel_radius_m", "wheelbase_m", "k_left_m", "k_right_m"});
-    using Odometry = sim::OdometryCalibration;
+    using Odometry = core::EncoderOdometryOptions;
     const bool valid = ReadOptions(r, &o,
                                    {{"left_wheel_radius_m", &Odometry::left_wheel_radius_m},
                                     {"right_wheel_radius_m", &Odometry::right_wheel_radius_m},

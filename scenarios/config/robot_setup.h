@@ -2,18 +2,15 @@
 
 #include <string>
 
-#include "core/types/pose2.h"
 #include "sim/robot/robot_config.h"
-#include "sim/robot/sim_robot.h"
 #include "sim/world/world_description.h"
 
 namespace pavilion::scenarios {
 
-// Turns a robot file's configuration into what the simulator builds: the
+// A robot file's configuration as the simulator builds it into `world`: the
 // robot's own materials are added to `world` as "<model>/<name>" (so two
-// models never clash with each other or with the world's), its markers become
-// chassis attachments and its lasers scanner mounts.
-sim::SimRobotSetup MakeSimRobotSetup(const std::string& id, const sim::RobotConfig& config,
-                                     const core::Pose2& pose, sim::WorldDescription* world);
+// models never clash with each other or with the world's), and its model's and
+// markers' material names are scoped alike.
+sim::RobotConfig WithWorldMaterials(sim::RobotConfig config, sim::WorldDescription* world);
 
 }  // namespace pavilion::scenarios

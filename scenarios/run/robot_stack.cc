@@ -20,7 +20,7 @@ namespace {
 
 core::LocalizerOptions LocalizerOptionsFor(const RobotEntry& robot) {
   core::LocalizerOptions o;
-  o.odometry = OdometryOptions(robot.config.odometry);
+  o.odometry = robot.config.odometry;
   // The calibration measured the physics' own error with encoder noise off;
   // injected encoder noise is independent of it, so the variances add (§2.3:
   // Var = k|s| per wheel, hence the k add).
@@ -76,7 +76,7 @@ std::vector<Eigen::Vector2d> RoutePath(const Scenario& scenario, std::size_t ind
 std::unique_ptr<nav::Controller> MakeController(const Scenario& scenario, std::size_t index,
                                                 const std::optional<core::RobotMap>& map) {
   const RobotEntry& entry = scenario.robots[index];
-  const core::EncoderOdometryOptions odometry = OdometryOptions(entry.config.odometry);
+  const core::EncoderOdometryOptions odometry = entry.config.odometry;
   if (entry.route) {
     nav::RouteControllerOptions options;
     options.follower = entry.route->follower;
@@ -100,17 +100,6 @@ std::unique_ptr<nav::Controller> MakeController(const Scenario& scenario, std::s
 }
 
 }  // namespace
-
-core::EncoderOdometryOptions OdometryOptions(const sim::OdometryCalibration& c) {
-  core::EncoderOdometryOptions o;
-  o.left_wheel_radius_m = c.left_wheel_radius_m;
-  o.right_wheel_radius_m = c.right_wheel_radius_m;
-  o.wheelbase_m = c.wheelbase_m;
-  o.k_left_m = c.k_left_m;
-  o.k_right_m = c.k_right_m;
-  o.k_turn_m = c.k_turn_m;
-  return o;
-}
 
 bool NeedsMap(const RobotEntry& robot) {
   return robot.localization.enabled || robot.route.has_value();
@@ -143,7 +132,7 @@ std::unique_ptr<nav::Navigator> MakeNavigator(const Scenario& scenario, std::siz
                                               const std::optional<core::RobotMap>& map) {
   const RobotEntry& entry = scenario.robots[index];
   nav::NavigatorOptions options;
-  options.odometry = OdometryOptions(entry.config.odometry);
+  options.odometry = entry.config.odometry;
   options.start_pose = entry.pose;
   std::unique_ptr<nav::PoseEstimator> estimator;
   if (entry.localization.enabled) estimator = MakeEstimator(entry, *map);

@@ -32,7 +32,4 @@ bool NeedsMap(const RobotEntry& robot);
 std::unique_ptr<nav::Navigator> MakeNavigator(const Scenario& scenario, std::size_t index,
                                               const std::optional<core::RobotMap>& map);
 
-// The calibrated odometry model of a robot file as the core's options.
-core::EncoderOdometryOptions OdometryOptions(const sim::OdometryCalibration& calibration);
-
 }  // namespace pavilion::scenarios

@@ -96,7 +96,7 @@ class ScenarioRun {
   RunSummary Finish();
 
  private:
-  void BuildRobots(std::vector<sim::SimRobotSetup> setups,
+  void BuildRobots(std::vector<sim::RobotConfig> configs,
                    const std::vector<std::optional<core::RobotMap>>& maps);
   void OpenLogs();
   // The phases of a tick, in order.
@@ -151,10 +151,9 @@ ScenarioRun::ScenarioRun(const Scenario& scenario, const RunOptions& options,
   std::filesystem::create_directories(out_);
   // Robots bring their own materials into the world description.
   sim::WorldDescription description = scenario.world;
-  std::vector<sim::SimRobotSetup> setups;
+  std::vector<sim::RobotConfig> configs;
   for (const RobotEntry& r : scenario.robots) {
-    setups.push_back(MakeSimRobotSetup(r.id, r.config, r.pose, &description));
-    setups.back().spec.wheel_model = r.wheel_model;
+    configs.push_back(WithWorldMaterials(r.config, &description));
   }
   world_ = std::make_unique<sim::World>(std::move(description), scenario.physics);
   // Maps before any body enters the world (a derived map is a survey of the
@@ -170,13 +169,13 @@ ScenarioRun::ScenarioRun(const Scenario& scenario, const RunOptions& options,
     planar_ = std::make_unique<sim::PlanarCaster>(world_.get(), scenario.planar_laser);
   }
   for (int b = 0; b < world_->body_count(); ++b) body_index_[world_->body_spec(b).id] = b;
-  BuildRobots(std::move(setups), maps);
+  BuildRobots(std::move(configs), maps);
   OpenLogs();
   pool_ = std::make_unique<sim::WorkerPool>(
       options.threads > 0 ? options.threads : sim::WorkerPool::HardwareThreads());
 }
 
-void ScenarioRun::BuildRobots(std::vector<sim::SimRobotSetup> setups,
+void ScenarioRun::BuildRobots(std::vector<sim::RobotConfig> configs,
                               const std::vector<std::optional<core::RobotMap>>& maps) {
   robots_.resize(scenario_.robots.size());
   for (std::size_t k = 0; k < scenario_.robots.size(); ++k) {
@@ -184,7 +183,9 @@ void ScenarioRun::BuildRobots(std::vector<sim::SimRobotSetup> setups,
     RobotRun& run = robots_[k];
     run.entry = &entry;
     try {
-      run.robot = std::make_unique<sim::SimRobot>(world_.get(), setups[k], scenario_.seed);
+      run.robot = std::make_unique<sim::SimRobot>(
+          world_.get(), std::move(configs[k]),
+          sim::RobotPlacement{entry.id, entry.pose, entry.wheel_model}, scenario_.seed);
       run.robot->UsePlanarCaster(planar_.get());
     } catch (const std::invalid_argument& e) {
       throw InputError(

@@ -196,16 +196,16 @@ void DrawBodies(const World& world, Canvas* canvas) {
 void DrawRobots(const World& world, Canvas* canvas) {
   const WorldDescription& d = world.description();
   for (int r = 0; r < world.robot_count(); ++r) {
-    const RobotSpec& spec = world.robot_spec(r);
+    const RobotDescription& model = world.robot_model(r);
     const RobotState state = world.robot_state(r);
     std::vector<Eigen::Vector2d> outline;
-    for (const Eigen::Vector2d& p : spec.model.footprint_m) outline.push_back(state.pose * p);
-    canvas->FillPolygon(outline, MaterialRgb(d, spec.model.material));
-    for (const RobotAttachment& a : spec.attachments) {
+    for (const Eigen::Vector2d& p : model.footprint_m) outline.push_back(state.pose * p);
+    canvas->FillPolygon(outline, MaterialRgb(d, model.material));
+    for (const MarkerSpec& a : model.markers) {
       canvas->FillCircle(state.pose * a.position_m, a.radius_m, MaterialRgb(d, a.material));
     }
     double reach = 0.0;
-    for (const Eigen::Vector2d& p : spec.model.footprint_m) reach = std::max(reach, p.x());
+    for (const Eigen::Vector2d& p : model.footprint_m) reach = std::max(reach, p.x());
     const Eigen::Vector2d heading(std::cos(state.pose.theta_rad), std::sin(state.pose.theta_rad));
     canvas->Line(state.pose.translation(), state.pose.translation() + reach * heading, {0, 0, 0},
                  1.5);

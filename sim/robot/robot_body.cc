@@ -9,6 +9,7 @@
 #include <string>
 #include <utility>
 
+#include "core/types/pose2.h"
 #include "sim/robot/raycast_drive.h"
 #include "sim/world/bullet_conversions.h"
 #include "sim/world/contact_tracker.h"
@@ -36,8 +37,6 @@ constexpr double kMinWheelMassFraction = 1.0 / 8.0;
 // forward-drive test in tests/sim/robot/robot_world_test.cc.
 constexpr double kHingeSign = -1.0;
 
-double WrapAngle(double a) { return std::remainder(a, 2.0 * std::numbers::pi); }
-
 // True when the polygon is convex and counter-clockwise with non-zero area.
 bool IsConvexCcw(const std::vector<Eigen::Vector2d>& p) {
   if (p.size() < 3) return false;
@@ -49,14 +48,14 @@ bool IsConvexCcw(const std::vector<Eigen::Vector2d>& p) {
   return true;
 }
 
-// Throws std::invalid_argument naming the robot for an inconsistent spec.
-void ValidateRobotSpec(const RobotSpec& spec, const ElementTable& elements) {
-  const RobotDescription& m = spec.model;
+// Throws std::invalid_argument naming the robot for an inconsistent model.
+void ValidateRobot(const RobotDescription& m, const SystematicErrors& systematic,
+                   const RobotPlacement& placement, const ElementTable& elements) {
   const auto fail = [&](const std::string& what) {
-    throw std::invalid_argument("robot '" + spec.id + "': " + what);
+    throw std::invalid_argument("robot '" + placement.id + "': " + what);
   };
-  if (spec.id.empty()) throw std::invalid_argument("robot id must not be empty");
-  if (elements.Contains(spec.id)) fail("id is already used by a world element or body");
+  if (placement.id.empty()) throw std::invalid_argument("robot id must not be empty");
+  if (elements.Contains(placement.id)) fail("id is already used by a world element or body");
   if (!IsConvexCcw(m.footprint_m)) fail("footprint must be a convex counter-clockwise polygon");
   if (!(m.chassis_height_m > 0.0)) fail("chassis height must be > 0");
   if (!(m.chassis_base_z_m >= 0.0)) fail("chassis base height must be >= 0");
@@ -74,13 +73,13 @@ void ValidateRobotSpec(const RobotSpec& spec, const ElementTable& elements) {
         m.max_wheel_accel_radps2 > 0.0)) {
     fail("motor torque, speed and acceleration limits must be > 0");
   }
-  for (const RobotAttachment& a : spec.attachments) {
+  for (const MarkerSpec& a : m.markers) {
     if (!(a.radius_m > 0.0 && a.height_m > 0.0 && a.base_z_m >= 0.0)) {
-      fail("attachment '" + a.name + "' needs radius > 0, height > 0 and base >= 0");
+      fail("attachment '" + a.id + "' needs radius > 0, height > 0 and base >= 0");
     }
   }
   try {
-    spec.systematic.Validate();
+    systematic.Validate();
   } catch (const std::invalid_argument& e) {
     fail(std::string("systematic errors: ") + e.what());
   }
@@ -110,22 +109,22 @@ RobotBody::PartMasses RobotBody::ReferencePartMasses(const RobotDescription& m) 
   return p;
 }
 
-RobotBody::PartLayout RobotBody::LayOutParts(const RobotSpec& spec) {
-  const RobotDescription& m = spec.model;
+RobotBody::PartLayout RobotBody::LayOutParts() const {
+  const RobotDescription& m = model_;
   PartLayout layout;
   layout.com_z_m =
       std::clamp(m.chassis_com_m.z(), m.chassis_base_z_m, m.chassis_base_z_m + m.chassis_height_m);
   layout.chassis_com_z_m = layout.com_z_m;
-  const double ratio = spec.systematic.wheel_radius_ratio;
+  const double ratio = systematic_.wheel_radius_ratio;
   const double mean_radius = 0.5 * (m.left_wheel.radius_m + m.right_wheel.radius_m);
   layout.radius[0] = 2.0 * mean_radius / (1.0 + ratio);
   layout.radius[1] = 2.0 * mean_radius * ratio / (1.0 + ratio);
   const double mid_y = 0.5 * (m.left_wheel.position_m.y() + m.right_wheel.position_m.y());
-  const double half_base = 0.5 * m.wheelbase_m() * spec.systematic.wheelbase_factor;
+  const double half_base = 0.5 * m.wheelbase_m() * systematic_.wheelbase_factor;
   layout.wheel_y[0] = mid_y + half_base;
   layout.wheel_y[1] = mid_y - half_base;
   layout.masses = ReferencePartMasses(m);
-  if (spec.wheel_model == WheelModel::kRaycast) {
+  if (placement_.wheel_model == WheelModel::kRaycast) {
     // One body carries the reference's parts as if welded together: its centre
     // of mass is theirs (kept on the base's z axis, as the chassis').
     const PartMasses& masses = layout.masses;
@@ -141,7 +140,7 @@ RobotBody::PartLayout RobotBody::LayOutParts(const RobotSpec& spec) {
 // origin is the centre of mass. Child 0 is the prism (the chassis element);
 // child k >= 1 is attachment k - 1, its own element.
 std::unique_ptr<btCompoundShape> RobotBody::BuildChassisShape() {
-  const RobotDescription& m = spec_.model;
+  const RobotDescription& m = model_;
   auto compound = std::make_unique<btCompoundShape>();
   auto hull = std::make_unique<btConvexHullShape>();
   for (const Eigen::Vector2d& p : m.footprint_m) {
@@ -149,7 +148,7 @@ std::unique_ptr<btCompoundShape> RobotBody::BuildChassisShape() {
     hull->addPoint(btVector3(p.x(), p.y(), m.chassis_base_z_m + m.chassis_height_m - com_z_m_),
                    false);
   }
-  if (spec_.wheel_model == WheelModel::kRaycast) {
+  if (placement_.wheel_model == WheelModel::kRaycast) {
     hull->setMargin(0.0);  // the true outline, as walls (rays and contacts agree)
     // Bounds cached after the margin is gone: with the default 4 cm margin
     // in them, a chassis 4 cm above the floor overlaps it in the broadphase
@@ -168,7 +167,7 @@ std::unique_ptr<btCompoundShape> RobotBody::BuildChassisShape() {
   identity.setIdentity();
   compound->addChildShape(identity, hull.get());
   world_.physics->KeepShape(std::move(hull));
-  for (const RobotAttachment& a : spec_.attachments) {
+  for (const MarkerSpec& a : model_.markers) {
     auto cylinder =
         std::make_unique<btCylinderShapeZ>(btVector3(a.radius_m, a.radius_m, 0.5 * a.height_m));
     btTransform t;
@@ -185,7 +184,7 @@ std::unique_ptr<btCompoundShape> RobotBody::BuildChassisShape() {
 // centre of mass: the chassis' as the reference computes it (its compound's)
 // plus each wheel and caster as a solid sphere, by the parallel-axis theorem.
 btVector3 RobotBody::WeldedInertia(btCompoundShape* compound, const PartLayout& layout) const {
-  const RobotDescription& m = spec_.model;
+  const RobotDescription& m = model_;
   const PartMasses& masses = layout.masses;
   const double com_z = com_z_m_;
   btVector3 inertia(0, 0, 0);
@@ -220,21 +219,21 @@ btVector3 RobotBody::WeldedInertia(btCompoundShape* compound, const PartLayout& 
 void RobotBody::AddRaycastParts(std::unique_ptr<btCompoundShape> compound,
                                 const btTransform& base_from_chassis, const PartLayout& layout,
                                 const Material& material, int first_attachment) {
-  const RobotDescription& m = spec_.model;
+  const RobotDescription& m = model_;
   const btVector3 inertia = WeldedInertia(compound.get(), layout);
   // Pushes act where they act on the reference: at its chassis' centre of mass.
   push_height_m_ = layout.chassis_com_z_m - com_z_m_;
   btRigidBody* body =
       world_.physics->AddDynamic(std::move(compound), m.total_mass_kg(), base_from_chassis,
                                  material.friction, material.restitution, element_, &inertia);
-  body->setUserIndex2(spec_.attachments.empty() ? -1 : first_attachment);
+  body->setUserIndex2(model_.markers.empty() ? -1 : first_attachment);
   parts_.push_back({body, base_from_chassis});
   AddRaycastDrive(layout);
 }
 
 // Wheels as the reference builds them (systematic errors applied), then casters.
 void RobotBody::AddRaycastDrive(const PartLayout& layout) {
-  const RobotDescription& m = spec_.model;
+  const RobotDescription& m = model_;
   const WorldDescription& description = *world_.description;
   const double com_z = com_z_m_;
   const WheelSpec* wheels[2] = {&m.left_wheel, &m.right_wheel};
@@ -266,12 +265,12 @@ void RobotBody::AddRaycastDrive(const PartLayout& layout) {
 void RobotBody::AddArticulatedParts(std::unique_ptr<btCompoundShape> compound,
                                     const btTransform& base_from_chassis, const PartLayout& layout,
                                     const Material& material, int first_attachment) {
-  const RobotDescription& m = spec_.model;
+  const RobotDescription& m = model_;
   PhysicsWorld& physics = *world_.physics;
   btRigidBody* body =
       physics.AddDynamic(std::move(compound), layout.masses.chassis_kg, base_from_chassis,
                          material.friction, material.restitution, element_);
-  body->setUserIndex2(spec_.attachments.empty() ? -1 : first_attachment);
+  body->setUserIndex2(model_.markers.empty() ? -1 : first_attachment);
   parts_.push_back({body, base_from_chassis});
   const WheelSpec* wheel_specs[2] = {&m.left_wheel, &m.right_wheel};
   for (int side = 0; side < 2; ++side) {
@@ -281,7 +280,7 @@ void RobotBody::AddArticulatedParts(std::unique_ptr<btCompoundShape> compound,
     base_from_wheel.setOrigin(
         btVector3(w.position_m.x(), layout.wheel_y[side], layout.radius[side]));
     const int wheel_element = world_.elements->Add(
-        spec_.id + (side == 0 ? "/left_wheel" : "/right_wheel"), m.material, true, group_);
+        placement_.id + (side == 0 ? "/left_wheel" : "/right_wheel"), m.material, true, group_);
     btRigidBody* wheel_body = physics.AddDynamic(
         std::make_unique<btSphereShape>(layout.radius[side]), layout.masses.wheel_kg[side],
         base_from_wheel, kWheelTreadFriction, 0.0, wheel_element);
@@ -298,7 +297,7 @@ void RobotBody::AddArticulatedParts(std::unique_ptr<btCompoundShape> compound,
     base_from_caster.setIdentity();
     base_from_caster.setOrigin(btVector3(c.position_m.x(), c.position_m.y(), c.radius_m));
     const int caster_element =
-        world_.elements->Add(spec_.id + "/" + c.link, m.material, true, group_);
+        world_.elements->Add(placement_.id + "/" + c.link, m.material, true, group_);
     btRigidBody* caster =
         physics.AddDynamic(std::make_unique<btSphereShape>(c.radius_m), layout.masses.caster_kg,
                            base_from_caster, 0.0, 0.0, caster_element);
@@ -368,35 +367,35 @@ void RobotBody::SolveRaycastContacts(double dt) {
 void RobotBody::UpdateWheelAngles() {
   for (int side = 0; side < 2; ++side) {
     const double h = hinge_[side]->getHingeAngle();
-    wheel_rad_[side] += kHingeSign * WrapAngle(h - last_hinge_rad_[side]);
+    wheel_rad_[side] += kHingeSign * core::NormalizeAngle(h - last_hinge_rad_[side]);
     last_hinge_rad_[side] = h;
   }
 }
 
-RobotBody::RobotBody(const RobotSpec& robot_spec, int group, const RobotBodyContext& world)
-    : world_(world), group_(group) {
-  ValidateRobotSpec(robot_spec, *world.elements);
-  const RobotDescription& m = robot_spec.model;
+RobotBody::RobotBody(const RobotDescription& model, const SystematicErrors& systematic,
+                     const RobotPlacement& placement, int group, const RobotBodyContext& world)
+    : world_(world), model_(model), systematic_(systematic), placement_(placement), group_(group) {
+  ValidateRobot(model, systematic, placement, *world.elements);
+  const RobotDescription& m = model_;
   const Material& material = world.description->MaterialNamed(m.material);
-  spec_ = robot_spec;
-  const PartLayout layout = LayOutParts(robot_spec);
+  const PartLayout layout = LayOutParts();
   com_z_m_ = layout.com_z_m;
   std::unique_ptr<btCompoundShape> compound = BuildChassisShape();
-  element_ = world.elements->Add(robot_spec.id, m.material, true, group);
+  element_ = world.elements->Add(placement_.id, m.material, true, group);
   const int first_attachment = world.elements->size();
-  for (const RobotAttachment& a : robot_spec.attachments) {
-    world.elements->Add(robot_spec.id + "/" + a.name, a.material, true, group);
+  for (const MarkerSpec& a : m.markers) {
+    world.elements->Add(placement_.id + "/" + a.id, a.material, true, group);
   }
   btTransform base_from_chassis;
   base_from_chassis.setIdentity();
   base_from_chassis.setOrigin(btVector3(0, 0, com_z_m_));
-  if (robot_spec.wheel_model == WheelModel::kRaycast) {
+  if (placement_.wheel_model == WheelModel::kRaycast) {
     AddRaycastParts(std::move(compound), base_from_chassis, layout, material, first_attachment);
-    Place(robot_spec.pose);
+    Place(placement_.pose);
     return;
   }
   AddArticulatedParts(std::move(compound), base_from_chassis, layout, material, first_attachment);
-  Place(robot_spec.pose);
+  Place(placement_.pose);
   // The parts entered the broadphase at their base-frame transforms, around the
   // origin; move their bounding boxes to the robot's pose now. Left to the next
   // step, every robot added meanwhile would overlap every earlier one there:
@@ -443,7 +442,7 @@ RobotState RobotBody::State() const {
 }
 
 void RobotBody::SetWheelSpeeds(double left_radps, double right_radps) {
-  const double limit = spec_.model.max_wheel_speed_radps;
+  const double limit = model_.max_wheel_speed_radps;
   target_radps_[0] = std::clamp(left_radps, -limit, limit);
   target_radps_[1] = std::clamp(right_radps, -limit, limit);
 }
@@ -473,7 +472,7 @@ void RobotBody::Teleport(const core::Pose2& pose) {
 }
 
 void RobotBody::BeforeStep(double dt) {
-  const RobotDescription& m = spec_.model;
+  const RobotDescription& m = model_;
   for (int side = 0; side < 2; ++side) {
     // Acceleration ramp towards the commanded speed; the motor delivers at
     // most the torque limit over the step.
@@ -505,8 +504,8 @@ void RobotBody::AppendSection(double z, double max_cylinder_tilt_rad, const Pris
   const RayPrism& prism = prisms.at(compound->getChildShape(0));
   CutPrism(t * compound->getChildTransform(0), prism.polygon, prism.z0, prism.z1, z, element_, out,
            uncut);
-  for (std::size_t k = 0; k < spec_.attachments.size(); ++k) {
-    const RobotAttachment& a = spec_.attachments[k];
+  for (std::size_t k = 0; k < model_.markers.size(); ++k) {
+    const MarkerSpec& a = model_.markers[k];
     const int child = static_cast<int>(k) + 1;
     CutCylinder(t * compound->getChildTransform(child), a.radius_m, 0.5 * a.height_m, z,
                 max_cylinder_tilt_rad, body->getUserIndex2() + static_cast<int>(k), out, uncut);

@@ -41,14 +41,16 @@ struct RobotBodyContext {
 // memory (World::Step and the sections visit them all every tick).
 class RobotBody {
  public:
-  // Validates `spec` (std::invalid_argument naming the robot) and builds the
-  // robot at spec.pose, at rest. `group` is the robot index.
-  RobotBody(const RobotSpec& spec, int group, const RobotBodyContext& world);
+  // Validates the robot (std::invalid_argument naming it) and builds it at
+  // placement.pose, at rest. `group` is the robot index.
+  RobotBody(const RobotDescription& model, const SystematicErrors& systematic,
+            const RobotPlacement& placement, int group, const RobotBodyContext& world);
   ~RobotBody();
   RobotBody(RobotBody&&) noexcept;
   RobotBody& operator=(RobotBody&&) noexcept;
 
-  const RobotSpec& spec() const { return spec_; }
+  const RobotDescription& model() const { return model_; }
+  const RobotPlacement& placement() const { return placement_; }
   int group() const { return group_; }
   int element() const { return element_; }
 
@@ -99,7 +101,7 @@ class RobotBody {
   };
 
   static PartMasses ReferencePartMasses(const RobotDescription& m);
-  static PartLayout LayOutParts(const RobotSpec& spec);
+  PartLayout LayOutParts() const;
   std::unique_ptr<btCompoundShape> BuildChassisShape();
   btVector3 WeldedInertia(btCompoundShape* compound, const PartLayout& layout) const;
   void AddRaycastParts(std::unique_ptr<btCompoundShape> compound,
@@ -118,7 +120,9 @@ class RobotBody {
   btRigidBody* wheel(int side) const;
 
   RobotBodyContext world_;
-  RobotSpec spec_;
+  RobotDescription model_;
+  SystematicErrors systematic_;
+  RobotPlacement placement_;
   int group_ = -1;
   int element_ = -1;         // chassis (and attachments' object)
   std::vector<Part> parts_;  // chassis first, then left, right wheel, casters

@@ -7,29 +7,6 @@
 
 namespace pavilion::sim {
 
-void OdometryCalibration::Validate() const {
-  constexpr double kMaxLengthM = 10.0;  // beyond any robot: a unit mistake
-  constexpr double kMaxK = 1.0;         // §2.3 k (m); the thesis found 5e-6
-  auto length = [](double v, const char* name) {
-    if (!(v > 0.0 && v <= kMaxLengthM)) {
-      throw std::invalid_argument(std::string("OdometryCalibration.") + name +
-                                  " must be in (0, 10] m");
-    }
-  };
-  auto noise = [](double v, const char* name) {
-    if (!(v >= 0.0 && v <= kMaxK)) {
-      throw std::invalid_argument(std::string("OdometryCalibration.") + name +
-                                  " must be in [0, 1] m");
-    }
-  };
-  length(left_wheel_radius_m, "left_wheel_radius_m");
-  length(right_wheel_radius_m, "right_wheel_radius_m");
-  length(wheelbase_m, "wheelbase_m");
-  noise(k_left_m, "k_left_m");
-  noise(k_right_m, "k_right_m");
-  noise(k_turn_m, "k_turn_m");
-}
-
 void CameraMount::Validate() const {
   constexpr int kMaxSidePx = 100000;
   constexpr double kMaxRateHz = 1000.0;

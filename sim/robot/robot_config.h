@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "core/localization/encoder_odometry.h"
 #include "core/types/pose2.h"
 #include "sim/robot/robot_description.h"
 #include "sim/sensors/laser_scanner.h"
@@ -34,29 +35,22 @@ struct CameraMount {
   void Validate() const;  // throws std::invalid_argument naming the field
 };
 
-// The odometry parameters the localization uses: the result of calibrating the
-// robot (the calibration scenario estimates them from the simulated robot).
-struct OdometryCalibration {
-  double left_wheel_radius_m = 0.1;   // m, (0, 10]
-  double right_wheel_radius_m = 0.1;  // m, (0, 10]
-  double wheelbase_m = 0.4;           // m, (0, 10]
-  double k_left_m = 5e-6;   // §2.3 wheel-space noise per metre of travel, m, [0, 1] (thesis: 5e-6)
-  double k_right_m = 5e-6;  // m, [0, 1]
-  double k_turn_m = 0.0;    // turn slip (core::WheelNoise), m, [0, 1]
-
-  void Validate() const;  // throws std::invalid_argument naming the field
-};
-
 // Everything a robot file (robots/<name>/robot.yaml) defines: the physical
-// model (from its URDF), sensors and the calibrated odometry.
+// model (from its URDF), sensors and the calibrated odometry. One robot's
+// types, file to simulation: RobotDescription (its URDF) within RobotConfig
+// (its robot.yaml) within scenarios::RobotEntry (a scenario's robot), built
+// into a world as a SimRobot.
 struct RobotConfig {
   std::string source_file;  // the robot.yaml
   RobotDescription description;
   EncoderOptions encoders;
   SystematicErrors systematic;  // how the simulated physical robot differs from the URDF
-  OdometryCalibration odometry;
+  // The calibrated odometry the robot's software uses (the calibration
+  // scenario estimates it from the simulated robot).
+  core::EncoderOdometryOptions odometry;
   std::vector<LaserMount> lasers;
   std::vector<BumperZone> bumpers;  // at most 32 (BumperReading's bit mask)
+  double bumper_rate_hz = 50.0;     // bumper polling rate, a divisor of the physics rate
   std::vector<CameraMount> cameras;
 };
 

@@ -18,31 +18,35 @@ core::RandomStream StreamFor(std::uint64_t seed, const std::string& robot,
 
 }  // namespace
 
-SimRobot::SimRobot(World* world, SimRobotSetup setup, std::uint64_t seed)
-    : world_(world), setup_(std::move(setup)), schedule_(1.0 / world->step_s()) {
+SimRobot::SimRobot(World* world, RobotConfig config, RobotPlacement placement, std::uint64_t seed)
+    : world_(world),
+      config_(std::move(config)),
+      placement_(std::move(placement)),
+      schedule_(1.0 / world->step_s()) {
   const double physics_hz = 1.0 / world->step_s();
-  const std::string& id = setup_.spec.id;
-  AddSensor(std::make_unique<EncoderSensor>(
-      id, setup_.encoders, setup_.spec.model.left_wheel.radius_m,
-      setup_.spec.model.right_wheel.radius_m, StreamFor(seed, id, "encoders"), physics_hz));
-  if (setup_.bumpers.empty()) {
+  const std::string& id = placement_.id;
+  const RobotDescription& model = config_.description;
+  AddSensor(std::make_unique<EncoderSensor>(id, config_.encoders, model.left_wheel.radius_m,
+                                            model.right_wheel.radius_m,
+                                            StreamFor(seed, id, "encoders"), physics_hz));
+  if (config_.bumpers.empty()) {
     // No zones, no readings: the rate is still checked.
-    PeriodTicks(physics_hz, setup_.bumper_rate_hz, id + " bumpers");
+    PeriodTicks(physics_hz, config_.bumper_rate_hz, id + " bumpers");
   } else {
-    AddSensor(std::make_unique<BumperSensor>(setup_.bumpers, setup_.bumper_rate_hz));
+    AddSensor(std::make_unique<BumperSensor>(config_.bumpers, config_.bumper_rate_hz));
   }
   std::set<std::string> ids;
-  for (const LaserMountSetup& mount : setup_.lasers) {
+  for (const LaserMount& mount : config_.lasers) {
     if (!ids.insert(mount.id).second) {
       throw std::invalid_argument("robot '" + id + "': two lasers named '" + mount.id + "'");
     }
-    auto laser = std::make_unique<LaserSensor>(
-        mount.id, mount.options, mount.robot_from_sensor, mount.mount_height_m,
-        StreamFor(seed, id, "laser/" + mount.id), physics_hz);
+    auto laser =
+        std::make_unique<LaserSensor>(mount.id, mount.options, mount.robot_from_sensor, mount.z_m,
+                                      StreamFor(seed, id, "laser/" + mount.id), physics_hz);
     lasers_.push_back(std::cref(laser->scanner()));
     AddSensor(std::move(laser));
   }
-  index_ = world->AddRobot(setup_.spec);
+  index_ = world->AddRobot(model, config_.systematic, placement_);
 }
 
 void SimRobot::AddSensor(std::unique_ptr<Sensor> sensor) {

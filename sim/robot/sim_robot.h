@@ -8,6 +8,7 @@
 
 #include "core/types/sensor_data.h"
 #include "sim/raycast/planar_caster.h"
+#include "sim/robot/robot_config.h"
 #include "sim/runtime/schedule.h"
 #include "sim/sensors/laser_scanner.h"
 #include "sim/sensors/robot_sensors.h"
@@ -16,42 +17,29 @@
 
 namespace pavilion::sim {
 
-// A laser scanner's place on a robot.
-struct LaserMountSetup {
-  std::string id;  // unique on the robot, e.g. "front"
-  LaserScannerOptions options;
-  core::Pose2 robot_from_sensor;
-  double mount_height_m = 0.3;  // beam plane above the floor
-};
-
-// Everything needed to put one robot and its sensors into a world.
-struct SimRobotSetup {
-  RobotSpec spec;
-  EncoderOptions encoders;
-  std::vector<LaserMountSetup> lasers;
-  std::vector<BumperZone> bumpers;
-  double bumper_rate_hz = 50.0;  // bumper polling rate, a divisor of the physics rate
-};
-
 // A simulated robot: its articulated body in the world and its sensors (wheel
 // encoders, bumpers, laser scanners, and any added with AddSensor), all
 // sampled in simulation time. Every random draw comes from streams derived
 // from (seed, robot id, sensor id).
 class SimRobot {
  public:
-  // Adds the robot to `world`. Throws std::invalid_argument for inconsistent
-  // setups (sensor rates that do not divide the physics rate, duplicate ids).
-  // Encoders may also run at a whole multiple of the physics rate: they then
-  // read several times a tick, at wheel angles interpolated within it.
-  SimRobot(World* world, SimRobotSetup setup, std::uint64_t seed);
+  // Adds the robot of `config` to `world` at `placement`, with the
+  // encoders, bumpers and lasers of its robot file. The config's materials
+  // (its model's and markers') must be materials of the world. Throws
+  // std::invalid_argument for an inconsistent robot (sensor rates that do not
+  // divide the physics rate, duplicate ids). Encoders may also run at a whole
+  // multiple of the physics rate: they then read several times a tick, at
+  // wheel angles interpolated within it.
+  SimRobot(World* world, RobotConfig config, RobotPlacement placement, std::uint64_t seed);
 
-  const std::string& id() const { return setup_.spec.id; }
+  const std::string& id() const { return placement_.id; }
   int index() const { return index_; }
-  const SimRobotSetup& setup() const { return setup_; }
-  // The laser scanners of the setup, in setup order.
+  const RobotConfig& config() const { return config_; }
+  const RobotPlacement& placement() const { return placement_; }
+  // The laser scanners of the robot file, in its order.
   const std::vector<std::reference_wrapper<const LaserScanner>>& lasers() const { return lasers_; }
 
-  // Adds a sensor, sampled after those added before it (the setup's encoders,
+  // Adds a sensor, sampled after those added before it (the robot's encoders,
   // bumpers and lasers come first, in that order). Throws std::invalid_argument
   // for an id already used on this robot or a rate that does not divide the
   // physics rate.
@@ -83,7 +71,8 @@ class SimRobot {
 
  private:
   World* world_;
-  SimRobotSetup setup_;
+  RobotConfig config_;
+  RobotPlacement placement_;
   int index_ = -1;
   PeriodicSchedule schedule_;  // task i samples sensors_[i]
   std::vector<std::unique_ptr<Sensor>> sensors_;

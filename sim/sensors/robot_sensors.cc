@@ -4,6 +4,8 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "core/types/pose2.h"
+
 namespace pavilion::sim {
 
 void EncoderOptions::Validate() const {
@@ -80,9 +82,9 @@ std::uint32_t PressedBumperZones(const std::vector<BumperZone>& zones,
     const double bearing = std::atan2(p.y(), p.x());
     for (std::size_t i = 0; i < zones.size() && i < 32; ++i) {
       // Zones run counter-clockwise from `from` to `to` and may cross ±π.
-      const double span = std::remainder(zones[i].to_rad - zones[i].from_rad, 2 * std::numbers::pi);
+      const double span = core::NormalizeAngle(zones[i].to_rad - zones[i].from_rad);
       const double width = span <= 0.0 ? span + 2 * std::numbers::pi : span;
-      double offset = std::remainder(bearing - zones[i].from_rad, 2 * std::numbers::pi);
+      double offset = core::NormalizeAngle(bearing - zones[i].from_rad);
       if (offset < 0.0) offset += 2 * std::numbers::pi;
       if (offset <= width) pressed |= 1u << i;
     }

@@ -230,15 +230,21 @@ int World::AddBody(const BodySpec& spec) {
   return static_cast<int>(im.bodies.size()) - 1;
 }
 
-int World::AddRobot(const RobotSpec& spec) {
+int World::AddRobot(const RobotDescription& model, const SystematicErrors& systematic,
+                    const RobotPlacement& placement) {
   Impl& im = *impl_;
   const int group = static_cast<int>(im.robots.size());
-  im.robots.emplace_back(spec, group, im.robot_context());
+  im.robots.emplace_back(model, systematic, placement, group, im.robot_context());
   return static_cast<int>(im.robots.size()) - 1;
 }
 
 int World::robot_count() const { return static_cast<int>(impl_->robots.size()); }
-const RobotSpec& World::robot_spec(int robot) const { return impl_->robots.at(robot).spec(); }
+const RobotDescription& World::robot_model(int robot) const {
+  return impl_->robots.at(robot).model();
+}
+const RobotPlacement& World::robot_placement(int robot) const {
+  return impl_->robots.at(robot).placement();
+}
 int World::robot_group(int robot) const { return impl_->robots.at(robot).group(); }
 int World::robot_element(int robot) const { return impl_->robots.at(robot).element(); }
 

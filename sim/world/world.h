@@ -59,17 +59,6 @@ struct BodyState {
   double yaw_rate_radps = 0.0;
 };
 
-// A rigid part fixed on a robot's chassis, an upright cylinder in the base frame
-// (Robox's retro-reflective marker posts, §6.3.5.1).
-struct RobotAttachment {
-  std::string name;
-  Eigen::Vector2d position_m{0, 0};
-  double radius_m = 0.05;  // > 0
-  double base_z_m = 0.0;   // >= 0
-  double height_m = 0.1;   // > 0
-  std::string material;    // a material of the world
-};
-
 // How a robot's wheels meet the floor.
 enum class WheelModel {
   // The reference: chassis, two sphere wheels on hinge motors and caster
@@ -89,16 +78,15 @@ enum class WheelModel {
 // "articulated" or "raycast".
 const char* WheelModelName(WheelModel model);
 
-// A differential-drive robot added to a world: the nominal model, and how the
-// physical robot differs from it. The physical wheels are built with the
-// systematic errors applied (mean radius and nominal wheelbase scaled), so
-// odometry computed from the nominal model drifts as a real robot's does.
-struct RobotSpec {
-  std::string id;  // unique among world elements and bodies
-  RobotDescription model;
-  SystematicErrors systematic;
+// Where and how a robot enters the world: the world builds its body from the
+// robot's model (RobotDescription) with the physical robot's systematic errors
+// applied (mean radius and nominal wheelbase scaled), so odometry computed from
+// the nominal model drifts as a real robot's does. The model's markers become
+// upright cylinders fixed on the chassis (Robox's retro-reflective posts,
+// §6.3.5.1); their materials, like the model's, are materials of the world.
+struct RobotPlacement {
+  std::string id;    // unique among world elements and bodies
   core::Pose2 pose;  // initial pose of the base frame
-  std::vector<RobotAttachment> attachments;
   WheelModel wheel_model = WheelModel::kArticulated;
 };
 
@@ -182,9 +170,11 @@ class World {
   // spheres, or with WheelModel::kRaycast the chassis alone on ray-cast wheels.
   // Its parts share one element group, which its own sensors ignore.
   // Throws std::invalid_argument for an inconsistent model. Returns the robot index.
-  int AddRobot(const RobotSpec& spec);
+  int AddRobot(const RobotDescription& model, const SystematicErrors& systematic,
+               const RobotPlacement& placement);
   int robot_count() const;
-  const RobotSpec& robot_spec(int robot) const;
+  const RobotDescription& robot_model(int robot) const;
+  const RobotPlacement& robot_placement(int robot) const;
   RobotState robot_state(int robot) const;
   // The element group of a robot's parts (pass to CastRay to skip them).
   int robot_group(int robot) const;

@@ -63,7 +63,8 @@ struct HallScene {
       }
     }
     // Robots spread evenly over the free cells, walkers on the cells between.
-    std::vector<sim::SimRobotSetup> setups;
+    std::vector<sim::RobotConfig> configs;
+    std::vector<sim::RobotPlacement> placements;
     std::vector<bool> used(cells.size(), false);
     const std::size_t stride = cells.size() / kRobots;
     for (int k = 0; k < kRobots; ++k) {
@@ -71,14 +72,14 @@ struct HallScene {
       used[c] = true;
       if (c > 0) used[c - 1] = true;
       if (c + 1 < cells.size()) used[c + 1] = true;
-      setups.push_back(scenarios::MakeSimRobotSetup("robox_" + std::to_string(k), robox,
-                                                    {cells[c].x(), cells[c].y(), 0.3 * k}, &d));
+      configs.push_back(scenarios::WithWorldMaterials(robox, &d));
+      placements.push_back({"robox_" + std::to_string(k), {cells[c].x(), cells[c].y(), 0.3 * k}});
     }
     sim::WorldOptions options;
     options.baked_static_rays = baked;
     world = std::make_unique<sim::World>(d, options);
-    for (auto& setup : setups) {
-      robots.push_back(std::make_unique<sim::SimRobot>(world.get(), setup, 1));
+    for (std::size_t k = 0; k < configs.size(); ++k) {
+      robots.push_back(std::make_unique<sim::SimRobot>(world.get(), configs[k], placements[k], 1));
     }
     int placed = 0;
     for (std::size_t c = 0; c < cells.size() && placed < kWalkers; c += 2) {
@@ -129,10 +130,10 @@ struct HallScene {
     for (auto& robot : robots) {
       const core::Pose2 pose = world->robot_state(robot->index()).pose;
       const int group = world->robot_group(robot->index());
-      for (const sim::LaserMountSetup& mount : robot->setup().lasers) {
+      for (const sim::LaserMount& mount : robot->config().lasers) {
         const core::Pose2 sensor = pose * mount.robot_from_sensor;
         const auto& o = mount.options;
-        const Eigen::Vector3d from(sensor.x_m, sensor.y_m, mount.mount_height_m);
+        const Eigen::Vector3d from(sensor.x_m, sensor.y_m, mount.z_m);
         for (int i = 0; i < o.beams; ++i) {
           const double a = sensor.theta_rad + o.first_bearing_rad + i * o.fov_rad / (o.beams - 1);
           benchmark::DoNotOptimize(
@@ -166,12 +167,12 @@ struct HallScene {
     std::int64_t rays = 0;
     for (auto& robot : robots) {
       const core::Pose2 pose = world->robot_state(robot->index()).pose;
-      for (const sim::LaserMountSetup& mount : robot->setup().lasers) {
+      for (const sim::LaserMount& mount : robot->config().lasers) {
         const core::Pose2 sensor = pose * mount.robot_from_sensor;
         const auto& o = mount.options;
         for (int i = 0; i < o.beams; ++i) {
           const double a = sensor.theta_rad + o.first_bearing_rad + i * o.fov_rad / (o.beams - 1);
-          const Eigen::Vector3d from(sensor.x_m, sensor.y_m, mount.mount_height_m);
+          const Eigen::Vector3d from(sensor.x_m, sensor.y_m, mount.z_m);
           const Eigen::Vector3d to =
               from + o.max_range_m * Eigen::Vector3d(std::cos(a), std::sin(a), 0);
           benchmark::DoNotOptimize(world->CastRay(from, to, world->robot_group(robot->index())));
@@ -252,8 +253,7 @@ void BM_HallPlanarRays(benchmark::State& state) {
   sim::PlanarCasterOptions options;
   options.cell_size_m = 0.01 * static_cast<double>(state.range(0));
   sim::PlanarCaster caster(scene.world.get(), options);
-  const sim::PlanarSlice& slice =
-      caster.SliceAt(scene.robots.front()->setup().lasers.front().mount_height_m);
+  const sim::PlanarSlice& slice = caster.SliceAt(scene.robots.front()->config().lasers.front().z_m);
   std::int64_t rays = 0;
   for (auto _ : state) rays += scene.CastAll(slice);
   Report(state, rays);
@@ -277,7 +277,7 @@ BENCHMARK(BM_HallPlanarRays)
 void BM_HallPlanarScans(benchmark::State& state) {
   HallScene scene(true, kLegRadiusM);
   sim::PlanarCaster caster(scene.world.get(), sim::PlanarCasterOptions{});
-  const double height = scene.robots.front()->setup().lasers.front().mount_height_m;
+  const double height = scene.robots.front()->config().lasers.front().z_m;
   std::int64_t readings = 0;
   for (auto _ : state) {
     state.PauseTiming();

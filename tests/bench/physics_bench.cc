@@ -17,6 +17,7 @@
 #include "scenarios/config/world_loader.h"
 #include "sim/bodies/body_motion.h"
 #include "sim/world/world.h"
+#include "tests/support/world_robot.h"
 
 namespace {
 
@@ -217,12 +218,12 @@ struct Fleet {
       for (double x = -kHallHalfX + kGridPitchM; x < kHallHalfX && world->robot_count() < count;
            x += kGridPitchM) {
         if (!clear(x, y)) continue;
-        sim::RobotSpec spec;
+        pavilion::testing::WorldRobot spec;
         spec.id = "robot_" + std::to_string(world->robot_count());
         spec.model = HallRobot();
         spec.pose = {x, y, headings.Uniform(-std::numbers::pi, std::numbers::pi)};
         spec.wheel_model = wheels;
-        const int r = world->AddRobot(spec);
+        const int r = pavilion::testing::AddRobot(*world, spec);
         streams.emplace_back(7, static_cast<std::uint64_t>(r + 1));
       }
     }
@@ -233,7 +234,7 @@ struct Fleet {
   std::vector<std::int64_t> avoid_until_tick;  // per robot: end of its manoeuvre
 
   void Drive(int r, double speed_mps, double turn_radps) {
-    const sim::RobotDescription& m = world->robot_spec(r).model;
+    const sim::RobotDescription& m = world->robot_model(r);
     const double half = 0.5 * turn_radps * m.wheelbase_m();
     world->SetWheelSpeeds(r, (speed_mps - half) / m.left_wheel.radius_m,
                           (speed_mps + half) / m.right_wheel.radius_m);

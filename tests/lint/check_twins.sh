@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Fails when a removed duplicate comes back (issue 13): the robot type twins,
 # and the one-home helpers re-implemented elsewhere.
-#   - types: RobotSpec, SimRobotSetup, LaserMountSetup, sim::OdometryCalibration
+#   - types: RobotSpec, SimRobotSetup, LaserMountSetup, core::EncoderOdometryOptions
 #     (one robot type chain: RobotDescription -> RobotConfig -> RobotEntry -> SimRobot;
 #     the odometry model is core::EncoderOdometryOptions)
 #   - angle wrapping: std::remainder / fmod by 2 pi only in core/types/pose2.cc

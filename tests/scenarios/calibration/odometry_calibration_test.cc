@@ -32,7 +32,7 @@ sim::RobotConfig BiasedPygmalion() {
   return config;
 }
 
-double Ratio(const sim::OdometryCalibration& o) {
+double Ratio(const core::EncoderOdometryOptions& o) {
   return o.right_wheel_radius_m / o.left_wheel_radius_m;
 }
 
@@ -42,7 +42,7 @@ double Ratio(const sim::OdometryCalibration& o) {
 
 // The encoder counts of a segment driven exactly as the nominal odometry
 // intends (s_l = s_r on straights, s_r = −s_l on turns), in steps of about 2 mm.
-void AppendIdealTicks(const DriveSegment& s, const sim::OdometryCalibration& nominal,
+void AppendIdealTicks(const DriveSegment& s, const core::EncoderOdometryOptions& nominal,
                       int ticks_per_revolution, std::vector<TickStep>* ticks) {
   const double per_m_left = ticks_per_revolution / (2 * kPi * nominal.left_wheel_radius_m);
   const double per_m_right = ticks_per_revolution / (2 * kPi * nominal.right_wheel_radius_m);
@@ -65,8 +65,8 @@ void AppendIdealTicks(const DriveSegment& s, const sim::OdometryCalibration& nom
 }
 
 // A run recorded from an ideal odometric path, its true end from `truth`.
-RecordedRun KinematicRun(const DriveRun& run, const sim::OdometryCalibration& nominal,
-                         const sim::OdometryCalibration& truth) {
+RecordedRun KinematicRun(const DriveRun& run, const core::EncoderOdometryOptions& nominal,
+                         const core::EncoderOdometryOptions& truth) {
   RecordedRun rec;
   rec.run = run;
   rec.ticks_per_revolution = 50000;
@@ -86,8 +86,8 @@ RecordedRun KinematicRun(const DriveRun& run, const sim::OdometryCalibration& no
 // removes them: the model is recovered to the encoders' resolution.
 TEST(OdometryCalibrationTest, FormulasRecoverAKinematicRobotsModel) {
   const sim::RobotConfig config = Pygmalion();
-  const sim::OdometryCalibration nominal = NominalOdometry(config);
-  sim::OdometryCalibration truth = nominal;
+  const core::EncoderOdometryOptions nominal = NominalOdometry(config);
+  core::EncoderOdometryOptions truth = nominal;
   truth.left_wheel_radius_m *= 1.003 * 2 / 2.01;
   truth.right_wheel_radius_m *= 1.003 * 2 * 1.01 / 2.01;
   truth.wheelbase_m *= 1.02;
@@ -121,7 +121,7 @@ TEST(OdometryCalibrationTest, FormulasRecoverAKinematicRobotsModel) {
 
 // A kinematic robot (the nominal model exactly) whose encoders add the §2.3
 // noise of `k_m` to the true travels of the ideal path of `run`, in 2 mm steps.
-RecordedRun NoisyKinematicRun(const DriveRun& run, const sim::OdometryCalibration& model,
+RecordedRun NoisyKinematicRun(const DriveRun& run, const core::EncoderOdometryOptions& model,
                               double k_m, core::RandomStream* rng) {
   RecordedRun rec;
   rec.run = run;
@@ -165,7 +165,7 @@ RecordedRun NoisyKinematicRun(const DriveRun& run, const sim::OdometryCalibratio
 // standard deviation of √(2/450) = 6.7%) give k̂ within 20% (3σ) of k.
 TEST(OdometryCalibrationTest, MaximumLikelihoodKMatchesTheNoiseOfKinematicRuns) {
   const sim::RobotConfig config = Pygmalion();
-  const sim::OdometryCalibration model = NominalOdometry(config);
+  const core::EncoderOdometryOptions model = NominalOdometry(config);
   constexpr double kK = 2e-5;
   OdometryCalibrationOptions options;
   options.runs = 30;
@@ -309,8 +309,8 @@ TEST(OdometryCalibrationTest, ShippedRobotFilesHoldTheirCalibration) {
     ASSERT_FALSE(config.encoders.noise) << name;
     OdometryCalibrationOptions options;
     options.runs = 6;
-    const sim::OdometryCalibration fresh = CalibrateOdometry(config, options).calibrated;
-    const sim::OdometryCalibration& stored = config.odometry;
+    const core::EncoderOdometryOptions fresh = CalibrateOdometry(config, options).calibrated;
+    const core::EncoderOdometryOptions& stored = config.odometry;
     EXPECT_NEAR(stored.left_wheel_radius_m / fresh.left_wheel_radius_m, 1.0, 5e-4) << name;
     EXPECT_NEAR(stored.right_wheel_radius_m / fresh.right_wheel_radius_m, 1.0, 5e-4) << name;
     EXPECT_NEAR(stored.wheelbase_m / fresh.wheelbase_m, 1.0, 5e-4) << name;

@@ -467,7 +467,7 @@ TEST(RobotLoaderTest, InconsistentValuesAreReported) {
 TEST(RobotLoaderTest, OutOfRangeOptionsReportValidateMessageAtTheirKey) {
   sim::EncoderOptions encoders;
   encoders.rate_hz = 0.0;
-  sim::OdometryCalibration odometry;
+  core::EncoderOdometryOptions odometry;
   odometry.k_left_m = 2.0;
   sim::LaserScannerOptions laser = sim::LaserScannerOptions::Profile("sick_lms200");
   laser.beam_divergence_rad = 6.0 * kDeg;

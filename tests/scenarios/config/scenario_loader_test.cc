@@ -14,8 +14,8 @@
 
 #include "scenarios/config/input_error.h"
 #include "scenarios/config/scenario.h"
-#include "scenarios/events/scripted_events.h"
 #include "scenarios/config/validate.h"
+#include "scenarios/events/scripted_events.h"
 #include "tests/support/test_files.h"
 
 namespace pavilion::scenarios {

@@ -23,7 +23,7 @@ sim::WorldDescription Floor(bool wall) { return pavilion::testing::FloorWorld(10
 
 // Dead reckoning from encoder readings with the robot file's calibrated odometry.
 struct EncoderOdometer {
-  sim::OdometryCalibration calibration;
+  core::EncoderOdometryOptions calibration;
   core::Pose2 pose;
   bool started = false;
   std::int64_t left = 0, right = 0;
@@ -59,16 +59,19 @@ struct Scene {
   Scene(bool wall, const std::vector<core::Pose2>& poses, std::uint64_t seed = 1,
         bool planar = false, bool laser_noise = true) {
     sim::WorldDescription d = Floor(wall);
-    std::vector<sim::SimRobotSetup> setups;
+    std::vector<sim::RobotConfig> configs;
     for (std::size_t k = 0; k < poses.size(); ++k) {
-      setups.push_back(
-          scenarios::MakeSimRobotSetup("robox_" + std::to_string(k), Robox(), poses[k], &d));
+      configs.push_back(scenarios::WithWorldMaterials(Robox(), &d));
     }
-    for (auto& s : setups) {
-      for (auto& l : s.lasers) l.options.noise = l.options.noise && laser_noise;
+    for (auto& c : configs) {
+      for (auto& l : c.lasers) l.options.noise = l.options.noise && laser_noise;
     }
     world = std::make_unique<sim::World>(d, sim::WorldOptions{});
-    for (auto& s : setups) robots.push_back(std::make_unique<sim::SimRobot>(world.get(), s, seed));
+    for (std::size_t k = 0; k < configs.size(); ++k) {
+      robots.push_back(std::make_unique<sim::SimRobot>(
+          world.get(), configs[k], sim::RobotPlacement{"robox_" + std::to_string(k), poses[k]},
+          seed));
+    }
     if (planar) {
       caster = std::make_unique<sim::PlanarCaster>(world.get(), sim::PlanarCasterOptions{});
       for (auto& r : robots) r->UsePlanarCaster(caster.get());
@@ -103,9 +106,9 @@ TEST(SimRobot, PygmalionTenMetreStraightDriveOdometryWithinHalfAPercent) {
       scenarios::LoadRobotFile(PAVILION_SOURCE_DIR "/robots/pygmalion/robot.yaml");
   sim::WorldDescription d = Floor(false);
   const core::Pose2 start{-5, 0, 0};
-  const sim::SimRobotSetup setup = scenarios::MakeSimRobotSetup("p", pygmalion, start, &d);
+  sim::RobotConfig config = scenarios::WithWorldMaterials(pygmalion, &d);
   sim::World world(d, sim::WorldOptions{});
-  sim::SimRobot robot(&world, setup, 1);
+  sim::SimRobot robot(&world, config, sim::RobotPlacement{"p", start}, 1);
   EncoderOdometer odo{pygmalion.odometry, start};
   const double speed = 0.5;  // m/s
   robot.SetWheelSpeeds(speed / pygmalion.odometry.left_wheel_radius_m,
@@ -146,12 +149,11 @@ TEST(SimRobot, ScansAtTheScanRateAndEncodersAtTheirs) {
 TEST(SimRobot, HundredHertzPhysicsKeepsTheSensorRates) {
   for (const sim::WheelModel wheels : {sim::WheelModel::kArticulated, sim::WheelModel::kRaycast}) {
     sim::WorldDescription d = Floor(false);
-    sim::SimRobotSetup setup = scenarios::MakeSimRobotSetup("r", Robox(), {0, 0, 0}, &d);
-    setup.spec.wheel_model = wheels;
+    sim::RobotConfig config = scenarios::WithWorldMaterials(Robox(), &d);
     sim::WorldOptions options;
     options.physics_rate_hz = 100.0;
     sim::World world(d, options);
-    sim::SimRobot robot(&world, setup, 1);
+    sim::SimRobot robot(&world, config, sim::RobotPlacement{"r", {0, 0, 0}, wheels}, 1);
     robot.SetWheelSpeeds(3.0, 3.0);
     std::vector<core::EncoderReading> encoders;
     int scans = 0;

@@ -1,7 +1,7 @@
-// Acceptance (make acceptance; not in CI): the office tour of thesis §4.5.2 (Fig. 4.8, Table 4.2) in the
-// simulator. Pygmalion follows the tour from its own estimate and localizes at
-// 2 Hz with its two LMS 200 against the derived office_floor map; the run is
-// compared with ground truth (metrics.md, "Localization").
+// Acceptance (make acceptance; not in CI): the office tour of thesis §4.5.2 (Fig. 4.8, Table 4.2)
+// in the simulator. Pygmalion follows the tour from its own estimate and localizes at 2 Hz with its
+// two LMS 200 against the derived office_floor map; the run is compared with ground truth
+// (metrics.md, "Localization").
 #include <gtest/gtest.h>
 
 #include <algorithm>

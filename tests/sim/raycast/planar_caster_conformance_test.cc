@@ -190,7 +190,8 @@ double FootprintRadius(const RobotDescription& m) {
 // One random scene of a world: robots and legs on free floor, settled.
 struct Scene {
   std::unique_ptr<World> world;
-  std::vector<SimRobotSetup> robots;
+  std::vector<RobotConfig> robots;  // their materials scoped into the world
+  std::vector<RobotPlacement> placements;
 
   Scene(const WorldDescription& base, core::RandomStream* rng) {
     WorldDescription d = base;
@@ -217,11 +218,14 @@ struct Scene {
       const RobotConfig& config = Model(model);
       const auto p = draw(FootprintRadius(config.description));
       if (!p) continue;
-      robots.push_back(scenarios::MakeSimRobotSetup(model + "_" + std::to_string(k), config,
-                                                    {p->x(), p->y(), rng->Uniform(-kPi, kPi)}, &d));
+      robots.push_back(scenarios::WithWorldMaterials(config, &d));
+      placements.push_back(
+          {model + "_" + std::to_string(k), {p->x(), p->y(), rng->Uniform(-kPi, kPi)}});
     }
     world = std::make_unique<World>(d, WorldOptions{});
-    for (const auto& r : robots) world->AddRobot(r.spec);
+    for (std::size_t k = 0; k < robots.size(); ++k) {
+      world->AddRobot(robots[k].description, robots[k].systematic, placements[k]);
+    }
     for (int k = 0; k < kLegs; ++k) {
       const double r = rng->Uniform(0.05, 0.075);
       const auto p = draw(r);
@@ -301,11 +305,11 @@ TEST(PlanarCasterConformance, AgreesWithBulletOnTheShippedWorlds) {
       // Scans from every robot's scanners, ignoring its own parts.
       for (std::size_t k = 0; k < scene.robots.size(); ++k) {
         const core::Pose2 pose = world.robot_state(static_cast<int>(k)).pose;
-        for (const LaserMountSetup& mount : scene.robots[k].lasers) {
-          const PlanarSlice& slice = caster.SliceAt(mount.mount_height_m);
-          const core::PlanarSection section = world.SectionAt(mount.mount_height_m);
+        for (const LaserMount& mount : scene.robots[k].lasers) {
+          const PlanarSlice& slice = caster.SliceAt(mount.z_m);
+          const core::PlanarSection section = world.SectionAt(mount.z_m);
           const core::Pose2 sensor = pose * mount.robot_from_sensor;
-          const Eigen::Vector3d from(sensor.x_m, sensor.y_m, mount.mount_height_m);
+          const Eigen::Vector3d from(sensor.x_m, sensor.y_m, mount.z_m);
           const auto& o = mount.options;
           for (int i = 0; i < o.beams; ++i) {
             CastAndCompare(world, slice, section, from,

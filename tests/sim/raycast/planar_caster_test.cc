@@ -11,6 +11,7 @@
 #include <numbers>
 
 #include "sim/sensors/laser_scanner.h"
+#include "tests/support/world_robot.h"
 
 namespace pavilion::sim {
 namespace {
@@ -166,8 +167,8 @@ TEST(PlanarCasterTest, DoorIsResliceWhenItMoves) {
   EXPECT_NEAR(open.distance_m, 3.95 - 2.5, kExactM);
 }
 
-RobotSpec Robot(const std::string& id, const core::Pose2& pose) {
-  RobotSpec spec;
+pavilion::testing::WorldRobot Robot(const std::string& id, const core::Pose2& pose) {
+  pavilion::testing::WorldRobot spec;
   spec.id = id;
   RobotDescription& m = spec.model;
   m.material = "paint";
@@ -185,8 +186,8 @@ RobotSpec Robot(const std::string& id, const core::Pose2& pose) {
 // The casting robot's own parts are ignored; another robot's are not.
 TEST(PlanarCasterTest, IgnoresTheCastingRobotsGroup) {
   World world(Room(), {});
-  const int a = world.AddRobot(Robot("a", {1.0, 1.0, 0.0}));
-  world.AddRobot(Robot("b", {3.0, 1.0, 0.0}));
+  const int a = pavilion::testing::AddRobot(world, Robot("a", {1.0, 1.0, 0.0}));
+  pavilion::testing::AddRobot(world, Robot("b", {3.0, 1.0, 0.0}));
   PlanarCaster caster(&world, {});
   const PlanarSlice& slice = caster.SliceAt(kBeamM);
   const Eigen::Vector3d from(1.0, 1.0, kBeamM);  // inside robot a
@@ -234,7 +235,7 @@ TEST(PlanarCasterTest, BoxBodyIsCutUpToItsTopFace) {
 // hit finder (same draws from the same stream), for a scanner in the room.
 TEST(PlanarCasterTest, ScansMatchTheBulletHitFinder) {
   World world(Room(), {});
-  world.AddRobot(Robot("b", {3.0, 1.0, 0.4}));
+  pavilion::testing::AddRobot(world, Robot("b", {3.0, 1.0, 0.4}));
   for (int i = 0; i < 10; ++i) world.Step();  // Bullet's broadphase learns the robot's bounds
   PlanarCaster caster(&world, {});
   LaserScannerOptions options = LaserScannerOptions::Profile("sick_lms200");

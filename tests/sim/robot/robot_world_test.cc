@@ -10,6 +10,7 @@
 #include "core/odometry/diff_drive.h"
 #include "core/random/random_stream.h"
 #include "sim/world/world.h"
+#include "tests/support/world_robot.h"
 
 namespace pavilion::sim {
 namespace {
@@ -55,8 +56,8 @@ RobotDescription TestRobot() {
   return m;
 }
 
-RobotSpec Spec(const std::string& id, core::Pose2 pose) {
-  RobotSpec spec;
+pavilion::testing::WorldRobot Spec(const std::string& id, core::Pose2 pose) {
+  pavilion::testing::WorldRobot spec;
   spec.id = id;
   spec.model = TestRobot();
   spec.pose = pose;
@@ -81,13 +82,13 @@ void Advance(World* world, int robot, double seconds, Odometer* odo) {
   const int steps = static_cast<int>(std::lround(seconds / world->step_s()));
   for (int i = 0; i < steps; ++i) {
     world->Step();
-    if (odo != nullptr) odo->Update(world->robot_state(robot), world->robot_spec(robot).model);
+    if (odo != nullptr) odo->Update(world->robot_state(robot), world->robot_model(robot));
   }
 }
 
 TEST(RobotWorld, RestsOnItsWheelsAndCastersUpright) {
   World world(Hall(false), WorldOptions{});
-  const int r = world.AddRobot(Spec("r", {1, 2, 0.5}));
+  const int r = pavilion::testing::AddRobot(world, Spec("r", {1, 2, 0.5}));
   Advance(&world, r, 2.0, nullptr);
   const RobotState s = world.robot_state(r);
   EXPECT_NEAR(s.pose.x_m, 1.0, 2e-3);
@@ -99,7 +100,7 @@ TEST(RobotWorld, RestsOnItsWheelsAndCastersUpright) {
 
 TEST(RobotWorld, ForwardWheelSpeedsDriveForwardAndRampAtTheAccelerationLimit) {
   World world(Hall(false), WorldOptions{});
-  const int r = world.AddRobot(Spec("r", {0, 0, 0}));
+  const int r = pavilion::testing::AddRobot(world, Spec("r", {0, 0, 0}));
   world.SetWheelSpeeds(r, 5.0, 5.0);
   Advance(&world, r, 0.5, nullptr);  // ramp at 10 rad/s² to 5 rad/s: ½·α·t² = 1.25 rad
   // The hinge motor is a soft constraint and lags the ramp by a few steps.
@@ -118,7 +119,7 @@ TEST(RobotWorld, ForwardWheelSpeedsDriveForwardAndRampAtTheAccelerationLimit) {
 
 TEST(RobotWorld, OppositeWheelSpeedsTurnCounterClockwise) {
   World world(Hall(false), WorldOptions{});
-  const int r = world.AddRobot(Spec("r", {0, 0, 0}));
+  const int r = pavilion::testing::AddRobot(world, Spec("r", {0, 0, 0}));
   world.SetWheelSpeeds(r, -2.0, 2.0);
   Advance(&world, r, 1.0, nullptr);
   const RobotState s = world.robot_state(r);
@@ -129,12 +130,12 @@ TEST(RobotWorld, OppositeWheelSpeedsTurnCounterClockwise) {
 
 TEST(RobotWorld, TenMetreStraightDriveOdometryWithinHalfAPercent) {
   World world(Hall(false), WorldOptions{});
-  const int r = world.AddRobot(Spec("r", {-5, 0, 0}));
+  const int r = pavilion::testing::AddRobot(world, Spec("r", {-5, 0, 0}));
   Odometer odo{{-5, 0, 0}};
   world.SetWheelSpeeds(r, 0.5 / 0.09, 0.5 / 0.09);  // 0.5 m/s
   for (int i = 0; i < 6000 && world.robot_state(r).pose.x_m < 5.0; ++i) {
     world.Step();
-    odo.Update(world.robot_state(r), world.robot_spec(r).model);
+    odo.Update(world.robot_state(r), world.robot_model(r));
   }
   const RobotState s = world.robot_state(r);
   const double travelled = std::hypot(s.pose.x_m + 5, s.pose.y_m);
@@ -149,9 +150,9 @@ TEST(RobotWorld, TenMetreStraightDriveOdometryWithinHalfAPercent) {
 // Spins in place and returns the true (unwrapped) and the odometry's heading change.
 std::pair<double, double> SpinHeadings(double wheelbase_factor) {
   World world(Hall(false), WorldOptions{});
-  RobotSpec spec = Spec("r", {0, 0, 0});
+  pavilion::testing::WorldRobot spec = Spec("r", {0, 0, 0});
   spec.systematic.wheelbase_factor = wheelbase_factor;
-  const int r = world.AddRobot(spec);
+  const int r = pavilion::testing::AddRobot(world, spec);
   Odometer odo;
   world.SetWheelSpeeds(r, -1.5, 1.5);
   double unwrapped_true = 0.0, unwrapped_odo = 0.0;
@@ -181,9 +182,9 @@ TEST(RobotWorld, WheelbaseErrorTurnsOdometryHeadingByTheKinematicFactor) {
 
 TEST(RobotWorld, WheelRadiusRatioCurvesAStraightCommand) {
   World world(Hall(false), WorldOptions{});
-  RobotSpec spec = Spec("r", {0, 0, 0});
+  pavilion::testing::WorldRobot spec = Spec("r", {0, 0, 0});
   spec.systematic.wheel_radius_ratio = 1.01;  // right wheel 1 % larger: veers left
-  const int r = world.AddRobot(spec);
+  const int r = pavilion::testing::AddRobot(world, spec);
   Odometer odo;
   world.SetWheelSpeeds(r, 5.0, 5.0);
   Advance(&world, r, 5.0, &odo);
@@ -197,7 +198,7 @@ TEST(RobotWorld, WheelRadiusRatioCurvesAStraightCommand) {
 
 TEST(RobotWorld, SidewaysPushSlipsUnseenByTheWheels) {
   World world(Hall(false), WorldOptions{});
-  const int r = world.AddRobot(Spec("r", {0, 0, 0}));
+  const int r = pavilion::testing::AddRobot(world, Spec("r", {0, 0, 0}));
   Advance(&world, r, 0.5, nullptr);
   Odometer odo;
   const RobotState before = world.robot_state(r);
@@ -215,7 +216,7 @@ TEST(RobotWorld, SidewaysPushSlipsUnseenByTheWheels) {
 
 TEST(RobotWorld, ChassisContactsAreReportedInTheBaseFrame) {
   World world(Hall(true), WorldOptions{});
-  const int r = world.AddRobot(Spec("r", {4.0, 0, 0}));
+  const int r = pavilion::testing::AddRobot(world, Spec("r", {4.0, 0, 0}));
   world.SetWheelSpeeds(r, 4.0, 4.0);
   bool touched = false;
   for (int i = 0; i < 600 && !touched; ++i) {
@@ -227,18 +228,18 @@ TEST(RobotWorld, ChassisContactsAreReportedInTheBaseFrame) {
   }
   EXPECT_TRUE(touched);
   World free_world(Hall(false), WorldOptions{});
-  const int f = free_world.AddRobot(Spec("f", {0, 0, 0}));
+  const int f = pavilion::testing::AddRobot(free_world, Spec("f", {0, 0, 0}));
   Advance(&free_world, f, 0.5, nullptr);
   EXPECT_TRUE(free_world.RobotContactPoints(f).empty());  // floor and own parts excluded
 }
 
 TEST(RobotWorld, RaysSkipTheRobotsOwnPartsAndReportAttachments) {
   World world(Hall(false), WorldOptions{});
-  RobotSpec a = Spec("a", {0, 0, 0});
-  RobotSpec b = Spec("b", {3, 0, 0});
-  b.attachments.push_back({"marker", {0.0, 0.25}, 0.03, 0.2, 0.5, "retro"});
-  const int ra = world.AddRobot(a);
-  const int rb = world.AddRobot(b);
+  pavilion::testing::WorldRobot a = Spec("a", {0, 0, 0});
+  pavilion::testing::WorldRobot b = Spec("b", {3, 0, 0});
+  b.model.markers.push_back({"marker", "", {0.0, 0.25}, 0.03, 0.2, 0.5, "retro"});
+  const int ra = pavilion::testing::AddRobot(world, a);
+  const int rb = pavilion::testing::AddRobot(world, b);
   Advance(&world, ra, 0.2, nullptr);
   const Eigen::Vector3d from(0, 0, 0.4);
   const RayHit hit = world.CastRay(from, {8, 0, 0.4}, world.robot_group(ra));
@@ -257,9 +258,9 @@ TEST(RobotWorld, RaysSkipTheRobotsOwnPartsAndReportAttachments) {
 
 TEST(RobotWorld, SectionHoldsTheFootprintAndAttachments) {
   World world(Hall(false), WorldOptions{});
-  RobotSpec spec = Spec("r", {2, 1, kPi / 2});
-  spec.attachments.push_back({"marker", {0.0, 0.25}, 0.03, 0.2, 0.5, "retro"});
-  const int r = world.AddRobot(spec);
+  pavilion::testing::WorldRobot spec = Spec("r", {2, 1, kPi / 2});
+  spec.model.markers.push_back({"marker", "", {0.0, 0.25}, 0.03, 0.2, 0.5, "retro"});
+  const int r = pavilion::testing::AddRobot(world, spec);
   const core::PlanarSection section = world.SectionAt(0.4);
   int chassis_segments = 0, markers = 0;
   for (const auto& s : section.segments) chassis_segments += s.element == world.robot_element(r);
@@ -276,22 +277,22 @@ TEST(RobotWorld, SectionHoldsTheFootprintAndAttachments) {
 
 TEST(RobotWorld, InconsistentModelsAreRejectedNamingTheRobot) {
   World world(Hall(false), WorldOptions{});
-  RobotSpec zero_mass = Spec("heavy", {0, 0, 0});
+  pavilion::testing::WorldRobot zero_mass = Spec("heavy", {0, 0, 0});
   zero_mass.model.chassis_mass_kg = 0.0;
-  EXPECT_THROW(world.AddRobot(zero_mass), std::invalid_argument);
-  RobotSpec clockwise = Spec("cw", {0, 0, 0});
+  EXPECT_THROW(pavilion::testing::AddRobot(world, zero_mass), std::invalid_argument);
+  pavilion::testing::WorldRobot clockwise = Spec("cw", {0, 0, 0});
   std::reverse(clockwise.model.footprint_m.begin(), clockwise.model.footprint_m.end());
-  EXPECT_THROW(world.AddRobot(clockwise), std::invalid_argument);
-  RobotSpec swapped = Spec("swapped", {0, 0, 0});
+  EXPECT_THROW(pavilion::testing::AddRobot(world, clockwise), std::invalid_argument);
+  pavilion::testing::WorldRobot swapped = Spec("swapped", {0, 0, 0});
   std::swap(swapped.model.left_wheel, swapped.model.right_wheel);
   try {
-    world.AddRobot(swapped);
+    pavilion::testing::AddRobot(world, swapped);
     FAIL();
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("robot 'swapped'"), std::string::npos);
   }
-  world.AddRobot(Spec("twice", {0, 0, 0}));
-  EXPECT_THROW(world.AddRobot(Spec("twice", {3, 0, 0})), std::invalid_argument);
+  pavilion::testing::AddRobot(world, Spec("twice", {0, 0, 0}));
+  EXPECT_THROW(pavilion::testing::AddRobot(world, Spec("twice", {3, 0, 0})), std::invalid_argument);
 }
 
 // The laser's fast path (baked static mesh, exact shapes) against Bullet's
@@ -329,10 +330,10 @@ TEST(RobotWorld, FastRaysAgreeWithBulletsPrimitiveRayTest) {
     ball.shape.radius_m = 0.5;
     ball.pose = {3, -1, 0};
     world->AddBody(ball);
-    RobotSpec r = Spec("robot", {0, 0, 0.4});
-    r.attachments.push_back({"marker", {0.0, 0.25}, 0.03, 0.2, 0.5, "retro"});
-    world->AddRobot(r);
-    world->AddRobot(Spec("other", {-2, -1, 2.0}));
+    pavilion::testing::WorldRobot r = Spec("robot", {0, 0, 0.4});
+    r.model.markers.push_back({"marker", "", {0.0, 0.25}, 0.03, 0.2, 0.5, "retro"});
+    pavilion::testing::AddRobot(*world, r);
+    pavilion::testing::AddRobot(*world, Spec("other", {-2, -1, 2.0}));
     for (int i = 0; i < 40; ++i) world->Step();
     return world;
   };
@@ -372,9 +373,9 @@ TEST(RobotWorld, AddedRobotsAreInTheBroadphaseAtTheirPose) {
   for (int k = 0; k < 20; ++k) {
     std::string id = "r";  // appended, not `+`: GCC 12 warns falsely (-Wrestrict)
     id += std::to_string(k);
-    world.AddRobot(Spec(id, {-10.0 + k, 8, 0}));
+    pavilion::testing::AddRobot(world, Spec(id, {-10.0 + k, 8, 0}));
   }
-  const int r = world.AddRobot(Spec("target", {3, -6, 0.0}));
+  const int r = pavilion::testing::AddRobot(world, Spec("target", {3, -6, 0.0}));
   const RayHit hit = world.CastRay({0, -6, 0.2}, {6, -6, 0.2});
   ASSERT_TRUE(hit.hit);
   EXPECT_EQ(hit.element, world.robot_element(r));
@@ -383,7 +384,7 @@ TEST(RobotWorld, AddedRobotsAreInTheBroadphaseAtTheirPose) {
 TEST(RobotWorld, SameCommandsGiveBitIdenticalStates) {
   const auto run = [] {
     World world(Hall(true), WorldOptions{});
-    const int r = world.AddRobot(Spec("r", {0, 0, 0.1}));
+    const int r = pavilion::testing::AddRobot(world, Spec("r", {0, 0, 0.1}));
     world.SetWheelSpeeds(r, 6.0, 5.0);
     Advance(&world, r, 3.0, nullptr);
     world.ApplyRobotImpulse(r, {10, -30});

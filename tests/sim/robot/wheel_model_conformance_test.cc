@@ -17,6 +17,7 @@
 #include "scenarios/config/robot_setup.h"
 #include "sim/world/world.h"
 #include "tests/support/floor_world.h"
+#include "tests/support/world_robot.h"
 
 namespace pavilion::sim {
 namespace {
@@ -51,6 +52,13 @@ const RobotConfig& Config(const std::string& name) {
   return name == "robox" ? robox : pygmalion;
 }
 
+// A robot file's model as the world builds it, its materials in `d`.
+pavilion::testing::WorldRobot FromConfig(const std::string& id, const RobotConfig& config,
+                                         const core::Pose2& pose, WorldDescription* d) {
+  const RobotConfig scoped = scenarios::WithWorldMaterials(config, d);
+  return {id, scoped.description, scoped.systematic, pose};
+}
+
 // One robot of the named model alone in a world.
 struct Scene {
   std::unique_ptr<World> world;
@@ -59,16 +67,16 @@ struct Scene {
   Scene(const std::string& model, WheelModel wheels, double rate_hz = 200.0, bool wall = false,
         SystematicErrors systematic = {}, core::Pose2 pose = {}) {
     WorldDescription d = Floor(wall);
-    RobotSpec spec = scenarios::MakeSimRobotSetup("r", Config(model), pose, &d).spec;
+    pavilion::testing::WorldRobot spec = FromConfig("r", Config(model), pose, &d);
     spec.wheel_model = wheels;
     spec.systematic = systematic;
     WorldOptions options;
     options.physics_rate_hz = rate_hz;
     world = std::make_unique<World>(d, options);
-    robot = world->AddRobot(spec);
+    robot = pavilion::testing::AddRobot(*world, spec);
   }
   RobotState state() const { return world->robot_state(robot); }
-  const RobotDescription& model() const { return world->robot_spec(robot).model; }
+  const RobotDescription& model() const { return world->robot_model(robot); }
   void Advance(double seconds) {
     const int steps = static_cast<int>(std::lround(seconds / world->step_s()));
     for (int i = 0; i < steps; ++i) world->Step();
@@ -282,11 +290,11 @@ TEST(RaycastWheels, AtAWallTheWheelsSkidOrStallAsTheReference) {
     double rates[2] = {0, 0};
     for (const WheelModel wheels : {WheelModel::kArticulated, WheelModel::kRaycast}) {
       WorldDescription d = Floor(true);
-      RobotSpec spec = scenarios::MakeSimRobotSetup("r", Config("pygmalion"), {1.5, 0, 0}, &d).spec;
+      pavilion::testing::WorldRobot spec = FromConfig("r", Config("pygmalion"), {1.5, 0, 0}, &d);
       spec.wheel_model = wheels;
       spec.model.max_wheel_torque_nm = torque_nm;
       World world(d, WorldOptions{});
-      const int r = world.AddRobot(spec);
+      const int r = pavilion::testing::AddRobot(world, spec);
       world.SetWheelSpeeds(r, 5.0, 5.0);
       bool touched = false;
       for (int i = 0; i < 1000; ++i) {

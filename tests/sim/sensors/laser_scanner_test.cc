@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "tests/support/world_robot.h"
+
 namespace pavilion::sim {
 namespace {
 
@@ -634,7 +636,7 @@ TEST(LaserScannerTest, IgnoredGroupIsNotSeen) {
   WorldDescription d = EmptyWorld();
   d.walls.push_back(WallOf("wall", {{-3.05, -20.0}, {-3.05, 20.0}}, false, "paint"));
   World world(d, {});
-  RobotSpec robot;
+  pavilion::testing::WorldRobot robot;
   robot.id = "robot";
   robot.model.model = "box";
   robot.model.footprint_m = {{-0.225, -0.225}, {0.225, -0.225}, {0.225, 0.225}, {-0.225, 0.225}};
@@ -643,7 +645,7 @@ TEST(LaserScannerTest, IgnoredGroupIsNotSeen) {
   robot.model.left_wheel = {"left", 0.09, 0.03, 1.5, {0.0, 0.2}};
   robot.model.right_wheel = {"right", 0.09, 0.03, 1.5, {0.0, -0.2}};
   robot.model.material = "paint";
-  const int r = world.AddRobot(robot);
+  const int r = pavilion::testing::AddRobot(world, robot);
   const int group = world.robot_group(r);
   const Pose2 robot_from_sensor{0.3, 0.0, kPi};  // in front of the chassis, facing it
   LaserScanner scanner =

@@ -47,9 +47,9 @@ class TickCounter final : public Sensor {
 };
 
 // Pygmalion-like: 45 cm square, wheels r = 9 cm, b = 0.4 m.
-SimRobotSetup TestSetup() {
-  SimRobotSetup setup;
-  RobotDescription& m = setup.spec.model;
+RobotConfig TestRobot() {
+  RobotConfig config;
+  RobotDescription& m = config.description;
   m.model = "test";
   m.footprint_m = {{-0.225, -0.225}, {0.225, -0.225}, {0.225, 0.225}, {-0.225, 0.225}};
   m.chassis_base_z_m = 0.04;
@@ -62,9 +62,8 @@ SimRobotSetup TestSetup() {
   m.max_wheel_speed_radps = 15.0;
   m.max_wheel_accel_radps2 = 10.0;
   m.material = "floor";
-  setup.spec.id = "r";
-  setup.encoders.rate_hz = 100.0;
-  return setup;
+  config.encoders.rate_hz = 100.0;
+  return config;
 }
 
 // Steps the world and samples the robot for `ticks` ticks; returns every output.
@@ -82,7 +81,7 @@ std::vector<SensorOutputs> StepAndSample(World* world, SimRobot* robot, int tick
 // the tick's end time, and its readings come out in `custom` beside the encoders.
 TEST(SensorTest, AddedSensorIsSampledAtItsRateIntoCustom) {
   World world(testing::FloorWorld(5, false), WorldOptions{});  // 200 Hz physics
-  SimRobot robot(&world, TestSetup(), 1);
+  SimRobot robot(&world, TestRobot(), RobotPlacement{"r", {}}, 1);
   auto sensor = std::make_unique<TickCounter>("tick_counter", 50.0);
   TickCounter* counter = sensor.get();
   robot.AddSensor(std::move(sensor));
@@ -116,7 +115,7 @@ TEST(SensorTest, AddedSensorIsSampledAtItsRateIntoCustom) {
 // divide the physics rate.
 TEST(SensorTest, AddSensorRejectsDuplicateIdsAndRatesOffTheTickGrid) {
   World world(testing::FloorWorld(5, false), WorldOptions{});
-  SimRobot robot(&world, TestSetup(), 1);
+  SimRobot robot(&world, TestRobot(), RobotPlacement{"r", {}}, 1);
   robot.AddSensor(std::make_unique<TickCounter>("a", 100.0));
   EXPECT_THROW(robot.AddSensor(std::make_unique<TickCounter>("a", 100.0)), std::invalid_argument);
   EXPECT_THROW(robot.AddSensor(std::make_unique<TickCounter>("encoders", 100.0)),
@@ -128,7 +127,7 @@ TEST(SensorTest, AddSensorRejectsDuplicateIdsAndRatesOffTheTickGrid) {
 // rate reports after the first within a tick.
 TEST(SensorTest, SensorsReportInTheOrderAdded) {
   World world(testing::FloorWorld(5, false), WorldOptions{});
-  SimRobot robot(&world, TestSetup(), 1);
+  SimRobot robot(&world, TestRobot(), RobotPlacement{"r", {}}, 1);
   robot.AddSensor(std::make_unique<TickCounter>("first", 100.0));
   robot.AddSensor(std::make_unique<TickCounter>("second", 100.0));
   const std::vector<SensorOutputs> outputs = StepAndSample(&world, &robot, 4);
