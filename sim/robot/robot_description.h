@@ -62,7 +62,7 @@ struct MarkerSpec {
   double radius_m = 0.02;            // > 0
   double base_z_m = 0.0;             // bottom above the floor, >= 0
   double height_m = 0.1;             // > 0
-  std::string material;              // a material of `RobotDescription::materials`
+  std::string material;  // a material of `RobotDescription::materials` (or, scoped, of the world)
 };
 
 struct RobotDescription {

@@ -1,8 +1,10 @@
 // The runner's seams: a test-only event type registered with the event
-// registry, and an observer of the robots' sensor outputs, run in a scenario
-// without any change to the runner, the world or the robot.
+// registry, a test-only sensor added to each robot, and an observer of the
+// robots' sensor outputs, run in a scenario without any change to the runner,
+// the world or the robot.
 #include <gtest/gtest.h>
 
+#include <any>
 #include <fstream>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -44,7 +46,20 @@ void RegisterHaltBodies() {
   (void)registered;
 }
 
-// Counts each robot's encoder readings and scans as the run goes.
+// A test-only sensor: the robot's true speed (a wheel-free speedometer) at 20 Hz.
+class SpeedometerSensor : public sim::Sensor {
+ public:
+  const std::string& id() const override { return id_; }
+  double sample_rate_hz() const override { return 20.0; }
+  void Sample(const sim::SensorTick& tick, sim::SensorOutputs* out) override {
+    out->custom.push_back({id_, tick.end_s, tick.after.velocity_mps.norm()});
+  }
+
+ private:
+  std::string id_ = "speedometer";
+};
+
+// Counts each robot's encoder readings, scans and speedometer readings as the run goes.
 class CountingObserver : public RunObserver {
  public:
   void OnRobotOutputs(const RobotEntry& robot, const sim::SensorOutputs& outputs,
@@ -54,10 +69,16 @@ class CountingObserver : public RunObserver {
     last_s = now_s;
     encoders += static_cast<int>(outputs.encoders.size());
     scans += static_cast<int>(outputs.scans.size());
+    for (const sim::CustomReading& r : outputs.custom) {
+      EXPECT_EQ(r.sensor_id, "speedometer");
+      EXPECT_DOUBLE_EQ(r.stamp_s, now_s);
+      speeds.push_back(std::any_cast<double>(r.value));
+    }
   }
   double last_s = 0.0;
   int encoders = 0;
   int scans = 0;
+  std::vector<double> speeds;
 };
 
 const char* const kScenario =
@@ -80,7 +101,7 @@ const char* const kScenario =
     "  - {at_s: 1.5, type: test_halt_bodies, label: second}\n"
     "  - {at_s: 1.0, type: push, body: cart, impulse: [5, 0]}\n";
 
-TEST(ExtensionSeamsTest, ATestOnlyEventTypeAndObserverRunWithoutRunnerChanges) {
+TEST(ExtensionSeamsTest, ATestOnlyEventTypeSensorAndObserverRunWithoutRunnerChanges) {
   RegisterHaltBodies();
   const auto dir = pavilion::testing::TestDir();
   const Scenario s = LoadScenarioFile(pavilion::testing::WriteFile(dir, "seams.yaml", kScenario));
@@ -88,6 +109,9 @@ TEST(ExtensionSeamsTest, ATestOnlyEventTypeAndObserverRunWithoutRunnerChanges) {
   CountingObserver observer;
   RunExtensions extensions;
   extensions.observers.push_back(&observer);
+  extensions.add_sensors = [](const RobotEntry&, sim::SimRobot* robot) {
+    robot->AddSensor(std::make_unique<SpeedometerSensor>());
+  };
   const RunSummary summary =
       RunScenario(s, RunOptions{(dir / "out").string(), false, 1}, extensions);
 
@@ -110,6 +134,11 @@ TEST(ExtensionSeamsTest, ATestOnlyEventTypeAndObserverRunWithoutRunnerChanges) {
   EXPECT_EQ(observer.encoders, 400);
   EXPECT_EQ(observer.scans, summary.metrics.robots.at(0).scans);
   EXPECT_GT(observer.scans, 0);
+  // The added sensor at its own 20 Hz; the robot drives at 0.2 m/s once its
+  // motors have ramped up.
+  ASSERT_EQ(observer.speeds.size(), 40u);
+  EXPECT_NEAR(observer.speeds.back(), 0.2, 0.02);
+  EXPECT_LT(observer.speeds.front(), observer.speeds.back());
 }
 
 // An unknown event type is an input error naming the key, with the registered types.
