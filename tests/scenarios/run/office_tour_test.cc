@@ -24,17 +24,15 @@ namespace {
 // The first 150 s of the 470 s tour: lab, corridor and the first offices.
 constexpr double kShortTourS = 150.0;
 
-// Runs the tour with `seed`, writing into dir/tour_<seed>.
-nlohmann::json RunTour(std::uint64_t seed, const std::filesystem::path& dir) {
+// Runs the tour with `seed`, writing into dir/tour_<seed>; returns its metrics.
+RunMetrics RunTour(std::uint64_t seed, const std::filesystem::path& dir) {
   ScenarioOverrides overrides;
   overrides.seed = seed;
   overrides.duration_s = kShortTourS;
   const Scenario s =
       LoadScenarioFile(std::string(PAVILION_SOURCE_DIR) + "/scenarios/office_tour.yaml", overrides);
   const std::string out = (dir / ("tour_" + std::to_string(seed))).string();
-  RunScenario(s, RunOptions{out, false});
-  std::ifstream in(out + "/metrics.json");
-  return nlohmann::json::parse(in);
+  return RunScenario(s, RunOptions{out, false}).metrics;
 }
 
 // NEES of each localization cycle, from localization.csv.
@@ -62,23 +60,26 @@ std::vector<double> ReadNees(const std::filesystem::path& csv) {
 // localization.csv: the same bounds per run as the acceptance test.
 TEST(OfficeTour, ShortTourLocalizesToACentimetre) {
   const std::filesystem::path dir = pavilion::testing::TestDir();
-  const nlohmann::json m = RunTour(1, dir)["robots"]["pygmalion"];
-  const nlohmann::json& l = m["localization"];
-  EXPECT_EQ(m["collisions"].get<int>(), 0);
-  EXPECT_GT(m["distance_m"].get<double>(), 40.0);
+  const RunMetrics metrics = RunTour(1, dir);
+  ASSERT_EQ(metrics.robots.size(), 1u);
+  const RobotMetrics& m = metrics.robots.front();
+  ASSERT_TRUE(m.localization);
+  const LocalizationFigures& l = *m.localization;
+  EXPECT_EQ(m.collisions, 0);
+  EXPECT_GT(m.distance_m, 40.0);
   // 2 Hz for 150 s.
-  EXPECT_GT(l["cycles"].get<int>(), 280);
-  EXPECT_LT(l["cycles"].get<int>(), 320);
-  EXPECT_EQ(l["lost_situations"].get<int>(), 0);
-  EXPECT_LE(l["position_rmse_m"].get<double>(), 0.015);
-  EXPECT_LE(l["heading_rmse_deg"].get<double>(), 0.5);
-  EXPECT_GT(l["matched_lines_per_cycle"].get<double>(), 2.0);
+  EXPECT_GT(l.cycles, 280);
+  EXPECT_LT(l.cycles, 320);
+  EXPECT_EQ(l.lost_situations, 0);
+  EXPECT_LE(l.position_rmse_m, 0.015);
+  EXPECT_LE(l.heading_rmse_deg, 0.5);
+  EXPECT_GT(l.matched_lines_per_cycle, 2.0);
   // One run's ANEES over ~300 cycles: far from the five-run band's precision,
   // but an overconfident filter (ANEES ~30 without the map correlations) fails.
   const std::vector<double> nees = ReadNees(dir / "tour_1" / "localization.csv");
-  ASSERT_EQ(static_cast<int>(nees.size()), l["cycles"].get<int>());
-  EXPECT_GT(l["anees"].get<double>(), 1.0);
-  EXPECT_LT(l["anees"].get<double>(), 8.0);
+  ASSERT_EQ(static_cast<int>(nees.size()), l.cycles);
+  EXPECT_GT(l.anees, 1.0);
+  EXPECT_LT(l.anees, 8.0);
 }
 
 }  // namespace
