@@ -41,7 +41,7 @@ format-check: configure
 asan-test: deps
 	cmake -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPAVILION_SANITIZE=ON \
 	  -DPAVILION_BUILD_BENCHMARKS=OFF
-	cmake --build $(ASAN_BUILD) -j $(JOBS)
+	cmake --build $(ASAN_BUILD) -j $(JOBS) --target unit_tests
 	ctest --test-dir $(ASAN_BUILD) --output-on-failure -j $(JOBS) -L unit -LE 'acceptance|integration'
 
 bench: build

@@ -15,6 +15,7 @@
 
 #include "scenarios/config/scenario.h"
 #include "scenarios/run/scenario_runner.h"
+#include "tests/support/csv_column.h"
 #include "tests/support/test_files.h"
 
 namespace pavilion::scenarios {
@@ -30,27 +31,6 @@ nlohmann::json RunTour(std::uint64_t seed, const std::filesystem::path& dir) {
   RunScenario(s, RunOptions{out, false});
   std::ifstream in(out + "/metrics.json");
   return nlohmann::json::parse(in);
-}
-
-// NEES of each localization cycle, from localization.csv.
-std::vector<double> ReadNees(const std::filesystem::path& csv) {
-  std::ifstream in(csv);
-  std::string line;
-  std::getline(in, line);
-  int column = 0;
-  {
-    std::stringstream header(line);
-    std::string name;
-    while (std::getline(header, name, ',') && name != "nees") ++column;
-  }
-  std::vector<double> nees;
-  while (std::getline(in, line)) {
-    std::stringstream row(line);
-    std::string cell;
-    for (int c = 0; c <= column; ++c) std::getline(row, cell, ',');
-    nees.push_back(std::stod(cell));
-  }
-  return nees;
 }
 
 // The acceptance of issue 6 over five seeds; each seed also draws a fresh
@@ -89,7 +69,8 @@ TEST(OfficeTour, FiveSeedsLocalizeToACentimetreAndTheFilterIsConsistent) {
     EXPECT_LE(l["position_rmse_m"].get<double>(), 0.015) << "seed " << seed;  // measured 1.3-1.9 mm
     EXPECT_LE(l["heading_rmse_deg"].get<double>(), 0.5) << "seed " << seed;   // 0.014-0.019 deg
     EXPECT_GT(l["matched_lines_per_cycle"].get<double>(), 2.0) << "seed " << seed;
-    nees.push_back(ReadNees(dir / ("tour_" + std::to_string(seed)) / "localization.csv"));
+    nees.push_back(pavilion::testing::ReadCsvColumn(
+        dir / ("tour_" + std::to_string(seed)) / "localization.csv", "nees"));
     for (const double e : nees.back()) pooled_sum += e;
     pooled_count += static_cast<long>(nees.back().size());
   }

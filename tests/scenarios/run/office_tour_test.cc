@@ -16,6 +16,7 @@
 
 #include "scenarios/config/scenario.h"
 #include "scenarios/run/scenario_runner.h"
+#include "tests/support/csv_column.h"
 #include "tests/support/test_files.h"
 
 namespace pavilion::scenarios {
@@ -33,27 +34,6 @@ RunMetrics RunTour(std::uint64_t seed, const std::filesystem::path& dir) {
       LoadScenarioFile(std::string(PAVILION_SOURCE_DIR) + "/scenarios/office_tour.yaml", overrides);
   const std::string out = (dir / ("tour_" + std::to_string(seed))).string();
   return RunScenario(s, RunOptions{out, false}).metrics;
-}
-
-// NEES of each localization cycle, from localization.csv.
-std::vector<double> ReadNees(const std::filesystem::path& csv) {
-  std::ifstream in(csv);
-  std::string line;
-  std::getline(in, line);
-  int column = 0;
-  {
-    std::stringstream header(line);
-    std::string name;
-    while (std::getline(header, name, ',') && name != "nees") ++column;
-  }
-  std::vector<double> nees;
-  while (std::getline(in, line)) {
-    std::stringstream row(line);
-    std::string cell;
-    for (int c = 0; c <= column; ++c) std::getline(row, cell, ',');
-    nees.push_back(std::stod(cell));
-  }
-  return nees;
 }
 
 // One seed, the tour's first 150 s, read from the run's typed metrics and
@@ -76,7 +56,8 @@ TEST(OfficeTour, ShortTourLocalizesToACentimetre) {
   EXPECT_GT(l.matched_lines_per_cycle, 2.0);
   // One run's ANEES over ~300 cycles: far from the five-run band's precision,
   // but an overconfident filter (ANEES ~30 without the map correlations) fails.
-  const std::vector<double> nees = ReadNees(dir / "tour_1" / "localization.csv");
+  const std::vector<double> nees =
+      pavilion::testing::ReadCsvColumn(dir / "tour_1" / "localization.csv", "nees");
   ASSERT_EQ(static_cast<int>(nees.size()), l.cycles);
   EXPECT_GT(l.anees, 1.0);
   EXPECT_LT(l.anees, 8.0);

@@ -38,23 +38,7 @@ WorldDescription Hall(bool with_wall) {
   return w;
 }
 
-// Pygmalion-like: 45 cm square, 70 cm tall, wheels r = 9 cm, b = 0.4 m.
-RobotDescription TestRobot() {
-  RobotDescription m;
-  m.model = "test";
-  m.footprint_m = {{-0.225, -0.225}, {0.225, -0.225}, {0.225, 0.225}, {-0.225, 0.225}};
-  m.chassis_base_z_m = 0.04;
-  m.chassis_height_m = 0.66;
-  m.chassis_mass_kg = 50.0;
-  m.left_wheel = {"left", 0.09, 0.03, 1.5, {0.0, 0.2}};
-  m.right_wheel = {"right", 0.09, 0.03, 1.5, {0.0, -0.2}};
-  m.casters = {{"caster_front", {0.17, 0.0}, 0.03}, {"caster_rear", {-0.17, 0.0}, 0.03}};
-  m.max_wheel_torque_nm = 15.0;
-  m.max_wheel_speed_radps = 15.0;
-  m.max_wheel_accel_radps2 = 10.0;
-  m.material = "plastic";
-  return m;
-}
+RobotDescription TestRobot() { return pavilion::testing::PygmalionLikeModel("plastic"); }
 
 pavilion::testing::WorldRobot Spec(const std::string& id, core::Pose2 pose) {
   pavilion::testing::WorldRobot spec;

@@ -17,6 +17,7 @@
 #include "sim/robot/sim_robot.h"
 #include "sim/world/world.h"
 #include "tests/support/floor_world.h"
+#include "tests/support/world_robot.h"
 
 namespace pavilion::sim {
 namespace {
@@ -46,22 +47,10 @@ class TickCounter final : public Sensor {
   double rate_hz_;
 };
 
-// Pygmalion-like: 45 cm square, wheels r = 9 cm, b = 0.4 m.
+// Pygmalion-like, with 100 Hz encoders.
 RobotConfig TestRobot() {
   RobotConfig config;
-  RobotDescription& m = config.description;
-  m.model = "test";
-  m.footprint_m = {{-0.225, -0.225}, {0.225, -0.225}, {0.225, 0.225}, {-0.225, 0.225}};
-  m.chassis_base_z_m = 0.04;
-  m.chassis_height_m = 0.66;
-  m.chassis_mass_kg = 50.0;
-  m.left_wheel = {"left", 0.09, 0.03, 1.5, {0.0, 0.2}};
-  m.right_wheel = {"right", 0.09, 0.03, 1.5, {0.0, -0.2}};
-  m.casters = {{"caster_front", {0.17, 0.0}, 0.03}, {"caster_rear", {-0.17, 0.0}, 0.03}};
-  m.max_wheel_torque_nm = 15.0;
-  m.max_wheel_speed_radps = 15.0;
-  m.max_wheel_accel_radps2 = 10.0;
-  m.material = "floor";
+  config.description = pavilion::testing::PygmalionLikeModel("floor");
   config.encoders.rate_hz = 100.0;
   return config;
 }
