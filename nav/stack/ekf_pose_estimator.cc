@@ -22,7 +22,7 @@ EkfPoseEstimator::EkfPoseEstimator(core::RobotMap map, const EkfPoseEstimatorOpt
 }
 
 std::optional<EstimatorCycle> EkfPoseEstimator::Update(
-    const std::vector<core::EncoderReading>& encoders,
+    std::span<const core::EncoderReading> encoders,
     const std::vector<const core::LaserScan*>& scans) {
   const long matches_before = localizer_->counters().matches;
   for (const core::EncoderReading& e : encoders) localizer_->AddEncoders(e);

@@ -27,7 +27,7 @@ struct EkfPoseEstimatorOptions {
 class EkfPoseEstimator : public PoseEstimator {
  public:
   EkfPoseEstimator(core::RobotMap map, const EkfPoseEstimatorOptions& options);
-  std::optional<EstimatorCycle> Update(const std::vector<core::EncoderReading>& encoders,
+  std::optional<EstimatorCycle> Update(std::span<const core::EncoderReading> encoders,
                                        const std::vector<const core::LaserScan*>& scans) override;
   const core::PoseWithCovariance& estimate() const override { return localizer_->estimate(); }
   std::string lost_reason() const override;

@@ -17,10 +17,8 @@ std::optional<WheelSpeeds> Navigator::Control(std::int64_t tick, double now_s) {
 
 SenseResult Navigator::Sense(const SensorFrame& frame) {
   SenseResult result;
-  static const std::vector<core::EncoderReading> kNone;
-  const std::vector<core::EncoderReading>& encoders = frame.encoders ? *frame.encoders : kNone;
-  for (const core::EncoderReading& reading : encoders) odometry_.Update(reading);
-  if (estimator_) result.cycle = estimator_->Update(encoders, frame.scans);
+  for (const core::EncoderReading& reading : frame.encoders) odometry_.Update(reading);
+  if (estimator_) result.cycle = estimator_->Update(frame.encoders, frame.scans);
   if (controller_) {
     for (const core::LaserScan* scan : frame.scans) {
       if (auto command = controller_->OnScan(*scan)) result.command = command;

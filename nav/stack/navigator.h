@@ -13,6 +13,7 @@
 
 #include <memory>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "core/localization/encoder_odometry.h"
@@ -30,7 +31,7 @@ struct NavigatorOptions {
 // The readings of one tick, in the order the sensors produced them.
 struct SensorFrame {
   double now_s = 0.0;  // end of the tick
-  const std::vector<core::EncoderReading>* encoders = nullptr;
+  std::span<const core::EncoderReading> encoders;
   std::vector<const core::LaserScan*> scans;
 };
 

@@ -5,6 +5,7 @@
 // of thesis §4.4 (EkfPoseEstimator); global localization (chapter 5) next.
 
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -29,7 +30,7 @@ class PoseEstimator {
   // One tick's readings in time order. Returns the cycle when an estimation
   // cycle completed in this tick, none otherwise (odometry only).
   virtual std::optional<EstimatorCycle> Update(
-      const std::vector<core::EncoderReading>& encoders,
+      std::span<const core::EncoderReading> encoders,
       const std::vector<const core::LaserScan*>& scans) = 0;
   virtual const core::PoseWithCovariance& estimate() const = 0;
   // Why the estimator declares itself lost ("none" while it tracks), for events.

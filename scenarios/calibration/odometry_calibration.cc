@@ -101,11 +101,8 @@ Eigen::Vector2d Dir(double angle_rad) { return {std::cos(angle_rad), std::sin(an
 // A tick step's wheel travels under model `m` (eq. 2.5).
 core::WheelTravel Travel(const TickStep& t, int ticks_per_revolution,
                          const core::EncoderOdometryOptions& m) {
-  core::EncoderOdometryOptions model;
-  model.left_wheel_radius_m = m.left_wheel_radius_m;
-  model.right_wheel_radius_m = m.right_wheel_radius_m;
   return core::WheelTravelFromEncoders({0.0, 0, 0, ticks_per_revolution},
-                                       {0.0, t.left, t.right, ticks_per_revolution}, model);
+                                       {0.0, t.left, t.right, ticks_per_revolution}, m);
 }
 // The errors of one kind of run.
 std::vector<Eigen::Vector3d> ErrorsOf(const std::vector<RecordedRun>& runs,

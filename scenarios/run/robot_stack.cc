@@ -76,7 +76,7 @@ std::vector<Eigen::Vector2d> RoutePath(const Scenario& scenario, std::size_t ind
 std::unique_ptr<nav::Controller> MakeController(const Scenario& scenario, std::size_t index,
                                                 const std::optional<core::RobotMap>& map) {
   const RobotEntry& entry = scenario.robots[index];
-  const core::EncoderOdometryOptions odometry = entry.config.odometry;
+  const core::EncoderOdometryOptions& odometry = entry.config.odometry;
   if (entry.route) {
     nav::RouteControllerOptions options;
     options.follower = entry.route->follower;

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <numbers>
 #include <optional>
 
 #include "nav/stack/navigator.h"
@@ -34,7 +35,7 @@ using Clock = std::chrono::steady_clock;
 constexpr double kProgressPeriodS = 0.25;
 // Events are due when their time is reached up to this rounding of tick times (s).
 constexpr double kDueToleranceS = 1e-9;
-constexpr double kDegPerRad = 180.0 / 3.14159265358979323846;
+constexpr double kDegPerRad = 180.0 / std::numbers::pi;
 
 double Seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
 
@@ -118,6 +119,7 @@ class ScenarioRun {
   Clock::time_point t_start_;
   std::unique_ptr<sim::World> world_;
   std::vector<std::unique_ptr<sim::BodyMotion>> motions_;
+  std::vector<sim::PlanarVelocity> body_commands_;  // this tick's, by body
   std::unique_ptr<sim::PlanarCaster> planar_;
   std::map<std::string, int> body_index_;
   std::map<std::string, int> robot_index_;  // world robot index by id
@@ -284,13 +286,14 @@ void ScenarioRun::ApplyEvents(double t) {
 
 void ScenarioRun::MoveBodies(double t) {
   // Per-body work reads the tick's snapshot; the commands are applied in body order.
-  std::vector<sim::PlanarVelocity> commands(world_->body_count());
+  body_commands_.resize(world_->body_count());
   for (int b = 0; b < world_->body_count(); ++b) {
-    if (motions_[b]) commands[b] = motions_[b]->Update(t, snapshot_.bodies[b]);
+    if (motions_[b]) body_commands_[b] = motions_[b]->Update(t, snapshot_.bodies[b]);
   }
   for (int b = 0; b < world_->body_count(); ++b) {
-    if (motions_[b])
-      world_->SetPlanarVelocity(b, commands[b].linear_mps, commands[b].yaw_rate_radps);
+    if (motions_[b]) {
+      world_->SetPlanarVelocity(b, body_commands_[b].linear_mps, body_commands_[b].yaw_rate_radps);
+    }
   }
 }
 
@@ -347,7 +350,7 @@ void ScenarioRun::SenseRobots(const sim::TickSnapshot& next, double t_after) {
     TickWork& w = work_[k];
     nav::SensorFrame frame;
     frame.now_s = t_after;
-    frame.encoders = &w.outputs.encoders;
+    frame.encoders = w.outputs.encoders;
     for (const sim::ScanRecord& scan : w.outputs.scans) frame.scans.push_back(&scan.scan);
     const auto t_think = Clock::now();
     w.sensed = robots_[k].navigator->Sense(frame);
