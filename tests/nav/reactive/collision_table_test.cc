@@ -41,7 +41,8 @@ TEST(CollisionTableTest, ConservativeAndWithinOneCell) {
   const CollisionTableOptions& o = table.options();
   const core::Polygon2 margin = InflateConvexPolygon(Octagon(), o.safety_margin_m);
   const double h = std::sqrt(0.5) * o.cell_m;
-  const core::Polygon2 loose = InflateConvexPolygon(Octagon(), o.safety_margin_m + h * (kMitre + 1));
+  const core::Polygon2 loose =
+      InflateConvexPolygon(Octagon(), o.safety_margin_m + h * (kMitre + 1));
   const double quantum_m = o.lookahead_m / std::numeric_limits<std::uint16_t>::max();
   core::RandomStream rng(14, 2);
   int finite = 0;

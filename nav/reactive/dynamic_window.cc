@@ -1,0 +1,300 @@
+#include "nav/reactive/dynamic_window.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+#include "core/types/pose2.h"
+
+namespace pavilion::nav {
+namespace {
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+// Slack when comparing a candidate's speed with a cap (m/s, rad/s): grid
+// values are sums of doubles.
+constexpr double kLimitSlack = 1e-9;
+// Wheel-space grid for the constructor's braking-reach check (per wheel).
+constexpr int kReachCheckSamples = 101;
+
+double Clamp01(double x) { return std::clamp(x, 0.0, 1.0); }
+
+// The largest speed from which holding it one period T and then braking at
+// `decel` stops within `distance`: s·T + s²/(2·decel) = distance.
+double StoppableSpeed(double distance, double decel, double period_s) {
+  if (distance <= 0.0) return 0.0;
+  return decel * (-period_s + std::sqrt(period_s * period_s + 2.0 * distance / decel));
+}
+
+}  // namespace
+
+void DynamicWindowOptions::Validate() const {
+  auto fail = [](const std::string& message) { throw std::invalid_argument(message); };
+  auto in = [](double x, double lo, double hi) { return x > lo && x <= hi; };
+  if (!in(period_s, 0.0, 1.0)) fail("period_s must be in (0, 1] s");
+  if (samples_per_wheel < 11 || samples_per_wheel > 101 || samples_per_wheel % 2 == 0) {
+    fail("samples_per_wheel must be odd in [11, 101]");
+  }
+  if (!in(wheelbase_m, 0.0, 5.0)) fail("wheelbase_m must be in (0, 5] m");
+  if (!in(max_wheel_speed_mps, 0.0, 5.0)) fail("max_wheel_speed_mps must be in (0, 5] m/s");
+  if (!in(max_wheel_accel_mps2, 0.0, 20.0)) fail("max_wheel_accel_mps2 must be in (0, 20] m/s^2");
+  if (!in(max_speed_mps, 0.0, max_wheel_speed_mps)) {
+    fail("max_speed_mps must be in (0, max_wheel_speed_mps] m/s");
+  }
+  if (!in(ttc_horizon_s, 0.0, 60.0)) fail("ttc_horizon_s must be in (0, 60] s");
+  if (!(weight_heading >= 0.0 && std::isfinite(weight_heading))) {
+    fail("weight_heading must be finite and >= 0");
+  }
+  if (!(weight_speed >= 0.0 && std::isfinite(weight_speed))) {
+    fail("weight_speed must be finite and >= 0");
+  }
+  if (!(weight_clearance >= 0.0 && std::isfinite(weight_clearance))) {
+    fail("weight_clearance must be finite and >= 0");
+  }
+  if (weight_heading + weight_speed + weight_clearance <= 0.0) {
+    fail("weight_heading, weight_speed, weight_clearance must not all be 0");
+  }
+  if (!in(goal_tolerance_m, 0.0, 1.0)) fail("goal_tolerance_m must be in (0, 1] m");
+  if (!in(goal_heading_tolerance_rad, 0.0, 0.5)) {
+    fail("goal_heading_tolerance_rad must be in (0, 0.5] rad");
+  }
+  TableOptions().Validate();
+}
+
+CollisionTableOptions DynamicWindowOptions::TableOptions() const {
+  return {lookahead_m, table_cell_m, table_direction_bins, safety_margin_m};
+}
+
+DynamicWindow::DynamicWindow(const DynamicWindowOptions& options, core::Polygon2 robot_polygon)
+    : options_((options.Validate(), options)),
+      robot_polygon_(std::move(robot_polygon)),
+      table_(options_.TableOptions(), robot_polygon_) {
+  margin_polygon_ = InflateConvexPolygon(robot_polygon_, options_.safety_margin_m);
+  const double w = options_.max_wheel_speed_mps;
+  double reach_m = 0.0;
+  for (int i = 0; i < kReachCheckSamples; ++i) {
+    for (int j = 0; j < kReachCheckSamples; ++j) {
+      const WheelVelocity wheels{-w + 2.0 * w * i / (kReachCheckSamples - 1),
+                                 -w + 2.0 * w * j / (kReachCheckSamples - 1)};
+      if (std::abs(0.5 * (wheels.left_mps + wheels.right_mps)) > options_.max_speed_mps) continue;
+      reach_m = std::max(reach_m, StoppingArc(wheels));
+    }
+  }
+  if (options_.lookahead_m < reach_m) {
+    throw std::invalid_argument("lookahead_m must be >= the braking reach " +
+                                std::to_string(reach_m) + " m");
+  }
+  const int n = options_.samples_per_wheel;
+  candidates_.resize(static_cast<std::size_t>(n) * n);
+  bin_arc_m_.resize(table_.bins());
+}
+
+double DynamicWindow::StoppingArc(const WheelVelocity& command) const {
+  const BodyTwist twist =
+      TwistFromWheels(command.left_mps, command.right_mps, options_.wheelbase_m);
+  const double brake_s = std::max(std::abs(command.left_mps), std::abs(command.right_mps)) /
+                         options_.max_wheel_accel_mps2;
+  return table_.GeneralizedSpeed(twist) * (options_.period_s + 0.5 * brake_s);
+}
+
+WheelVelocity DynamicWindow::BrakeCommand(const WheelVelocity& current) const {
+  const double step_mps = options_.max_wheel_accel_mps2 * options_.period_s;
+  const double m = std::max(std::abs(current.left_mps), std::abs(current.right_mps));
+  if (m <= step_mps) return {};
+  const double scale = (m - step_mps) / m;
+  return {current.left_mps * scale, current.right_mps * scale};
+}
+
+void DynamicWindow::BuildCandidates(const WheelVelocity& current, const DwaGoal& goal,
+                                    Scene& scene) {
+  const double a = options_.max_wheel_accel_mps2;
+  const double step_mps = a * options_.period_s;
+  const BodyTwist now = TwistFromWheels(current.left_mps, current.right_mps, options_.wheelbase_m);
+  double cap = std::min(options_.max_speed_mps, goal.speed_limit_mps);
+  if (goal.pose_goal) {
+    // Pose mode: slow enough to stop at the goal (hold one period, then brake).
+    cap = std::min(cap, StoppableSpeed(scene.goal_distance_m, a, options_.period_s));
+    if (scene.orienting) {
+      const double turn_decel = 2.0 * a / options_.wheelbase_m;
+      const double error_rad = std::abs(core::NormalizeAngle(goal.goal_heading_in_robot_rad));
+      scene.turn_cap_radps = std::max(StoppableSpeed(error_rad, turn_decel, options_.period_s),
+                                      std::abs(now.omega_radps) - turn_decel * options_.period_s);
+    }
+  }
+  // The caps never forbid the hardest braking the window allows.
+  scene.speed_cap_mps = std::max(cap, std::abs(now.v_mps) - step_mps);
+  auto window = [&](double c) {
+    const double w = options_.max_wheel_speed_mps;
+    double lo = std::max(c - step_mps, -w);
+    double hi = std::min(c + step_mps, w);
+    if (lo > hi) lo = hi = c - std::copysign(step_mps, c);
+    return std::pair{lo, hi};
+  };
+  const auto [l_lo, l_hi] = window(current.left_mps);
+  const auto [r_lo, r_hi] = window(current.right_mps);
+  const int n = options_.samples_per_wheel;
+  scene.reach_arc_m = 0.0;
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      Candidate& c = candidates_[static_cast<std::size_t>(i) * n + j];
+      c = Candidate{};
+      c.wheels = {l_lo + (l_hi - l_lo) * i / (n - 1), r_lo + (r_hi - r_lo) * j / (n - 1)};
+      c.twist = TwistFromWheels(c.wheels.left_mps, c.wheels.right_mps, options_.wheelbase_m);
+      c.speed_g = table_.GeneralizedSpeed(c.twist);
+      c.stop_arc_m = StoppingArc(c.wheels);
+      c.bin = table_.BinOf(c.twist);
+      c.within_limits = std::abs(c.twist.v_mps) <= scene.speed_cap_mps + kLimitSlack &&
+                        std::abs(c.twist.omega_radps) <= scene.turn_cap_radps + kLimitSlack;
+      if (!c.within_limits) continue;
+      const double clearance_arc_m = c.speed_g * options_.ttc_horizon_s;
+      scene.reach_arc_m = std::max({scene.reach_arc_m, c.stop_arc_m, clearance_arc_m});
+    }
+  }
+  scene.reach_arc_m = std::min(scene.reach_arc_m, options_.lookahead_m);
+}
+
+void DynamicWindow::GatherPoints(std::span<const Eigen::Vector2d> obstacles, double reach_m) {
+  points_.clear();
+  cells_.clear();
+  const double reach_sq = reach_m * reach_m;
+  for (const Eigen::Vector2d& p : obstacles) {
+    if (!p.allFinite() || p.squaredNorm() > reach_sq) continue;
+    const int cell = table_.CellOf(p);
+    if (cell < 0) continue;  // cannot happen within reach_m <= table reach
+    points_.push_back(p);
+    cells_.push_back(cell);
+  }
+}
+
+double DynamicWindow::ExactArc(const BodyTwist& twist, double up_to_m) const {
+  const double speed_g = table_.GeneralizedSpeed(twist);
+  const double reach_m = up_to_m + Circumradius(margin_polygon_);
+  double arc_m = up_to_m;
+  for (const Eigen::Vector2d& p : points_) {
+    if (p.squaredNorm() > reach_m * reach_m) continue;
+    arc_m = std::min(arc_m, speed_g * ExactTimeToCollision(margin_polygon_, twist, p));
+  }
+  return arc_m;
+}
+
+bool DynamicWindow::ConfirmExact(const Candidate& c) const {
+  if (c.speed_g == 0.0) return true;
+  return ExactArc(c.twist, c.stop_arc_m) >= c.stop_arc_m;
+}
+
+double DynamicWindow::Objective(const Candidate& c, const DwaGoal& goal, const Scene& scene) const {
+  const Eigen::Vector3d pose = PoseAfter(c.twist, options_.period_s);
+  const Eigen::Vector2d at = pose.head<2>();
+  auto bearing_error = [&](const Eigen::Vector2d& to) {
+    const Eigen::Vector2d d = to - at;
+    return std::abs(core::NormalizeAngle(std::atan2(d.y(), d.x()) - pose.z()));
+  };
+  const double clearance = Clamp01(c.ttc_s / options_.ttc_horizon_s);
+  double heading = 0.0;
+  double speed = 0.0;
+  if (!goal.pose_goal) {
+    heading = 1.0 - bearing_error(goal.target_in_robot) / std::numbers::pi;
+    speed = c.twist.v_mps / options_.max_speed_mps;
+  } else {
+    const double d_pred_m = (goal.goal_in_robot - at).norm();
+    const double error_rad =
+        scene.orienting
+            ? std::abs(core::NormalizeAngle(goal.goal_heading_in_robot_rad - pose.z()))
+            : (d_pred_m > options_.goal_tolerance_m ? bearing_error(goal.goal_in_robot) : 0.0);
+    heading = 1.0 - error_rad / std::numbers::pi;
+    speed = (scene.goal_distance_m - d_pred_m) / (options_.max_speed_mps * options_.period_s);
+  }
+  return options_.weight_heading * heading + options_.weight_speed * speed +
+         options_.weight_clearance * clearance;
+}
+
+void DynamicWindow::ScoreCandidates(const DwaGoal& goal, const Scene& scene) {
+  std::fill(bin_arc_m_.begin(), bin_arc_m_.end(), -1.0);
+  const bool use_table = options_.clearance_geometry == ClearanceGeometry::kLookupTable;
+  for (Candidate& c : candidates_) {
+    if (!c.within_limits) continue;
+    if (c.speed_g == 0.0) {
+      c.arc_to_collision_m = options_.lookahead_m;
+      c.ttc_s = kInfinity;
+      c.admissible = true;
+    } else {
+      if (use_table) {
+        double& arc_m = bin_arc_m_[c.bin];
+        if (arc_m < 0.0) arc_m = table_.MinArcToCollision(c.bin, cells_);
+        c.arc_to_collision_m = arc_m;
+      } else {
+        c.arc_to_collision_m = ExactArc(c.twist, options_.lookahead_m);
+      }
+      c.ttc_s = c.arc_to_collision_m / c.speed_g;
+      c.admissible = c.stop_arc_m < c.arc_to_collision_m;
+    }
+    if (c.admissible) c.score = Objective(c, goal, scene);
+  }
+}
+
+DwaResult DynamicWindow::Choose(const WheelVelocity& current,
+                                std::span<const Eigen::Vector2d> obstacles_in_robot,
+                                const DwaGoal& goal) {
+  if (!std::isfinite(current.left_mps) || !std::isfinite(current.right_mps)) {
+    throw std::invalid_argument("current wheel velocity must be finite");
+  }
+  if (!goal.target_in_robot.allFinite() || !goal.goal_in_robot.allFinite() ||
+      !std::isfinite(goal.goal_heading_in_robot_rad) || !(goal.speed_limit_mps >= 0.0)) {
+    throw std::invalid_argument("goal must be finite with speed_limit_mps >= 0");
+  }
+  DwaResult result;
+  Scene scene;
+  scene.speed_cap_mps = scene.turn_cap_radps = kInfinity;
+  result.command = BrakeCommand(current);
+  result.time_to_collision_s = options_.ttc_horizon_s;
+  result.candidates_evaluated = static_cast<int>(candidates_.size());
+  scene.goal_distance_m = goal.goal_in_robot.norm();
+  scene.orienting = goal.pose_goal && scene.goal_distance_m <= options_.goal_tolerance_m;
+  if (scene.orienting && std::abs(core::NormalizeAngle(goal.goal_heading_in_robot_rad)) <=
+                             options_.goal_heading_tolerance_rad) {
+    result.goal_reached = true;
+    return result;
+  }
+  BuildCandidates(current, goal, scene);
+  GatherPoints(obstacles_in_robot, table_.reach_m() - options_.lookahead_m + scene.reach_arc_m);
+  result.points_in_reach = static_cast<int>(points_.size());
+  for (const Eigen::Vector2d& p : points_) {
+    if (core::Contains(robot_polygon_, p)) result.in_collision = true;
+  }
+  if (result.in_collision) return result;
+  ScoreCandidates(goal, scene);
+  const bool use_table = options_.clearance_geometry == ClearanceGeometry::kLookupTable;
+  for (const Candidate& c : candidates_) result.candidates_admissible += c.admissible ? 1 : 0;
+  while (true) {
+    Candidate* best = nullptr;
+    for (Candidate& c : candidates_) {
+      if (c.admissible && (best == nullptr || c.score > best->score)) best = &c;
+    }
+    if (best == nullptr) return result;
+    if (use_table && !ConfirmExact(*best)) {
+      best->admissible = false;
+      ++result.exact_rejections;
+      continue;
+    }
+    result.command = best->wheels;
+    result.time_to_collision_s = std::min(best->ttc_s, options_.ttc_horizon_s);
+    result.admissible_found = true;
+    return result;
+  }
+}
+
+std::vector<Eigen::Vector2d> DynamicWindow::ChosenArc(const DwaResult& result,
+                                                      double duration_s) const {
+  const BodyTwist twist =
+      TwistFromWheels(result.command.left_mps, result.command.right_mps, options_.wheelbase_m);
+  std::vector<Eigen::Vector2d> arc;
+  for (double t = 0.0; t < duration_s; t += kArcStep_s)
+    arc.push_back(PoseAfter(twist, t).head<2>());
+  arc.push_back(PoseAfter(twist, std::max(duration_s, 0.0)).head<2>());
+  return arc;
+}
+
+}  // namespace pavilion::nav

@@ -1,0 +1,96 @@
+// One cycle of the dynamic window (thesis §6.3.4, nav/reactive/dynamic_window.h):
+// Robox-like octagon, 11x11 wheel-speed candidates, a 720-reading 360-degree
+// scan (two back-to-back lasers at 0.5 degrees, 8 m) of a 2.4 m wide corridor
+// with three people-like clusters, plus 20 ghost points; the robot drives at
+// 0.5 m/s along the corridor. BM_DynamicWindowChoose uses the clearance
+// look-up table; the baseline BM_DynamicWindowChooseExact the exact geometry
+// for every candidate and point. Budget: <= 50 us per Choose() on one core.
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+#include "nav/reactive/dynamic_window.h"
+
+namespace {
+
+using namespace pavilion;
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kHalfWidth_m = 1.2;  // corridor walls at y = ±1.2 m
+constexpr double kMaxRange_m = 8.0;
+constexpr int kReadings = 720;
+constexpr int kGhostPoints = 20;
+
+struct Person {
+  Eigen::Vector2d centre;
+  double radius_m;
+};
+
+core::Polygon2 Octagon() {
+  const double corner_m = 0.34 / std::cos(kPi / 8.0);
+  core::Polygon2 p;
+  for (int k = 0; k < 8; ++k) {
+    const double a = kPi / 8.0 + k * kPi / 4.0;
+    p.emplace_back(corner_m * std::cos(a), corner_m * std::sin(a));
+  }
+  return p;
+}
+
+// The nearest positive ray parameter hitting the circle, or `best`.
+double HitCircle(const Eigen::Vector2d& d, const Person& person, double best) {
+  const double b = d.dot(person.centre);
+  const double disc = b * b - person.centre.squaredNorm() + person.radius_m * person.radius_m;
+  if (disc < 0.0) return best;
+  const double t = b - std::sqrt(disc);
+  return t > 0.0 && t < best ? t : best;
+}
+
+std::vector<Eigen::Vector2d> CorridorScan() {
+  const Person people[] = {{{1.3, 0.55}, 0.2}, {{2.2, -0.6}, 0.25}, {{-0.9, 0.4}, 0.2}};
+  std::vector<Eigen::Vector2d> points;
+  for (int i = 0; i < kReadings; ++i) {
+    const double a = -kPi + i * (2.0 * kPi / kReadings);
+    const Eigen::Vector2d d(std::cos(a), std::sin(a));
+    double t = d.y() != 0.0 ? kHalfWidth_m / std::abs(d.y()) : kMaxRange_m;
+    for (const Person& p : people) t = HitCircle(d, p, t);
+    if (t < kMaxRange_m) points.push_back(t * d);
+  }
+  for (int k = 0; k < kGhostPoints; ++k) points.emplace_back(3.0 + 0.1 * k, 0.9);
+  return points;
+}
+
+void RunChoose(benchmark::State& state, nav::ClearanceGeometry geometry) {
+  nav::DynamicWindowOptions options;
+  options.clearance_geometry = geometry;
+  nav::DynamicWindow dwa(options, Octagon());
+  const std::vector<Eigen::Vector2d> points = CorridorScan();
+  nav::DwaGoal goal;
+  goal.target_in_robot = {4.0, 0.2};
+  const nav::WheelVelocity current{0.5, 0.5};
+  nav::DwaResult result;
+  for (auto _ : state) {
+    result = dwa.Choose(current, points, goal);
+    benchmark::DoNotOptimize(result);
+  }
+  state.counters["points"] = static_cast<double>(points.size());
+  state.counters["in_reach"] = result.points_in_reach;
+  state.counters["candidates"] = result.candidates_evaluated;
+  state.counters["admissible"] = result.candidates_admissible;
+  state.counters["v_mps"] = 0.5 * (result.command.left_mps + result.command.right_mps);
+}
+
+void BM_DynamicWindowChoose(benchmark::State& state) {
+  RunChoose(state, nav::ClearanceGeometry::kLookupTable);
+}
+BENCHMARK(BM_DynamicWindowChoose)->Unit(benchmark::kMicrosecond);
+
+void BM_DynamicWindowChooseExact(benchmark::State& state) {
+  RunChoose(state, nav::ClearanceGeometry::kExact);
+}
+BENCHMARK(BM_DynamicWindowChooseExact)->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();
