@@ -1,63 +1,30 @@
 #include "nav/route/route_planner.h"
 
-#include <algorithm>
-#include <limits>
 #include <map>
-#include <queue>
+#include <optional>
 #include <stdexcept>
+
+#include "nav/planning/graph_planner.h"
+#include "nav/planning/topology_graph.h"
 
 namespace pavilion::nav {
 
 std::vector<std::string> ShortestRoute(const core::RobotMap& map, const std::string& from,
                                        const std::string& to) {
-  std::map<std::string, int> index;
-  for (std::size_t i = 0; i < map.nodes.size(); ++i) {
-    index[map.nodes[i].id] = static_cast<int>(i);
-  }
+  const TopologyGraph graph(map);
   for (const std::string& id : {from, to}) {
-    if (!index.contains(id)) {
+    if (!graph.FindIndex(id)) {
       throw std::invalid_argument("map '" + map.name + "' has no node '" + id + "'");
     }
   }
-  const int n = static_cast<int>(map.nodes.size());
-  std::vector<std::vector<std::pair<int, double>>> adjacent(n);
-  for (const core::MapEdge& e : map.edges) {
-    const auto a = index.find(e.from);
-    const auto b = index.find(e.to);
-    if (a == index.end() || b == index.end()) continue;  // ValidateRobotMap rejects these
-    adjacent[a->second].emplace_back(b->second, e.weight);
-    adjacent[b->second].emplace_back(a->second, e.weight);
-  }
-  const int source = index.at(from);
-  const int target = index.at(to);
-  std::vector<double> distance(n, std::numeric_limits<double>::infinity());
-  std::vector<int> previous(n, -1);
-  using Item = std::pair<double, int>;
-  std::priority_queue<Item, std::vector<Item>, std::greater<>> open;
-  distance[source] = 0.0;
-  open.emplace(0.0, source);
-  while (!open.empty()) {
-    const auto [d, u] = open.top();
-    open.pop();
-    if (d > distance[u]) continue;
-    if (u == target) break;
-    for (const auto& [v, w] : adjacent[u]) {
-      // Ties broken by node index so that routes are deterministic.
-      const double candidate = d + w;
-      if (candidate < distance[v] || (candidate == distance[v] && u < previous[v])) {
-        distance[v] = candidate;
-        previous[v] = u;
-        open.emplace(candidate, v);
-      }
-    }
-  }
-  if (!(distance[target] < std::numeric_limits<double>::infinity())) {
+  const std::optional<GraphPath> path =
+      PlanGraphPath(graph, graph.IndexOf(from), graph.IndexOf(to));
+  if (!path) {
     throw std::invalid_argument("map '" + map.name + "': no route from '" + from + "' to '" + to +
                                 "'");
   }
   std::vector<std::string> route;
-  for (int v = target; v >= 0; v = previous[v]) route.push_back(map.nodes[v].id);
-  std::reverse(route.begin(), route.end());
+  for (int v : path->nodes) route.push_back(graph.id(v));
   return route;
 }
 

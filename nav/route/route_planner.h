@@ -1,9 +1,9 @@
 #pragma once
 
 // Shortest routes over a robot map's topology (the graph of station and via
-// nodes of §6.3.1): Dijkstra on the weighted undirected edges. The global
-// planner of the navigation issue builds on this graph; here it gives the
-// localization scenarios their routes.
+// nodes of §6.3.1) by id: a thin wrapper over the global planner
+// (nav/planning/graph_planner.h) on the map's edges, both ways, node costs 0.
+// It gives the localization scenarios their routes.
 
 #include <Eigen/Core>
 #include <string>

@@ -93,4 +93,3 @@ BENCHMARK(BM_DynamicWindowChooseExact)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 
-BENCHMARK_MAIN();
