@@ -45,7 +45,7 @@ struct ElasticBandOptions {
 
 struct Bubble {
   Eigen::Vector2d center = Eigen::Vector2d::Zero();  // world frame
-  double radius_m = 0.0;     // clearance_m - robot radius, capped at max_bubble_radius_m
+  double radius_m = 0.0;  // clearance_m - robot radius, capped at max_bubble_radius_m (< 0 inside)
   double clearance_m = 0.0;  // distance to the nearest obstacle point (capped by the field)
 };
 
@@ -64,6 +64,9 @@ class ElasticBand {
   // False when the band snaps: an internal bubble's clearance is below the
   // robot radius, a gap cannot be bridged (the bubble inserted there would be
   // below it), more than max_bubbles would be needed, or the band is empty.
+  // The robot's and the goal's bubbles are exempt from the clearance test (the
+  // robot may already graze; NF1's goal cell clears to within half a cell).
+  // After a snap the bubbles are left as they were; Reset to go on.
   // The field's cap must exceed min clearance + repulsion range.
   bool Update(const Eigen::Vector2d& robot_position, const DistanceField& field);
 
