@@ -19,6 +19,9 @@ constexpr double kInfinity = std::numeric_limits<double>::infinity();
 constexpr double kLimitSlack = 1e-9;
 // Wheel-space grid for the constructor's braking-reach check (per wheel).
 constexpr int kReachCheckSamples = 101;
+// Slack (m/s) on the contact normal · point velocity test: tangential
+// motions give 0 up to rounding.
+constexpr double kRateSlack_mps = 1e-9;
 
 double Clamp01(double x) { return std::clamp(x, 0.0, 1.0); }
 
@@ -58,6 +61,9 @@ void DynamicWindowOptions::Validate() const {
     fail("weight_heading, weight_speed, weight_clearance must not all be 0");
   }
   if (!in(goal_tolerance_m, 0.0, 1.0)) fail("goal_tolerance_m must be in (0, 1] m");
+  if (!(max_contact_depth_m >= 0.0 && max_contact_depth_m <= 0.1)) {
+    fail("max_contact_depth_m must be in [0, 0.1] m");
+  }
   if (!in(goal_heading_tolerance_rad, 0.0, 0.5)) {
     fail("goal_heading_tolerance_rad must be in (0, 0.5] rad");
   }
@@ -73,6 +79,24 @@ DynamicWindow::DynamicWindow(const DynamicWindowOptions& options, core::Polygon2
       robot_polygon_(std::move(robot_polygon)),
       table_(options_.TableOptions(), robot_polygon_) {
   margin_polygon_ = InflateConvexPolygon(robot_polygon_, options_.safety_margin_m);
+  const core::Polygon2 unit_offset = InflateConvexPolygon(robot_polygon_, 1.0);
+  const std::size_t vertices = robot_polygon_.size();
+  miter_.resize(vertices);
+  edge_normals_.resize(vertices);
+  edge_offsets_.resize(vertices);
+  for (std::size_t i = 0; i < vertices; ++i) {
+    miter_[i] = unit_offset[i] - robot_polygon_[i];
+    const Eigen::Vector2d d = robot_polygon_[(i + 1) % vertices] - robot_polygon_[i];
+    edge_normals_[i] = Eigen::Vector2d(d.y(), -d.x()).normalized();
+    edge_offsets_[i] = edge_normals_[i].dot(robot_polygon_[i]);
+  }
+  const core::Polygon2 deepest =
+      InflateConvexPolygon(robot_polygon_, -(options_.max_contact_depth_m + kContactSlack_m));
+  if (!IsConvexCounterClockwise(deepest)) {
+    throw std::invalid_argument("max_contact_depth_m must leave the shrunk robot polygon convex");
+  }
+  near_offset_m_ = options_.safety_margin_m + std::sqrt(2.0) * options_.table_cell_m;
+  near_radius_m_ = Circumradius(InflateConvexPolygon(robot_polygon_, near_offset_m_));
   const double w = options_.max_wheel_speed_mps;
   double reach_m = 0.0;
   for (int i = 0; i < kReachCheckSamples; ++i) {
@@ -156,17 +180,58 @@ void DynamicWindow::BuildCandidates(const WheelVelocity& current, const DwaGoal&
   scene.reach_arc_m = std::min(scene.reach_arc_m, options_.lookahead_m);
 }
 
-void DynamicWindow::GatherPoints(std::span<const Eigen::Vector2d> obstacles, double reach_m) {
+double DynamicWindow::EdgeDistance(const Eigen::Vector2d& p) const {
+  double distance_m = -kInfinity;
+  for (std::size_t i = 0; i < edge_normals_.size(); ++i) {
+    distance_m = std::max(distance_m, edge_normals_[i].dot(p) - edge_offsets_[i]);
+  }
+  return distance_m;
+}
+
+void DynamicWindow::AddContact(const Eigen::Vector2d& p, double edge_distance_m) {
+  const std::size_t k = contacts_.size();
+  if (contact_polygons_.size() <= k) contact_polygons_.push_back(robot_polygon_);
+  // The mitred offset polygon {EdgeDistance <= offset} passes kContactSlack_m inside p.
+  const double offset_m = edge_distance_m - kContactSlack_m;
+  core::Polygon2& polygon = contact_polygons_[k];
+  for (std::size_t i = 0; i < robot_polygon_.size(); ++i) {
+    polygon[i] = robot_polygon_[i] + offset_m * miter_[i];
+  }
+  ContactPoint contact;
+  contact.point = p;
+  contact.polygon = static_cast<int>(k);
+  contact.distance_m = SignedDistance(robot_polygon_, p, &contact.normal);
+  nearest_contact_m_ = std::min(nearest_contact_m_, contact.distance_m);
+  contacts_.push_back(contact);
+}
+
+bool DynamicWindow::GatherPoints(std::span<const Eigen::Vector2d> obstacles, double reach_m) {
   points_.clear();
   cells_.clear();
+  band_points_.clear();
+  contacts_.clear();
+  nearest_contact_m_ = kInfinity;
+  bool shallow = true;
   const double reach_sq = reach_m * reach_m;
+  const double near_sq = near_radius_m_ * near_radius_m_;
   for (const Eigen::Vector2d& p : obstacles) {
     if (!p.allFinite() || p.squaredNorm() > reach_sq) continue;
+    const double edge_distance_m = p.squaredNorm() <= near_sq ? EdgeDistance(p) : kInfinity;
+    if (edge_distance_m <= options_.safety_margin_m) {
+      if (edge_distance_m < -options_.max_contact_depth_m) shallow = false;
+      AddContact(p, edge_distance_m);
+      continue;
+    }
+    if (edge_distance_m <= near_offset_m_) {
+      band_points_.push_back(p);
+      continue;
+    }
     const int cell = table_.CellOf(p);
     if (cell < 0) continue;  // cannot happen within reach_m <= table reach
     points_.push_back(p);
     cells_.push_back(cell);
   }
+  return shallow;
 }
 
 double DynamicWindow::ExactArc(const BodyTwist& twist, double up_to_m) const {
@@ -185,6 +250,54 @@ bool DynamicWindow::ConfirmExact(const Candidate& c) const {
   return ExactArc(c.twist, c.stop_arc_m) >= c.stop_arc_m;
 }
 
+bool DynamicWindow::RecedesFromContacts(Candidate& c) const {
+  double predicted_m = kInfinity;
+  for (const ContactPoint& contact : contacts_) {
+    // Velocity of the world-fixed point in the robot frame: -v·x - ω × p.
+    const Eigen::Vector2d velocity(-c.twist.v_mps + c.twist.omega_radps * contact.point.y(),
+                                   -c.twist.omega_radps * contact.point.x());
+    const double rate_mps = contact.normal.dot(velocity);
+    if (rate_mps < -kRateSlack_mps) return false;
+    predicted_m = std::min(predicted_m, contact.distance_m + rate_mps * options_.period_s);
+  }
+  c.escape_gain_m = contacts_.empty() ? 0.0 : predicted_m - nearest_contact_m_;
+  return true;
+}
+
+double DynamicWindow::NearArc(const Candidate& c, double arc_m) const {
+  for (const Eigen::Vector2d& p : band_points_) {
+    arc_m = std::min(arc_m, c.speed_g * ExactTimeToCollision(margin_polygon_, c.twist, p));
+    if (arc_m <= c.stop_arc_m) return arc_m;
+  }
+  for (const ContactPoint& contact : contacts_) {
+    const core::Polygon2& polygon = contact_polygons_[contact.polygon];
+    arc_m = std::min(arc_m, c.speed_g * ExactTimeToCollision(polygon, c.twist, contact.point));
+    if (arc_m <= c.stop_arc_m) return arc_m;
+  }
+  return arc_m;
+}
+
+bool DynamicWindow::Admissible(Candidate& c) {
+  if (!RecedesFromContacts(c)) return false;
+  if (c.speed_g == 0.0) {
+    c.arc_to_collision_m = options_.lookahead_m;
+    c.ttc_s = kInfinity;
+    return true;
+  }
+  double arc_m = options_.lookahead_m;
+  if (options_.clearance_geometry == ClearanceGeometry::kLookupTable) {
+    double& bin_arc_m = bin_arc_m_[c.bin];
+    if (bin_arc_m < 0.0) bin_arc_m = table_.MinArcToCollision(c.bin, cells_);
+    arc_m = bin_arc_m;
+  } else {
+    arc_m = ExactArc(c.twist, options_.lookahead_m);
+  }
+  if (arc_m > c.stop_arc_m) arc_m = NearArc(c, arc_m);
+  c.arc_to_collision_m = arc_m;
+  c.ttc_s = arc_m / c.speed_g;
+  return c.stop_arc_m < arc_m;
+}
+
 double DynamicWindow::Objective(const Candidate& c, const DwaGoal& goal, const Scene& scene) const {
   const Eigen::Vector3d pose = PoseAfter(c.twist, options_.period_s);
   const Eigen::Vector2d at = pose.head<2>();
@@ -192,7 +305,16 @@ double DynamicWindow::Objective(const Candidate& c, const DwaGoal& goal, const S
     const Eigen::Vector2d d = to - at;
     return std::abs(core::NormalizeAngle(std::atan2(d.y(), d.x()) - pose.z()));
   };
-  const double clearance = Clamp01(c.ttc_s / options_.ttc_horizon_s);
+  double clearance = Clamp01(c.ttc_s / options_.ttc_horizon_s);
+  // Within the margin: the first-order growth of the clearance over one
+  // period, against the travel one period of acceleration gives from
+  // standstill; reversing away is not penalised.
+  const bool escaping = !contacts_.empty();
+  if (escaping) {
+    const double reference_m =
+        options_.max_wheel_accel_mps2 * options_.period_s * options_.period_s;
+    clearance = std::min(clearance, Clamp01(c.escape_gain_m / reference_m));
+  }
   double heading = 0.0;
   double speed = 0.0;
   if (!goal.pose_goal) {
@@ -207,30 +329,16 @@ double DynamicWindow::Objective(const Candidate& c, const DwaGoal& goal, const S
     heading = 1.0 - error_rad / std::numbers::pi;
     speed = (scene.goal_distance_m - d_pred_m) / (options_.max_speed_mps * options_.period_s);
   }
+  if (escaping) speed = std::max(speed, 0.0);
   return options_.weight_heading * heading + options_.weight_speed * speed +
          options_.weight_clearance * clearance;
 }
 
 void DynamicWindow::ScoreCandidates(const DwaGoal& goal, const Scene& scene) {
   std::fill(bin_arc_m_.begin(), bin_arc_m_.end(), -1.0);
-  const bool use_table = options_.clearance_geometry == ClearanceGeometry::kLookupTable;
   for (Candidate& c : candidates_) {
     if (!c.within_limits) continue;
-    if (c.speed_g == 0.0) {
-      c.arc_to_collision_m = options_.lookahead_m;
-      c.ttc_s = kInfinity;
-      c.admissible = true;
-    } else {
-      if (use_table) {
-        double& arc_m = bin_arc_m_[c.bin];
-        if (arc_m < 0.0) arc_m = table_.MinArcToCollision(c.bin, cells_);
-        c.arc_to_collision_m = arc_m;
-      } else {
-        c.arc_to_collision_m = ExactArc(c.twist, options_.lookahead_m);
-      }
-      c.ttc_s = c.arc_to_collision_m / c.speed_g;
-      c.admissible = c.stop_arc_m < c.arc_to_collision_m;
-    }
+    c.admissible = Admissible(c);
     if (c.admissible) c.score = Objective(c, goal, scene);
   }
 }
@@ -259,12 +367,16 @@ DwaResult DynamicWindow::Choose(const WheelVelocity& current,
     return result;
   }
   BuildCandidates(current, goal, scene);
-  GatherPoints(obstacles_in_robot, table_.reach_m() - options_.lookahead_m + scene.reach_arc_m);
-  result.points_in_reach = static_cast<int>(points_.size());
-  for (const Eigen::Vector2d& p : points_) {
-    if (core::Contains(robot_polygon_, p)) result.in_collision = true;
+  const bool shallow =
+      GatherPoints(obstacles_in_robot, table_.reach_m() - options_.lookahead_m + scene.reach_arc_m);
+  result.contact_points = static_cast<int>(contacts_.size());
+  result.band_points = static_cast<int>(band_points_.size());
+  result.points_in_reach =
+      static_cast<int>(points_.size()) + result.contact_points + result.band_points;
+  for (const ContactPoint& contact : contacts_) {
+    if (core::Contains(robot_polygon_, contact.point)) result.in_collision = true;
   }
-  if (result.in_collision) return result;
+  if (!shallow) return result;
   ScoreCandidates(goal, scene);
   const bool use_table = options_.clearance_geometry == ClearanceGeometry::kLookupTable;
   for (const Candidate& c : candidates_) result.candidates_admissible += c.admissible ? 1 : 0;

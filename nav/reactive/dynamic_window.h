@@ -13,6 +13,25 @@
 // proportionally at the acceleration limit, so the robot stops on the same
 // arc. The transient from the current speeds to the candidate (reached within
 // the period by the 1 kHz speed controller) is not modelled, as in Fox et al.
+//
+// Admissibility (Fox et al. 1997: the robot can stop before it collides):
+// - far points, outside the safety-margin polygon grown by one table cell
+//   diagonal: the table's time to collision with the margin polygon (the
+//   winner confirmed exactly) exceeds the stopping arc;
+// - band points, outside the margin polygon but within a cell diagonal of it
+//   (where the table's grown cells would report contact in every direction):
+//   the same test with ExactTimeToCollision on the margin polygon;
+// - contact points, inside the margin polygon, on or up to
+//   max_contact_depth_m inside the robot polygon (a walker touching the
+//   robot, a wall after a push): escape motions only. The signed distance to
+//   the exact polygon must not decrease at t = 0+ (contact normal · point
+//   velocity >= 0), and the exact polygon offset to pass kContactSlack_m
+//   inside the point must not reach it before standstill, so no contact
+//   point gets more than kContactSlack_m deeper. In their presence the
+//   clearance term scores the first-order growth of the clearance over a
+//   period (stopping scores 0) and reversing is not penalised, so the robot
+//   backs or turns away rather than waits.
+// A point deeper than max_contact_depth_m inside the robot forces braking.
 
 #include <Eigen/Core>
 #include <span>
@@ -41,6 +60,8 @@ struct DynamicWindowOptions {
   double lookahead_m = 1.2;           // clearance reach (generalized arc), m, (0, 10];
                                       // >= the braking reach of every candidate
   double table_cell_m = 0.025;        // look-up table cell, m, [0.005, 0.2]
+  double max_contact_depth_m = 0.02;  // deepest contact the robot may escape, m, [0, 0.1];
+                                      // must leave the robot polygon shrunk by it convex
   int table_direction_bins = 64;      // look-up table directions, multiple of 4, [8, 1024]
   // Objective weights, >= 0, not all 0 (the thesis gives none; chosen so the
   // heading dominates, speed keeps the robot moving, clearance breaks ties).
@@ -80,13 +101,18 @@ struct DwaResult {
   // conservative value; ttc_horizon_s or more when nothing is within reach).
   double time_to_collision_s = 0.0;
   // False: the command is the hardest proportional braking towards stop —
-  // no candidate was admissible, or in_collision, or goal_reached.
+  // no candidate was admissible, or a point is deeper inside the robot than
+  // max_contact_depth_m, or goal_reached.
   bool admissible_found = false;
-  bool in_collision = false;      // a point is inside the robot polygon now
+  // A point is inside the robot polygon now; escape motions stay admissible
+  // while every such point is within max_contact_depth_m of the boundary.
+  bool in_collision = false;
   bool goal_reached = false;      // pose mode: within both tolerances; braking
   int candidates_evaluated = 0;   // grid candidates considered (samples_per_wheel²)
   int candidates_admissible = 0;  // of those, within limits and admissible
   int points_in_reach = 0;        // obstacle points within the window's reach
+  int contact_points = 0;         // of those, inside the margin polygon (escape only)
+  int band_points = 0;            // of those, judged exactly with the margin polygon
   int exact_rejections = 0;       // table winners the exact geometry rejected
 };
 
@@ -114,6 +140,9 @@ class DynamicWindow {
   const CollisionTable& table() const { return table_; }
 
   static constexpr double kArcStep_s = 0.05;
+  // How much deeper (m) a contact point may get before standstill: room for
+  // the second-order approach of motions that leave it tangentially.
+  static constexpr double kContactSlack_m = 2.5e-4;
 
  private:
   // One grid point of the window and its evaluation.
@@ -127,7 +156,15 @@ class DynamicWindow {
     bool admissible = false;
     double arc_to_collision_m = 0.0;
     double ttc_s = 0.0;
+    double escape_gain_m = 0.0;  // first-order clearance growth over one period
     double score = 0.0;
+  };
+  // A point inside the margin polygon and its escape constraint.
+  struct ContactPoint {
+    Eigen::Vector2d point;
+    Eigen::Vector2d normal;   // outward contact normal of the robot polygon
+    double distance_m = 0.0;  // signed distance to the robot polygon
+    int polygon = 0;          // index in contact_polygons_: offset to pass inside the point
   };
   // What one cycle derives from the goal and the current speeds.
   struct Scene {
@@ -138,7 +175,16 @@ class DynamicWindow {
     double reach_arc_m = 0.0;      // the largest generalized arc that matters
   };
 
-  void GatherPoints(std::span<const Eigen::Vector2d> obstacles, double reach_m);
+  // Sorts the points within reach into far, band and contact points; false
+  // when one is deeper inside the robot than max_contact_depth_m.
+  bool GatherPoints(std::span<const Eigen::Vector2d> obstacles, double reach_m);
+  void AddContact(const Eigen::Vector2d& point, double edge_distance_m);
+  // Mitred signed distance: the largest distance outside an edge's line (m).
+  double EdgeDistance(const Eigen::Vector2d& point) const;
+  bool RecedesFromContacts(Candidate& c) const;
+  // The arc to collision, at most `arc_m`, with the band and contact points.
+  double NearArc(const Candidate& c, double arc_m) const;
+  bool Admissible(Candidate& c);
   void BuildCandidates(const WheelVelocity& current, const DwaGoal& goal, Scene& scene);
   void ScoreCandidates(const DwaGoal& goal, const Scene& scene);
   bool ConfirmExact(const Candidate& candidate) const;
@@ -150,8 +196,17 @@ class DynamicWindow {
   core::Polygon2 robot_polygon_;
   core::Polygon2 margin_polygon_;  // grown by safety_margin_m
   CollisionTable table_;
+  std::vector<Eigen::Vector2d> edge_normals_;  // outward unit normals of robot_polygon_
+  std::vector<double> edge_offsets_;           // normal · vertex per edge (m)
+  core::Polygon2 miter_;                       // vertex motion per metre of mitred offset
+  double near_offset_m_ = 0.0;                 // margin + table cell diagonal (m)
+  double near_radius_m_ = 0.0;                 // circumradius of that offset polygon (m)
   // Per-cycle scratch, kept to avoid allocation in the deadline task.
-  std::vector<Eigen::Vector2d> points_;
+  std::vector<Eigen::Vector2d> points_;  // far points (the table's)
+  std::vector<Eigen::Vector2d> band_points_;
+  std::vector<ContactPoint> contacts_;
+  std::vector<core::Polygon2> contact_polygons_;
+  double nearest_contact_m_ = 0.0;  // the clearance: least contact distance (m)
   std::vector<int> cells_;
   std::vector<Candidate> candidates_;
   std::vector<double> bin_arc_m_;

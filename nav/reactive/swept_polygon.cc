@@ -127,6 +127,36 @@ core::Polygon2 InflateConvexPolygon(const core::Polygon2& polygon, double offset
   return grown;
 }
 
+double SignedDistance(const core::Polygon2& polygon, const Eigen::Vector2d& p,
+                      Eigen::Vector2d* outward_normal) {
+  double edge_max_m = -kInfinity;  // max over edges of the distance outside its line
+  double nearest_m = kInfinity;
+  Eigen::Vector2d edge_normal = Eigen::Vector2d::UnitX();
+  Eigen::Vector2d nearest = p;
+  for (std::size_t i = 0, n = polygon.size(); i < n; ++i) {
+    const Eigen::Vector2d& a = polygon[i];
+    const Eigen::Vector2d d = polygon[(i + 1) % n] - a;
+    const Eigen::Vector2d normal = Eigen::Vector2d(d.y(), -d.x()).normalized();
+    const double outside_m = normal.dot(p - a);
+    if (outside_m > edge_max_m) {
+      edge_max_m = outside_m;
+      edge_normal = normal;
+    }
+    const double s = std::clamp((p - a).dot(d) / d.squaredNorm(), 0.0, 1.0);
+    const double distance_m = (p - (a + s * d)).norm();
+    if (distance_m < nearest_m) {
+      nearest_m = distance_m;
+      nearest = a + s * d;
+    }
+  }
+  if (edge_max_m <= 0.0 || nearest_m == 0.0) {
+    *outward_normal = edge_normal;
+    return edge_max_m <= 0.0 ? edge_max_m : 0.0;
+  }
+  *outward_normal = (p - nearest) / nearest_m;
+  return nearest_m;
+}
+
 Eigen::Vector3d PoseAfter(const BodyTwist& twist, double time_s) {
   const double theta_rad = twist.omega_radps * time_s;
   const double travel_m = twist.v_mps * time_s;

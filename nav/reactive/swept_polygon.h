@@ -34,6 +34,14 @@ double Circumradius(const core::Polygon2& polygon);
 // radius offset_m, so contact with it is never later than with the rounded one.
 core::Polygon2 InflateConvexPolygon(const core::Polygon2& polygon, double offset_m);
 
+// Signed Euclidean distance (m) from the point to the boundary of the convex
+// counter-clockwise polygon: positive outside, minus the penetration depth
+// inside. `outward_normal` (unit) is the gradient: from the nearest boundary
+// point towards the point outside, the nearest edge's outward normal on or
+// inside the boundary.
+double SignedDistance(const core::Polygon2& polygon, const Eigen::Vector2d& point_in_polygon,
+                      Eigen::Vector2d* outward_normal);
+
 // The pose reached after driving `twist` for `time_s` from the origin.
 Eigen::Vector3d PoseAfter(const BodyTwist& twist, double time_s);
 

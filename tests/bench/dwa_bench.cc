@@ -5,6 +5,9 @@
 // 0.5 m/s along the corridor. BM_DynamicWindowChoose uses the clearance
 // look-up table; the baseline BM_DynamicWindowChooseExact the exact geometry
 // for every candidate and point. Budget: <= 50 us per Choose() on one core.
+// BM_DynamicWindowChooseEscape: the same scan plus a person-like ring touching
+// the front 5 mm from the octagon, the robot stopped: escape motions with the
+// exact contact and band geometry.
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -61,14 +64,31 @@ std::vector<Eigen::Vector2d> CorridorScan() {
   return points;
 }
 
-void RunChoose(benchmark::State& state, nav::ClearanceGeometry geometry) {
+// A ring of radius 0.2 m (1 cm spacing) whose nearest point is 5 mm ahead of the front flat.
+std::vector<Eigen::Vector2d> PersonAtFront() {
+  constexpr double kRadius_m = 0.2;
+  const Eigen::Vector2d centre(0.34 + 0.005 + kRadius_m, 0.0);
+  std::vector<Eigen::Vector2d> ring;
+  for (double b = 0.0; b < 2.0 * kPi; b += 0.01 / kRadius_m) {
+    ring.push_back(centre + kRadius_m * Eigen::Vector2d(-std::cos(b), std::sin(b)));
+  }
+  return ring;
+}
+
+void RunChoose(benchmark::State& state, nav::ClearanceGeometry geometry, bool touched = false) {
   nav::DynamicWindowOptions options;
   options.clearance_geometry = geometry;
   nav::DynamicWindow dwa(options, Octagon());
-  const std::vector<Eigen::Vector2d> points = CorridorScan();
+  std::vector<Eigen::Vector2d> points = CorridorScan();
   nav::DwaGoal goal;
   goal.target_in_robot = {4.0, 0.2};
-  const nav::WheelVelocity current{0.5, 0.5};
+  nav::WheelVelocity current{0.5, 0.5};
+  if (touched) {
+    const std::vector<Eigen::Vector2d> person = PersonAtFront();
+    points.insert(points.end(), person.begin(), person.end());
+    goal.target_in_robot = {-2.0, 1.0};
+    current = {};
+  }
   nav::DwaResult result;
   for (auto _ : state) {
     result = dwa.Choose(current, points, goal);
@@ -78,6 +98,8 @@ void RunChoose(benchmark::State& state, nav::ClearanceGeometry geometry) {
   state.counters["in_reach"] = result.points_in_reach;
   state.counters["candidates"] = result.candidates_evaluated;
   state.counters["admissible"] = result.candidates_admissible;
+  state.counters["contacts"] = result.contact_points;
+  state.counters["band"] = result.band_points;
   state.counters["v_mps"] = 0.5 * (result.command.left_mps + result.command.right_mps);
 }
 
@@ -90,6 +112,11 @@ void BM_DynamicWindowChooseExact(benchmark::State& state) {
   RunChoose(state, nav::ClearanceGeometry::kExact);
 }
 BENCHMARK(BM_DynamicWindowChooseExact)->Unit(benchmark::kMicrosecond);
+
+void BM_DynamicWindowChooseEscape(benchmark::State& state) {
+  RunChoose(state, nav::ClearanceGeometry::kLookupTable, true);
+}
+BENCHMARK(BM_DynamicWindowChooseEscape)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 

@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
+#include <cstdint>
 #include <numbers>
 #include <stdexcept>
 #include <string>
@@ -320,6 +322,189 @@ TEST(DynamicWindowTest, DeterministicAndArcFollowsCommand) {
   const Eigen::Vector3d end = PoseAfter(
       TwistFromWheels(ra.command.left_mps, ra.command.right_mps, RoboxOptions().wheelbase_m), 1.0);
   EXPECT_NEAR((arc.back() - end.head<2>()).norm(), 0.0, 1e-12);
+}
+
+// Signed Euclidean distance from the point to the exact octagon: the
+// distance to the nearest edge outside, minus the depth inside.
+double OctagonSignedDistance(const core::Polygon2& octagon, const Eigen::Vector2d& p) {
+  double nearest_m = 1e9;
+  double depth_m = 1e9;
+  for (std::size_t i = 0; i < octagon.size(); ++i) {
+    const Eigen::Vector2d a = octagon[i];
+    const Eigen::Vector2d d = octagon[(i + 1) % octagon.size()] - a;
+    const double s = std::clamp((p - a).dot(d) / d.squaredNorm(), 0.0, 1.0);
+    nearest_m = std::min(nearest_m, (p - a - s * d).norm());
+    depth_m = std::min(depth_m, (a - p).dot(Eigen::Vector2d(d.y(), -d.x()).normalized()));
+  }
+  return depth_m > 0.0 ? -depth_m : nearest_m;
+}
+
+// A person-like ring of points (radius 0.15-0.25 m, 2 cm spacing) touching
+// the front of the octagon at a random bearing within ±67.5° (the front flat,
+// the front diagonals and their corners): its nearest point is `gap_m` from
+// the octagon (negative: that deep inside it).
+std::vector<Eigen::Vector2d> PersonTouchingFront(core::RandomStream& rng, double gap_m,
+                                                 double* bearing_rad) {
+  const core::Polygon2 octagon = Octagon();
+  *bearing_rad = rng.Uniform(-67.5 * kDeg, 67.5 * kDeg);
+  const Eigen::Vector2d u(std::cos(*bearing_rad), std::sin(*bearing_rad));
+  const double radius_m = rng.Uniform(0.15, 0.25);
+  double lo_m = kCorner_m, hi_m = 2.0;  // the centre's range along u: bisect
+  for (int k = 0; k < 100; ++k) {
+    const double mid_m = 0.5 * (lo_m + hi_m);
+    (OctagonSignedDistance(octagon, mid_m * u) < radius_m + gap_m ? lo_m : hi_m) = mid_m;
+  }
+  const Eigen::Vector2d centre = lo_m * u;
+  // Start the ring at the point nearest to the octagon.
+  double best_m = 1e9, start_rad = 0.0;
+  auto search = [&](double from_rad, double to_rad, double step_rad) {
+    for (double a = from_rad; a < to_rad; a += step_rad) {
+      const Eigen::Vector2d p = centre + radius_m * Eigen::Vector2d(std::cos(a), std::sin(a));
+      const double d_m = OctagonSignedDistance(octagon, p);
+      if (d_m < best_m) best_m = d_m, start_rad = a;
+    }
+  };
+  search(0.0, 2.0 * kPi, 1e-3);
+  search(start_rad - 1e-3, start_rad + 1e-3, 1e-6);
+  std::vector<Eigen::Vector2d> ring;
+  for (double b = 0.0; b < 2.0 * kPi - 1e-9; b += 0.02 / radius_m) {
+    ring.push_back(centre +
+                   radius_m * Eigen::Vector2d(std::cos(start_rad + b), std::sin(start_rad + b)));
+  }
+  // Inside the octagon the circle's depth is not dist(centre) - radius:
+  // slide the ring along u until its deepest point is exactly gap_m.
+  for (int k = 0; k < 50; ++k) {
+    double nearest_m = 1e9;
+    for (const Eigen::Vector2d& p : ring)
+      nearest_m = std::min(nearest_m, OctagonSignedDistance(octagon, p));
+    for (Eigen::Vector2d& p : ring) p += (gap_m - nearest_m) * u;
+  }
+  return ring;
+}
+
+// Over the command held one period, then braked proportionally (the window's
+// model), for `duration_s`: the largest drop (m) of any point's signed
+// distance to the exact octagon below its value now, and the smallest
+// distance at the end.
+struct ClearanceChange {
+  double worst_drop_m = 0.0;
+  double start_min_m = 0.0;
+  double end_min_m = 0.0;
+};
+ClearanceChange SweepClearance(const DynamicWindowOptions& o, const WheelVelocity& command,
+                               const std::vector<Eigen::Vector2d>& points, double duration_s) {
+  constexpr double kDt_s = 1e-3;
+  const core::Polygon2 octagon = Octagon();
+  const double peak = std::max(std::abs(command.left_mps), std::abs(command.right_mps));
+  const double brake_s = peak / o.max_wheel_accel_mps2;
+  std::vector<double> start;
+  ClearanceChange change;
+  change.start_min_m = 1e9;
+  for (const Eigen::Vector2d& p : points) {
+    start.push_back(OctagonSignedDistance(octagon, p));
+    change.start_min_m = std::min(change.start_min_m, start.back());
+  }
+  core::Pose2 pose;
+  for (double t = 0.0; t < duration_s; t += kDt_s) {
+    const double mid_s = t + 0.5 * kDt_s;
+    const double scale =
+        mid_s <= o.period_s ? 1.0 : std::max(0.0, 1.0 - (mid_s - o.period_s) / brake_s);
+    pose = core::DiffDriveStep(
+        pose, {command.left_mps * scale * kDt_s, command.right_mps * scale * kDt_s}, o.wheelbase_m);
+    change.end_min_m = 1e9;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      const double d_m = OctagonSignedDistance(octagon, pose.Inverse() * points[i]);
+      change.worst_drop_m = std::max(change.worst_drop_m, start[i] - d_m);
+      change.end_min_m = std::min(change.end_min_m, d_m);
+    }
+  }
+  return change;
+}
+
+// The tolerance of the escape tests: the window lets a contact point get
+// kContactSlack_m deeper (mitred), the mitred and Euclidean distances differ
+// near corners; 1 mm bounds both for points within the 2 cm margin.
+constexpr double kEscapeDrop_m = 1e-3;
+
+// Runs `scenes` stalled robots touched at the front by a person `gap_m` from
+// the octagon, with the target behind or beside: every command moves, no
+// point's distance drops by more than kEscapeDrop_m within 0.5 s, and the
+// clearance grows by twice that.
+void ExpectEscapes(double gap_m, std::uint64_t stream, bool expect_collision) {
+  const DynamicWindowOptions o = RoboxOptions();
+  DynamicWindow dwa(o, Octagon());
+  core::RandomStream rng(14, stream);
+  constexpr int kScenes = 250;
+  // Twice the drop tolerance, a seventh of the straight-back stopping travel
+  // from standstill (1.5 cm); stopping gains 0, turning on the spot <= 0.
+  const double min_gain_m = 2.0 * kEscapeDrop_m;
+  double smallest_gain_m = 1e9;
+  for (int scene = 0; scene < kScenes; ++scene) {
+    double bearing_rad = 0.0;
+    const std::vector<Eigen::Vector2d> person = PersonTouchingFront(rng, gap_m, &bearing_rad);
+    DwaGoal goal;
+    const double target_rad = bearing_rad + kPi + rng.Uniform(-0.5 * kPi, 0.5 * kPi);
+    goal.target_in_robot =
+        rng.Uniform(1.0, 3.0) * Eigen::Vector2d(std::cos(target_rad), std::sin(target_rad));
+    const DwaResult r = dwa.Choose({}, person, goal);
+    ASSERT_TRUE(r.admissible_found) << "scene " << scene;
+    EXPECT_GT(r.contact_points, 0);
+    if (expect_collision) {
+      EXPECT_TRUE(r.in_collision) << "scene " << scene;
+    }
+    EXPECT_FALSE(r.command.left_mps == 0.0 && r.command.right_mps == 0.0) << "scene " << scene;
+    const ClearanceChange change = SweepClearance(o, r.command, person, 0.5);
+    EXPECT_NEAR(change.start_min_m, gap_m, 1e-6);
+    EXPECT_LE(change.worst_drop_m, kEscapeDrop_m) << "scene " << scene;
+    EXPECT_GE(change.end_min_m - change.start_min_m, min_gain_m) << "scene " << scene;
+    smallest_gain_m = std::min(smallest_gain_m, change.end_min_m - change.start_min_m);
+  }
+  ::testing::Test::RecordProperty("smallest_gain_mm", std::to_string(1e3 * smallest_gain_m));
+}
+
+// A person touching the front (0-1 cm from the octagon) of a stopped robot:
+// it backs or turns away, increasing the clearance, over 250 seeded scenes.
+TEST(DynamicWindowTest, EscapesFromPersonTouchingFront) {
+  core::RandomStream gaps(14, 6);
+  for (int k = 0; k < 5; ++k) ExpectEscapes(gaps.Uniform(0.0, 0.01), 7 + k, false);
+  ExpectEscapes(0.0, 12, false);
+}
+
+// The same with the nearest point 2 mm inside the polygon: in_collision is
+// reported, yet the robot escapes instead of braking.
+TEST(DynamicWindowTest, EscapesFromPointInsidePolygon) { ExpectEscapes(-0.002, 13, true); }
+
+// Boxed in on all sides at 1 cm (square walls beside the flats, and an
+// octagonal ring 1 cm outside every edge): from standstill stop is the only
+// admissible command; creeping forward, the robot brakes to standstill.
+TEST(DynamicWindowTest, StopsWhenBoxedInAtOneCentimetre) {
+  const DynamicWindowOptions o = RoboxOptions();
+  DynamicWindow dwa(o, Octagon());
+  const double wall_m = kFlat_m + 0.01;
+  std::vector<Eigen::Vector2d> square;
+  for (double s = -wall_m; s <= wall_m + 1e-9; s += 0.01) {
+    square.insert(square.end(), {{wall_m, s}, {-wall_m, s}, {s, wall_m}, {s, -wall_m}});
+  }
+  const core::Polygon2 ring_corners = InflateConvexPolygon(Octagon(), 0.01);
+  std::vector<Eigen::Vector2d> ring;
+  for (std::size_t i = 0; i < ring_corners.size(); ++i) {
+    const Eigen::Vector2d a = ring_corners[i];
+    const Eigen::Vector2d b = ring_corners[(i + 1) % ring_corners.size()];
+    for (double s = 0.0; s < 1.0; s += 0.05) ring.push_back(a + s * (b - a));
+  }
+  DwaGoal goal;
+  goal.target_in_robot = {-2.0, 1.0};
+  for (const std::vector<Eigen::Vector2d>* box : {&square, &ring}) {
+    for (const WheelVelocity current : {WheelVelocity{}, WheelVelocity{0.05, 0.05}}) {
+      const DwaResult r = dwa.Choose(current, *box, goal);
+      EXPECT_EQ(r.admissible_found, current.left_mps == 0.0);
+      EXPECT_FALSE(r.in_collision);
+      EXPECT_GT(r.contact_points, 0);
+      EXPECT_LE(r.candidates_admissible, 1);
+      EXPECT_EQ(r.command.left_mps, 0.0);
+      EXPECT_EQ(r.command.right_mps, 0.0);
+    }
+  }
 }
 
 // Bad options name the field; a clockwise polygon and a too short look-ahead are refused.
