@@ -385,7 +385,23 @@ ObservationStatus Localizer::Integrate(const ObservationBatch& batch) {
   return ObservationStatus::kIntegrated;
 }
 
+void Localizer::SuspendLostDetection(bool suspended, double now_s) {
+  if (lost_detection_suspended_ && !suspended && status_.state == LocalizationState::kTracking) {
+    status_.last_match_s = std::max(status_.last_match_s, now_s);
+    status_.consecutive_failed_cycles = 0;
+  }
+  lost_detection_suspended_ = suspended;
+}
+
+void Localizer::AddPoseUncertainty(const Eigen::Matrix3d& covariance) {
+  if (buffer_.empty()) return;
+  PoseWithCovariance state = buffer_.latest().state;
+  state.covariance += covariance;
+  buffer_.CorrectAt(buffer_.size() - 1, state);
+}
+
 void Localizer::CheckLost(double now_s) {
+  if (lost_detection_suspended_) return;
   if (status_.consecutive_failed_cycles >= options_.lost_failed_cycles) {
     DeclareLost(LostReason::kRepeatedGateFailures, now_s);
   } else if (now_s - status_.last_match_s > options_.lost_no_match_timeout_s) {

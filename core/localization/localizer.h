@@ -168,6 +168,17 @@ class Localizer {
   // observation, or one whose type is not in a non-empty `batch.types`.
   ObservationStatus AddObservations(const ObservationBatch& batch);
 
+  // Suspends lost detection (the navigation paused localization at a goal,
+  // §6.3.3: a robot waiting at a station is not lost for having no match), or
+  // resumes it at `now_s` with the no-match time and failed cycles afresh.
+  void SuspendLostDetection(bool suspended, double now_s);
+
+  // Adds `covariance` (world frame x, y, theta) to the latest pose estimate's:
+  // an unmodelled pose jump, such as a collision felt by the bumpers, that the
+  // odometry model of §2.3 does not cover (§4.5.3: after a collision the robot
+  // was close to its prediction but lost for the validation gate).
+  void AddPoseUncertainty(const Eigen::Matrix3d& covariance);
+
   // The estimate at the latest encoder time stamp_s(). Meaningful once initialized.
   const PoseWithCovariance& estimate() const;
   double stamp_s() const;
@@ -195,6 +206,7 @@ class Localizer {
   void Defer(Pending pending);
   void ProcessPending();
   void CheckLost(double now_s);
+  bool lost_detection_suspended_ = false;
   void DeclareLost(LostReason reason, double now_s);
 
   RobotMap map_;

@@ -7,10 +7,12 @@
 
 #include <cstdint>
 #include <optional>
+#include <vector>
 
 #include "core/types/pose2.h"
 #include "core/types/sensor_data.h"
 #include "nav/control/path_follower.h"
+#include "nav/mission/mission.h"
 
 namespace pavilion::nav {
 
@@ -25,7 +27,16 @@ struct MissionStatus {
 struct ControlTick {
   std::int64_t tick = 0;
   double now_s = 0.0;
-  core::Pose2 belief;  // the robot's own estimate (EKF, or odometry without one)
+  core::Pose2 belief;              // the robot's own estimate (EKF, or odometry without one)
+  core::Pose2 odometry;            // its dead reckoning (smooth, drifting)
+  bool localization_lost = false;  // its estimator declares itself lost
+};
+
+// Where the robot is when a scan arrives (after the tick's odometry update).
+struct ScanContext {
+  double now_s = 0.0;
+  core::Pose2 belief;
+  core::Pose2 odometry;
 };
 
 class Controller {
@@ -34,11 +45,21 @@ class Controller {
   // A new wheel-speed command held from this step on, or none to keep the last.
   virtual std::optional<WheelSpeeds> OnTick(const ControlTick& tick) = 0;
   // A scan the robot just finished; a command held from the next step on.
-  virtual std::optional<WheelSpeeds> OnScan(const core::LaserScan& /*scan*/) {
+  virtual std::optional<WheelSpeeds> OnScan(const core::LaserScan& /*scan*/,
+                                            const ScanContext& /*context*/) {
     return std::nullopt;
   }
   // Controllers working towards a goal report it; the others none.
   virtual std::optional<MissionStatus> mission() const { return std::nullopt; }
+
+  // The navigation's view (chapter 6 controllers; the others report nothing):
+  // whether localization should pause now (§6.3.3: near the final goal) ...
+  virtual bool localization_paused() const { return false; }
+  // ... the events since the last call, in time order ...
+  virtual void TakeEvents(std::vector<NavigationEvent>* /*events*/) {}
+  // ... its running figures and what the snapshot draws of it.
+  virtual const NavigationFigures* navigation() const { return nullptr; }
+  virtual std::optional<NavigationPicture> picture() const { return std::nullopt; }
 };
 
 }  // namespace pavilion::nav

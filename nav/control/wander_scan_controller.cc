@@ -8,7 +8,8 @@ WanderScanController::WanderScanController(WanderController wander, std::string 
                                            const core::EncoderOdometryOptions& odometry)
     : wander_(std::move(wander)), laser_id_(std::move(laser_id)), odometry_(odometry) {}
 
-std::optional<WheelSpeeds> WanderScanController::OnScan(const core::LaserScan& scan) {
+std::optional<WheelSpeeds> WanderScanController::OnScan(const core::LaserScan& scan,
+                                                        const ScanContext& /*context*/) {
   if (scan.sensor_id != laser_id_) return std::nullopt;
   const VelocityCommand command = wander_.Update(scan.readings);
   return ToWheelSpeeds(command, odometry_.left_wheel_radius_m, odometry_.right_wheel_radius_m,

@@ -17,7 +17,8 @@ class WanderScanController : public Controller {
   WanderScanController(WanderController wander, std::string laser_id,
                        const core::EncoderOdometryOptions& odometry);
   std::optional<WheelSpeeds> OnTick(const ControlTick&) override { return std::nullopt; }
-  std::optional<WheelSpeeds> OnScan(const core::LaserScan& scan) override;
+  std::optional<WheelSpeeds> OnScan(const core::LaserScan& scan,
+                                    const ScanContext& context) override;
 
  private:
   WanderController wander_;

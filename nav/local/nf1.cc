@@ -181,7 +181,9 @@ std::optional<std::vector<Eigen::Vector2d>> Nf1Planner::Plan(const LocalGrid& gr
   const std::optional<GridCell> start_cell = StartCell(grid, start);
   if (!start_cell) return std::nullopt;
   const std::optional<Eigen::Vector2d> local_goal = SelectLocalGoal(grid, *start_cell, goal);
-  if (!local_goal || !Descend(*start_cell)) return std::nullopt;
+  // The seam's contract: a path to `goal` itself or none; the caller picks a
+  // reachable local goal first (LocalGoal).
+  if (!local_goal || *local_goal != goal || !Descend(*start_cell)) return std::nullopt;
 
   std::vector<Eigen::Vector2d> path;
   path.push_back(start);

@@ -12,6 +12,9 @@ constexpr double kDueToleranceS = 1e-9;
 
 void EkfPoseEstimatorOptions::Validate() const {
   if (!(rate_hz > 0.0)) throw std::invalid_argument("EkfPoseEstimatorOptions.rate_hz must be > 0");
+  if (!(collision_sigma_m >= 0.0) || !(collision_sigma_rad >= 0.0)) {
+    throw std::invalid_argument("EkfPoseEstimatorOptions.collision_sigma_m must be >= 0");
+  }
 }
 
 EkfPoseEstimator::EkfPoseEstimator(core::RobotMap map, const EkfPoseEstimatorOptions& options)
@@ -28,6 +31,7 @@ std::optional<EstimatorCycle> EkfPoseEstimator::Update(
   for (const core::EncoderReading& e : encoders) localizer_->AddEncoders(e);
   // Scans in the order they finished; each laser's at most rate_hz times per s.
   for (const core::LaserScan* scan : scans) {
+    if (paused_) break;
     const auto it = std::find(options_.lasers.begin(), options_.lasers.end(), scan->sensor_id);
     if (it == options_.lasers.end()) continue;
     double& next = next_due_s_[static_cast<std::size_t>(it - options_.lasers.begin())];
@@ -62,6 +66,17 @@ EstimatorCycle EkfPoseEstimator::ReportCycle(long matches_before) const {
       std::max(0L, matched - (c.matched_lines + c.matched_beacons + c.matched_other)));
   c.lost = localizer_->status().state == core::LocalizationState::kLost;
   return c;
+}
+
+void EkfPoseEstimator::OnCollision() {
+  const double p = options_.collision_sigma_m * options_.collision_sigma_m;
+  const double t = options_.collision_sigma_rad * options_.collision_sigma_rad;
+  localizer_->AddPoseUncertainty(Eigen::Vector3d(p, p, t).asDiagonal());
+}
+
+void EkfPoseEstimator::SetPaused(bool paused, double now_s) {
+  if (paused_ != paused) localizer_->SuspendLostDetection(paused, now_s);
+  paused_ = paused;
 }
 
 std::string EkfPoseEstimator::lost_reason() const {

@@ -12,16 +12,26 @@ Navigator::Navigator(const NavigatorOptions& options, std::unique_ptr<PoseEstima
 
 std::optional<WheelSpeeds> Navigator::Control(std::int64_t tick, double now_s) {
   if (!controller_) return std::nullopt;
-  return controller_->OnTick(ControlTick{tick, now_s, belief()});
+  const bool lost = estimator_ && estimator_->lost_reason() != "none";
+  std::optional<WheelSpeeds> command =
+      controller_->OnTick(ControlTick{tick, now_s, belief(), odometry_.pose(), lost});
+  if (estimator_) estimator_->SetPaused(controller_->localization_paused(), now_s);
+  return command;
 }
 
 SenseResult Navigator::Sense(const SensorFrame& frame) {
   SenseResult result;
   for (const core::EncoderReading& reading : frame.encoders) odometry_.Update(reading);
+  // A bumper pressed anew: a collision the odometry did not see.
+  for (const core::BumperReading& b : frame.bumpers) {
+    if (b.zones_in_contact != 0 && bumper_zones_ == 0 && estimator_) estimator_->OnCollision();
+    bumper_zones_ = b.zones_in_contact;
+  }
   if (estimator_) result.cycle = estimator_->Update(frame.encoders, frame.scans);
   if (controller_) {
+    const ScanContext context{frame.now_s, belief(), odometry_.pose()};
     for (const core::LaserScan* scan : frame.scans) {
-      if (auto command = controller_->OnScan(*scan)) result.command = command;
+      if (auto command = controller_->OnScan(*scan, context)) result.command = command;
     }
   }
   return result;

@@ -33,6 +33,7 @@ struct SensorFrame {
   double now_s = 0.0;  // end of the tick
   std::span<const core::EncoderReading> encoders;
   std::vector<const core::LaserScan*> scans;
+  std::span<const core::BumperReading> bumpers;
 };
 
 // What the stack did with a tick's readings.
@@ -59,11 +60,13 @@ class Navigator {
   const core::Pose2& odometry_pose() const { return odometry_.pose(); }
   const PoseEstimator* estimator() const { return estimator_.get(); }
   const Controller* controller() const { return controller_.get(); }
+  Controller* mutable_controller() { return controller_.get(); }
 
  private:
   core::DeadReckoning odometry_;
   std::unique_ptr<PoseEstimator> estimator_;
   std::unique_ptr<Controller> controller_;
+  std::uint32_t bumper_zones_ = 0;  // pressed at the last bumper reading
 };
 
 }  // namespace pavilion::nav

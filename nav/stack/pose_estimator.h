@@ -35,6 +35,14 @@ class PoseEstimator {
   virtual const core::PoseWithCovariance& estimate() const = 0;
   // Why the estimator declares itself lost ("none" while it tracks), for events.
   virtual std::string lost_reason() const = 0;
+  // While paused (the navigation near a goal, §6.3.3: "localization gets
+  // deactivated") scans are not integrated and the estimator cannot go lost;
+  // odometry still moves the estimate. Resuming at `now_s` restarts its lost
+  // detection there.
+  virtual void SetPaused(bool /*paused*/, double /*now_s*/) {}
+  // The bumpers felt a collision: the pose may have jumped by more than the
+  // odometry model allows.
+  virtual void OnCollision() {}
 };
 
 }  // namespace pavilion::nav

@@ -8,6 +8,7 @@
 #include "nav/control/drive_profile.h"
 #include "nav/control/path_follower.h"
 #include "nav/control/wander_controller.h"
+#include "nav/mission/navigation_controller.h"
 #include "scenarios/events/event.h"
 #include "sim/bodies/body_motion.h"
 #include "sim/raycast/planar_caster.h"
@@ -81,8 +82,21 @@ struct WanderEntry {
   nav::WanderOptions options;
 };
 
+// The chapter 6 navigation's goals and options (`mission:`, issue 14): a list
+// of stations, or a tour of `tour_stations` per round drawn from the seed
+// among `tour_among` (the map's station nodes by default).
+struct MissionEntry {
+  std::vector<std::string> stations;
+  std::optional<int> tour_stations;
+  bool tour_repeat = false;
+  std::vector<std::string> tour_among;
+  // dwell_s, timeout_s, rates, planners; the run fills in the physics step,
+  // the odometry model and the seed.
+  nav::NavigationControllerOptions navigation;
+};
+
 // A robot of the scenario: its model (robots/<name>/robot.yaml), start pose,
-// and at most one of a scripted wheel-speed profile, a route or a wander.
+// and at most one of a scripted wheel-speed profile, a route, a mission or a wander.
 struct RobotEntry {
   std::string id;
   std::string model;  // as written in the scenario
@@ -94,6 +108,7 @@ struct RobotEntry {
   sim::WheelModel wheel_model = sim::WheelModel::kArticulated;
   LocalizationEntry localization;
   std::optional<RouteEntry> route;
+  std::optional<MissionEntry> mission;
   std::optional<WanderEntry> wander;
 };
 
@@ -118,7 +133,7 @@ struct Scenario {
   std::string source_file;
   std::uint64_t seed = 1;
   double duration_s = 60.0;
-  // End the run early once every robot with a route has finished it.
+  // End the run early once every robot with a route or a mission list has finished it.
   bool end_when_routes_done = false;
   std::string world_file;  // the world.yaml (its folder holds the default map.yaml)
   sim::WorldOptions physics;

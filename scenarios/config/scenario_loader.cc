@@ -6,6 +6,7 @@
 #include <set>
 
 #include "scenarios/config/data_paths.h"
+#include "scenarios/config/mission_reader.h"
 #include "scenarios/config/options_reader.h"
 #include "scenarios/config/robot_loader.h"
 #include "scenarios/config/scenario.h"
@@ -418,7 +419,7 @@ void ReadDrive(YamlDocument* doc, MapReader& r, bool model_ok, RobotEntry* robot
 
 // robots: [{id, model, pose: [x, y, theta], drive: [...], systematic: {...},
 // encoder_noise: bool, laser_noise: bool, wheel_model: articulated | raycast,
-// localization: {...}, route: {...}, wander: {...}}]
+// localization: {...}, route: {...}, mission: {...}, wander: {...}}]
 void ReadRobots(YamlDocument* doc, MapReader& top, const std::string& base, Scenario* s) {
   YAML::Node list = top.Child("robots");
   if (!list.IsDefined() || list.IsNull()) return;
@@ -446,15 +447,17 @@ void ReadRobots(YamlDocument* doc, MapReader& top, const std::string& base, Scen
     ReadDrive(doc, r, model_ok, &robot);
     ReadLocalization(doc, r, base, *s, &robot);
     ReadRoute(doc, r, &robot);
+    ReadMission(doc, r, *s, &robot);
     ReadWander(doc, r, model_ok, &robot);
-    // One controller per robot: a scripted drive, a route or a wander.
+    // One controller per robot: a scripted drive, a route, a mission or a wander.
     const int controllers = static_cast<int>(!robot.drive.empty()) +
                             static_cast<int>(robot.route.has_value()) +
+                            static_cast<int>(robot.mission.has_value()) +
                             static_cast<int>(robot.wander.has_value());
     if (controllers > 1) {
-      const std::string key = robot.wander ? "wander" : "route";
+      const std::string key = robot.wander ? "wander" : robot.mission ? "mission" : "route";
       doc->Error(r.Child(key), r.PathOf(key),
-                 "give only one of drive, route and wander (each drives the wheels)");
+                 "give only one of drive, route, mission and wander (each drives the wheels)");
     }
     r.Finish();
     s->robots.push_back(robot);

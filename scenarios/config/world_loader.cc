@@ -291,6 +291,10 @@ void ReadPlaces(YamlDocument* doc, MapReader& top, sim::WorldDescription* w) {
     if (!r.Has("pose") && !r.Has("area")) {
       doc->Error(kv.second, "places." + name, "a place needs a pose or an area");
     }
+    place.station = r.Bool("station", false);
+    if (place.station && !place.pose) {
+      doc->Error(r.Child("station"), r.PathOf("station"), "a station needs a pose");
+    }
     r.Finish();
     w->places[name] = place;
   }

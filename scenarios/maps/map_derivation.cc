@@ -237,8 +237,8 @@ bool IsOpening(const std::string& place) {
          place.starts_with("exit_");
 }
 
-bool IsStation(const std::string& place) {
-  return place.starts_with("station_") || place.starts_with("dock_");
+bool IsStation(const std::string& name, const sim::Place& place) {
+  return name.starts_with("station_") || name.starts_with("dock_") || place.station;
 }
 
 Vec2 AreaCentroid(const core::Polygon2& poly) {
@@ -693,7 +693,7 @@ class MapDeriver {
   void BuildTopology() {
     std::vector<core::MapNode> nodes;
     for (const auto& [name, place] : d_.places) {
-      if (IsStation(name) && place.pose) {
+      if (IsStation(name, place) && place.pose) {
         core::Pose2 pose = *place.pose;
         pose.x_m = core::RoundDecimals(pose.x_m, kPositionDecimals);
         pose.y_m = core::RoundDecimals(pose.y_m, kPositionDecimals);
@@ -701,7 +701,7 @@ class MapDeriver {
       }
     }
     for (const auto& [name, p] : node_places_) {
-      if (IsStation(name) && d_.places.at(name).pose) continue;
+      if (IsStation(name, d_.places.at(name)) && d_.places.at(name).pose) continue;
       const core::Pose2 pose = d_.places.at(name).pose.value_or(core::Pose2{p.x(), p.y(), 0.0});
       nodes.push_back({name,
                        {core::RoundDecimals(pose.x_m, kPositionDecimals),

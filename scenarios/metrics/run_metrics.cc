@@ -28,10 +28,67 @@ Json LocalizationJson(const LocalizationFigures& f) {
           {"lost_situations", f.lost_situations}};
 }
 
+Json NavigationJson(const nav::NavigationFigures& f, const CollisionCounts& collisions) {
+  const auto n = [](double v) { return RoundForJson(v, 4); };
+  Json aborted;
+  for (nav::AbortReason reason : nav::kAbortReasons) {
+    aborted[nav::ToString(reason)] = f.missions_aborted[static_cast<std::size_t>(reason)];
+  }
+  const double completed = f.missions_completed;
+  Json j = {
+      {"missions_started", f.missions_started},
+      {"missions_completed", f.missions_completed},
+      {"missions_aborted", f.missions_aborted_total()},
+      {"missions_aborted_by_reason", aborted},
+      {"mean_mission_time_s", completed > 0 ? n(f.mission_time_s / completed) : 0.0},
+      {"mean_mission_path_length_m", completed > 0 ? n(f.mission_path_length_m / completed) : 0.0},
+      {"clearance_mean_m",
+       f.clearance_samples > 0 ? n(f.clearance_sum_m / f.clearance_samples) : 0.0},
+      {"clearance_min_m", f.clearance_samples > 0 ? n(f.min_clearance_m) : 0.0},
+      {"time_blocked_s", n(f.time_blocked_s)},
+      {"blocked_episodes", f.blocked_episodes},
+      {"longest_blocked_s", n(f.longest_blocked_s)},
+      {"replans", f.replans},
+      {"band_snaps", f.band_snaps},
+      {"global_plans", f.global_plans},
+      {"dwa_cycles", f.dwa_cycles},
+      {"dwa_no_admissible_cycles", f.no_admissible_cycles},
+      {"band_updates", f.band_updates}};
+  j["collisions"] = CollisionCountsToJson(collisions);
+  return j;
+}
+
+Json FleetJson(const RunMetrics& m) {
+  int started = 0;
+  int completed = 0;
+  CollisionCounts collisions;
+  std::int64_t lost = 0;
+  for (const RobotMetrics& r : m.robots) {
+    if (!r.navigation) continue;
+    started += r.navigation->missions_started;
+    completed += r.navigation->missions_completed;
+    for (std::size_t k = 0; k < kCollisionClasses; ++k) {
+      collisions.by_class[k] += r.collisions_by_class.by_class[k];
+    }
+    collisions.robot_into_visitor += r.collisions_by_class.robot_into_visitor;
+    collisions.visitor_into_robot += r.collisions_by_class.visitor_into_robot;
+    collisions.robot_into_robot += r.collisions_by_class.robot_into_robot;
+    collisions.robot_hit_by_robot += r.collisions_by_class.robot_hit_by_robot;
+    if (r.localization) lost += r.localization->lost_situations;
+  }
+  return {{"missions_started", started},
+          {"missions_completed", completed},
+          {"missions_completed_ratio",
+           started > 0 ? RoundForJson(static_cast<double>(completed) / started, 4) : 0.0},
+          {"collisions", CollisionCountsToJson(collisions)},
+          {"lost_situations", lost}};
+}
+
 Json RobotJson(const RobotMetrics& r) {
   Json j = {{"model", r.model},
             {"distance_m", RoundForJson(r.distance_m)},
             {"collisions", r.collisions},
+            {"collisions_by_class", CollisionCountsToJson(r.collisions_by_class)},
             {"bumper_presses", r.bumper_presses},
             {"scans", r.scans},
             {"odometry_final_error",
@@ -45,6 +102,7 @@ Json RobotJson(const RobotMetrics& r) {
         {"done", r.route->done},
         {"done_at_s", r.route->done ? RoundForJson(r.route->done_at_s, 3) : r.route->done_at_s}};
   }
+  if (r.navigation) j["navigation"] = NavigationJson(*r.navigation, r.collisions_by_class);
   return j;
 }
 
@@ -86,6 +144,13 @@ std::int64_t RunMetrics::events() const {
   return sum;
 }
 
+bool RunMetrics::any_navigation() const {
+  for (const RobotMetrics& r : robots) {
+    if (r.navigation) return true;
+  }
+  return false;
+}
+
 nlohmann::ordered_json MetricsToJson(const RunMetrics& m) {
   Json j;
   j["schema_version"] = RunMetrics::kSchemaVersion;
@@ -114,6 +179,7 @@ nlohmann::ordered_json MetricsToJson(const RunMetrics& m) {
     j["laser"] = {
         {"backend", m.laser_backend}, {"scans", m.scans()}, {"fallback_scans", m.fallback_scans()}};
   }
+  if (m.any_navigation()) j["fleet"] = FleetJson(m);
   j["events"] = m.event_counts;
   return j;
 }

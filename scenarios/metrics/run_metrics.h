@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "nav/mission/mission.h"
+#include "scenarios/metrics/collision_classes.h"
 #include "scenarios/metrics/localization_tracker.h"
 
 namespace pavilion::scenarios {
@@ -33,13 +35,15 @@ struct RobotMetrics {
   std::string model;
   double distance_m = 0.0;
   std::int64_t collisions = 0;
-  std::int64_t bumper_presses = 0;  // bumper readings with a zone pressed
+  CollisionCounts collisions_by_class;  // the same contacts by what was hit
+  std::int64_t bumper_presses = 0;      // bumper readings with a zone pressed
   std::int64_t scans = 0;
   std::int64_t fallback_scans = 0;  // planar backend: scans cast partly with Bullet
   double odometry_final_position_error_m = 0.0;
   double odometry_final_heading_error_rad = 0.0;  // |wrapped|
   std::optional<LocalizationFigures> localization;
   std::optional<RouteMetrics> route;
+  std::optional<nav::NavigationFigures> navigation;  // robots with a mission
 };
 
 struct RunMetrics {
@@ -61,6 +65,7 @@ struct RunMetrics {
   std::int64_t scans() const;
   std::int64_t fallback_scans() const;
   std::int64_t events() const;
+  bool any_navigation() const;
 };
 
 // metrics.json (schema 1): numbers rounded as the file has always had them.

@@ -1,6 +1,8 @@
 #include "scenarios/output/run_outputs.h"
 
+#include <cmath>
 #include <nlohmann/json.hpp>
+#include <numbers>
 
 #include "scenarios/output/localization_plot.h"
 #include "scenarios/output/output_files.h"
@@ -9,6 +11,29 @@
 #include "sim/render/top_down_view.h"
 
 namespace pavilion::scenarios {
+namespace {
+
+// Vertices of the polygon drawn for a band bubble.
+constexpr int kBubbleVertices = 24;
+
+// A robot's plan (magenta), elastic band with its bubbles (cyan) and the
+// dynamic window's chosen arc (green), over the top-down view.
+void AddNavigationTracks(const nav::NavigationPicture& p, std::vector<sim::TopDownTrack>* out) {
+  for (std::size_t k = 0; k < p.band_centers.size(); ++k) {
+    std::vector<Eigen::Vector2d> circle;
+    for (int i = 0; i <= kBubbleVertices; ++i) {
+      const double a = 2.0 * std::numbers::pi * i / kBubbleVertices;
+      circle.push_back(p.band_centers[k] +
+                       p.band_radii_m[k] * Eigen::Vector2d(std::cos(a), std::sin(a)));
+    }
+    out->push_back({circle, {40, 190, 210}, 0.35, 1.0});
+  }
+  if (!p.plan.empty()) out->push_back({p.plan, {200, 40, 200}, 0.9, 2.0});
+  if (!p.band_centers.empty()) out->push_back({p.band_centers, {20, 150, 190}, 1.0, 2.0});
+  if (!p.dwa_arc.empty()) out->push_back({p.dwa_arc, {40, 200, 40}, 1.0, 3.0});
+}
+
+}  // namespace
 
 void WriteSnapshotsAndReport(const std::filesystem::path& out, const Scenario& scenario,
                              const sim::World& world,
@@ -24,6 +49,7 @@ void WriteSnapshotsAndReport(const std::filesystem::path& out, const Scenario& s
     if (!r.estimate.empty()) {
       top_tracks.push_back({r.estimate, {30, 160, 60}, 0.7});  // the localization estimate
     }
+    if (r.navigation) AddNavigationTracks(*r.navigation, &top_tracks);
   }
   sim::TopDownOptions view;
   view.width_px = scenario.outputs.image_width_px;

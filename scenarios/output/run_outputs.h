@@ -6,9 +6,11 @@
 
 #include <Eigen/Core>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "nav/mission/mission.h"
 #include "scenarios/config/scenario.h"
 #include "scenarios/metrics/localization_tracker.h"
 #include "scenarios/metrics/run_metrics.h"
@@ -22,6 +24,8 @@ struct RobotTracks {
   std::vector<Eigen::Vector2d> truth;
   std::vector<Eigen::Vector2d> odometry;  // what its encoders believe
   std::vector<Eigen::Vector2d> estimate;  // its localization (robots that localize)
+  // Its navigation at the end (robots with a mission): plan, band, DWA arc.
+  std::optional<nav::NavigationPicture> navigation;
 };
 
 // A robot's localization record for its 2-sigma plot.

@@ -9,9 +9,11 @@
 #include "nav/control/drive_profile.h"
 #include "nav/control/route_controller.h"
 #include "nav/control/wander_scan_controller.h"
+#include "nav/mission/navigation_controller.h"
 #include "nav/route/route_planner.h"
 #include "nav/stack/ekf_pose_estimator.h"
 #include "scenarios/config/input_error.h"
+#include "scenarios/maps/closed_doors.h"
 #include "scenarios/maps/map_derivation.h"
 #include "scenarios/maps/map_file.h"
 
@@ -73,6 +75,61 @@ std::vector<Eigen::Vector2d> RoutePath(const Scenario& scenario, std::size_t ind
   }
 }
 
+// Radius (m) of the circle around the robot's origin holding its footprint.
+double Circumradius(const std::vector<Eigen::Vector2d>& footprint) {
+  double r = 0.0;
+  for (const Eigen::Vector2d& p : footprint) r = std::max(r, p.norm());
+  return r;
+}
+
+// The chapter 6 navigation of a `mission:` robot: its options completed from
+// the robot (shape, wheels, calibrated odometry), the physics step and the seed.
+std::unique_ptr<nav::Controller> MakeNavigationController(const Scenario& scenario,
+                                                          std::size_t index, core::RobotMap map) {
+  const RobotEntry& entry = scenario.robots[index];
+  const MissionEntry& mission = *entry.mission;
+  const sim::RobotDescription& robot = entry.config.description;
+  nav::NavigationControllerOptions o = mission.navigation;
+  o.step_s = 1.0 / scenario.physics.physics_rate_hz;
+  o.odometry = entry.config.odometry;
+  o.seed = core::RandomStream(scenario.seed,
+                              core::RandomStream::StreamId((entry.id + "/planner").c_str()))
+               .NextU64();
+  const double radius_m = Circumradius(robot.footprint_m);
+  o.local.grid.robot_radius_m = radius_m;
+  o.local.band.robot_radius_m = radius_m;
+  o.dwa.wheelbase_m = entry.config.odometry.wheelbase_m;
+  const double wheel_radius_m = std::min(entry.config.odometry.left_wheel_radius_m,
+                                         entry.config.odometry.right_wheel_radius_m);
+  // The window stays within the motors' limits (never above the options' own).
+  o.dwa.max_wheel_speed_mps =
+      std::min(o.dwa.max_wheel_speed_mps, robot.max_wheel_speed_radps * wheel_radius_m);
+  o.dwa.max_wheel_accel_mps2 =
+      std::min(o.dwa.max_wheel_accel_mps2, robot.max_wheel_accel_radps2 * wheel_radius_m);
+  o.dwa.max_speed_mps = std::min(o.dwa.max_speed_mps, o.dwa.max_wheel_speed_mps);
+  RemoveEdgesThroughClosedDoors(scenario.world.doors, &map);
+  std::vector<std::string> among = mission.tour_among;
+  if (among.empty()) {  // a derived map: every station node it has
+    for (const core::MapNode& n : map.nodes) {
+      if (n.station) among.push_back(n.id);
+    }
+  }
+  nav::MissionSequence sequence =
+      mission.tour_stations
+          ? nav::MissionSequence::Tour(
+                among, *mission.tour_stations, mission.tour_repeat,
+                core::RandomStream(scenario.seed,
+                                   core::RandomStream::StreamId((entry.id + "/tour").c_str())))
+          : nav::MissionSequence::List(mission.stations);
+  try {
+    return std::make_unique<nav::NavigationController>(std::move(map), robot.footprint_m,
+                                                       std::move(sequence), o);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(Diagnostic{scenario.source_file, 0,
+                                "robots[" + std::to_string(index) + "].mission", e.what()});
+  }
+}
+
 std::unique_ptr<nav::Controller> MakeController(const Scenario& scenario, std::size_t index,
                                                 const std::optional<core::RobotMap>& map) {
   const RobotEntry& entry = scenario.robots[index];
@@ -87,6 +144,7 @@ std::unique_ptr<nav::Controller> MakeController(const Scenario& scenario, std::s
     options.odometry = odometry;
     return std::make_unique<nav::RouteController>(RoutePath(scenario, index, *map), options);
   }
+  if (entry.mission) return MakeNavigationController(scenario, index, *map);
   if (entry.wander) {
     nav::WanderController wander(
         entry.wander->options,
@@ -102,7 +160,7 @@ std::unique_ptr<nav::Controller> MakeController(const Scenario& scenario, std::s
 }  // namespace
 
 bool NeedsMap(const RobotEntry& robot) {
-  return robot.localization.enabled || robot.route.has_value();
+  return robot.localization.enabled || robot.route.has_value() || robot.mission.has_value();
 }
 
 core::RobotMap LoadRobotMap(const RobotEntry& robot, const Scenario& scenario,

@@ -10,11 +10,14 @@
 #include <memory>
 #include <numbers>
 #include <optional>
+#include <set>
+#include <tuple>
 
 #include "nav/stack/navigator.h"
 #include "scenarios/config/input_error.h"
 #include "scenarios/config/robot_setup.h"
 #include "scenarios/events/event_log.h"
+#include "scenarios/metrics/collision_classes.h"
 #include "scenarios/metrics/localization_tracker.h"
 #include "scenarios/output/run_logs.h"
 #include "scenarios/output/run_outputs.h"
@@ -36,6 +39,17 @@ constexpr double kProgressPeriodS = 0.25;
 // Events are due when their time is reached up to this rounding of tick times (s).
 constexpr double kDueToleranceS = 1e-9;
 constexpr double kDegPerRad = 180.0 / std::numbers::pi;
+// A walker that touched a robot stands this long after the contact ends (s):
+// long enough for its random walk to give up the leg (RandomWalkOptions::
+// blocked_s) and turn elsewhere instead of walking straight back into it.
+constexpr double kWalkerContactPauseS = 3.0;
+// A walker heading for a robot stops this far (m) from the robot's bounding
+// circle, as a person would in front of a moving machine: a blind walk into
+// it at 0.8 m/s would leave the robot less than its braking distance (about
+// 0.25 m at 0.6 m/s) and make every such meeting a collision.
+constexpr double kWalkerMeetGapM = 0.3;
+// Approach speeds (m/s) closer than this count as neither moving into the other.
+constexpr double kApproachTieMps = 0.01;
 
 double Seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
 
@@ -106,10 +120,15 @@ class ScenarioRun {
   void ControlRobots(std::int64_t tick, double t);
   void StepPhysics();
   void RecordContacts(double t_after);
+  void ClassifyContact(const sim::ContactChange& c, double t_after);
+  // A walker of body `b` walking at `velocity` is about to touch a robot.
+  bool WalkerMeetsRobot(int b, const Eigen::Vector2d& velocity) const;
+  void EmitNavigationEvents(RobotRun& r);
   void SenseRobots(const sim::TickSnapshot& next, double t_after);
   void MergeRobot(std::size_t k, const sim::TickSnapshot& next, double t_after);
   void RecordTrajectories(double t);
   bool RoutesDone() const;
+  void BuildCollisionClasses();
   RunMetrics CollectMetrics(double sim_s) const;
 
   const Scenario& scenario_;
@@ -130,6 +149,12 @@ class ScenarioRun {
   std::vector<int> body_of_element_;
   std::vector<int> robot_of_element_;
   std::vector<BodyMetrics> body_tally_;
+  std::unique_ptr<CollisionClassifier> collision_classes_;
+  std::vector<bool> visitor_body_;                // random walkers: the crowd's stand-ins
+  std::vector<int> robot_contacts_;               // by body: contacts with a robot right now
+  std::vector<double> walker_paused_until_s_;     // by body: stands until then after a contact
+  std::vector<double> robot_radius_m_;            // by robot: its footprint\'s bounding circle
+  std::vector<nav::NavigationEvent> nav_events_;  // scratch
   std::vector<std::vector<Eigen::Vector2d>> body_tracks_;
   std::unique_ptr<EventLog> events_;
   std::unique_ptr<TrajectoryLog> trajectories_;
@@ -227,6 +252,39 @@ void ScenarioRun::OpenLogs() {
   for (std::size_t e = 0; e < elements.size(); ++e) {
     if (elements[e].group >= 0) robot_of_element_[e] = elements[e].group;
   }
+  BuildCollisionClasses();
+}
+
+void ScenarioRun::BuildCollisionClasses() {
+  // Walkers are the scenario's random-walk bodies (the crowd issue makes them people).
+  std::map<std::string, bool> walker;
+  for (const BodyEntry& b : scenario_.bodies) {
+    walker[b.spec.id] = b.motion.type == MotionSpec::Type::kRandomWalk;
+  }
+  const auto& elements = world_->elements();
+  visitor_body_.assign(world_->body_count(), false);
+  robot_contacts_.assign(world_->body_count(), 0);
+  walker_paused_until_s_.assign(world_->body_count(), -1.0);
+  for (const RobotRun& r : robots_) {
+    double radius_m = 0.0;
+    for (const Eigen::Vector2d& v : r.entry->config.description.footprint_m) {
+      radius_m = std::max(radius_m, v.norm());
+    }
+    robot_radius_m_.push_back(radius_m);
+  }
+  std::vector<bool> visitor_element(elements.size(), false);
+  for (int b = 0; b < world_->body_count(); ++b) {
+    visitor_body_[b] = walker[world_->body_spec(b).id];
+    visitor_element[world_->body_element(b)] = visitor_body_[b];
+  }
+  std::set<double> heights;
+  for (const RobotRun& r : robots_) {
+    for (const sim::LaserMount& l : r.entry->config.lasers) heights.insert(l.z_m);
+  }
+  std::vector<core::PlanarSection> sections;
+  for (double h : heights) sections.push_back(world_->SectionAt(h));
+  collision_classes_ = std::make_unique<CollisionClassifier>(sections, std::move(visitor_element),
+                                                             robot_of_element_);
 }
 
 void ScenarioRun::Run() {
@@ -291,10 +349,31 @@ void ScenarioRun::MoveBodies(double t) {
     if (motions_[b]) body_commands_[b] = motions_[b]->Update(t, snapshot_.bodies[b]);
   }
   for (int b = 0; b < world_->body_count(); ++b) {
-    if (motions_[b]) {
-      world_->SetPlanarVelocity(b, body_commands_[b].linear_mps, body_commands_[b].yaw_rate_radps);
+    if (!motions_[b]) continue;
+    // Until the crowd model, walkers stop when they meet a robot: they must not
+    // shove it into an exhibit (issue 14).
+    const bool stop =
+        visitor_body_[b] && (robot_contacts_[b] > 0 || t < walker_paused_until_s_[b] ||
+                             WalkerMeetsRobot(b, body_commands_[b].linear_mps));
+    if (stop && t >= walker_paused_until_s_[b]) {
+      walker_paused_until_s_[b] = t + kWalkerContactPauseS;
     }
+    world_->SetPlanarVelocity(b, stop ? Eigen::Vector2d::Zero() : body_commands_[b].linear_mps,
+                              stop ? 0.0 : body_commands_[b].yaw_rate_radps);
   }
+}
+
+bool ScenarioRun::WalkerMeetsRobot(int b, const Eigen::Vector2d& velocity) const {
+  const Eigen::Vector2d p = snapshot_.bodies[b].pose.translation();
+  const double walker_radius_m = world_->body_spec(b).shape.radius_m;
+  for (std::size_t k = 0; k < robots_.size(); ++k) {
+    const Eigen::Vector2d to_robot = snapshot_.robots[k].pose.translation() - p;
+    const double reach_m = walker_radius_m + robot_radius_m_[k] + kWalkerMeetGapM;
+    // Closing in on it (its own walk or the robot's drive): the walker stops.
+    const Eigen::Vector2d closing = velocity - snapshot_.robots[k].velocity_mps;
+    if (to_robot.squaredNorm() <= reach_m * reach_m && closing.dot(to_robot) > 0.0) return true;
+  }
+  return false;
 }
 
 void ScenarioRun::ControlRobots(std::int64_t tick, double t) {
@@ -304,12 +383,33 @@ void ScenarioRun::ControlRobots(std::int64_t tick, double t) {
     const nav::Controller* controller = r.navigator->controller();
     const std::optional<nav::MissionStatus> mission =
         controller ? controller->mission() : std::nullopt;
-    if (mission && mission->done && !r.mission_done_reported) {
+    EmitNavigationEvents(r);
+    if (r.entry->route && mission && mission->done && !r.mission_done_reported) {
       r.mission_done_reported = true;
       events_->Emit(t, "route_done",
                     EventFields{{"robot", r.entry->id},
                                 {"length_m", RoundForJson(mission->path_length_m, 3)}});
     }
+  }
+}
+
+void ScenarioRun::EmitNavigationEvents(RobotRun& r) {
+  nav::Controller* controller = r.navigator->mutable_controller();
+  if (!controller) return;
+  nav_events_.clear();
+  controller->TakeEvents(&nav_events_);
+  for (const nav::NavigationEvent& e : nav_events_) {
+    EventFields fields{{"robot", r.entry->id}, {"mission", e.mission}, {"goal", e.goal}};
+    if (e.type == nav::NavigationEvent::Type::kMissionAborted) {
+      fields["reason"] = nav::ToString(e.reason);
+    }
+    if (e.type == nav::NavigationEvent::Type::kMissionCompleted ||
+        e.type == nav::NavigationEvent::Type::kMissionAborted) {
+      fields["duration_s"] = RoundForJson(e.duration_s, 3);
+      fields["path_length_m"] = RoundForJson(e.path_length_m, 3);
+    }
+    if (e.type == nav::NavigationEvent::Type::kReplanned) fields["cause"] = e.cause;
+    events_->Emit(e.at_s, nav::ToString(e.type), fields);
   }
 }
 
@@ -322,6 +422,7 @@ void ScenarioRun::StepPhysics() {
 void ScenarioRun::RecordContacts(double t_after) {
   const auto& elements = world_->elements();
   for (const sim::ContactChange& c : world_->TakeContactChanges()) {
+    ClassifyContact(c, t_after);
     if (!c.began) continue;
     for (int element : {c.a, c.b}) {
       if (body_of_element_[element] >= 0) ++body_tally_[body_of_element_[element]].collisions;
@@ -334,6 +435,51 @@ void ScenarioRun::RecordContacts(double t_after) {
                               {"point_m",
                                {RoundForJson(c.point_m.x(), 4), RoundForJson(c.point_m.y(), 4),
                                 RoundForJson(c.point_m.z(), 4)}}});
+  }
+}
+
+void ScenarioRun::ClassifyContact(const sim::ContactChange& c, double t_after) {
+  const int ra = robot_of_element_[c.a];
+  const int rb = robot_of_element_[c.b];
+  // Walkers touching a robot (they stop meanwhile).
+  for (auto [robot, other] : {std::pair{ra, c.b}, std::pair{rb, c.a}}) {
+    const int body = body_of_element_[other];
+    if (robot >= 0 && body >= 0 && visitor_body_[body]) {
+      robot_contacts_[body] += c.began ? 1 : -1;
+      walker_paused_until_s_[body] = t_after + kWalkerContactPauseS;
+    }
+  }
+  if (!c.began || (ra >= 0 && ra == rb)) return;
+  // Who moved into whom: the larger speed towards the contact point.
+  const Eigen::Vector2d at = c.point_m.head<2>();
+  const auto approach = [&](int element) {
+    Eigen::Vector2d position, velocity;
+    if (robot_of_element_[element] >= 0) {
+      const sim::RobotState& s = snapshot_.robots[robot_of_element_[element]];
+      position = s.pose.translation();
+      velocity = s.velocity_mps;
+    } else if (body_of_element_[element] >= 0) {
+      const sim::BodyState& s = snapshot_.bodies[body_of_element_[element]];
+      position = s.pose.translation();
+      velocity = s.velocity_mps;
+    } else {
+      return 0.0;
+    }
+    const Eigen::Vector2d d = at - position;
+    return d.norm() > 0.0 ? velocity.dot(d.normalized()) : 0.0;
+  };
+  for (auto [robot, self, other] : {std::tuple{ra, c.a, c.b}, std::tuple{rb, c.b, c.a}}) {
+    if (robot < 0) continue;
+    CollisionCounts& counts = robots_[robot].tally.collisions_by_class;
+    const CollisionClass kind = collision_classes_->Classify(other);
+    ++counts.by_class[static_cast<std::size_t>(kind)];
+    // A tie (both at rest: a resting contact flickering) is not the robot's doing.
+    const bool robot_moved = approach(self) > approach(other) + kApproachTieMps;
+    if (kind == CollisionClass::kVisitor) {
+      ++(robot_moved ? counts.robot_into_visitor : counts.visitor_into_robot);
+    } else if (kind == CollisionClass::kRobot) {
+      ++(robot_moved ? counts.robot_into_robot : counts.robot_hit_by_robot);
+    }
   }
 }
 
@@ -351,6 +497,7 @@ void ScenarioRun::SenseRobots(const sim::TickSnapshot& next, double t_after) {
     nav::SensorFrame frame;
     frame.now_s = t_after;
     frame.encoders = w.outputs.encoders;
+    frame.bumpers = w.outputs.bumpers;
     for (const sim::ScanRecord& scan : w.outputs.scans) frame.scans.push_back(&scan.scan);
     const auto t_think = Clock::now();
     w.sensed = robots_[k].navigator->Sense(frame);
@@ -438,7 +585,8 @@ void ScenarioRun::RecordTrajectories(double t) {
 bool ScenarioRun::RoutesDone() const {
   bool any = false;
   for (const RobotRun& r : robots_) {
-    if (!r.entry->route) continue;
+    const bool listed = r.entry->mission && !r.entry->mission->tour_stations;
+    if (!r.entry->route && !listed) continue;
     any = true;
     const std::optional<nav::MissionStatus> mission = r.navigator->controller()->mission();
     if (!mission || !mission->done) return false;
@@ -469,6 +617,8 @@ RunMetrics ScenarioRun::CollectMetrics(double sim_s) const {
     robot.odometry_final_heading_error_rad =
         std::abs(core::NormalizeAngle(odo.theta_rad - truth.theta_rad));
     if (r.tracker) robot.localization = r.tracker->Figures();
+    const nav::Controller* controller = r.navigator->controller();
+    if (controller && controller->navigation()) robot.navigation = *controller->navigation();
     if (r.entry->route) {
       const nav::MissionStatus mission = *r.navigator->controller()->mission();
       robot.route = RouteMetrics{r.entry->route->stops, mission.path_length_m, mission.done,
@@ -494,6 +644,8 @@ RunSummary ScenarioRun::Finish() {
   std::vector<RobotLocalization> localizations;
   for (const RobotRun& r : robots_) {
     tracks.push_back(r.tracks);
+    if (const nav::Controller* c = r.navigator->controller())
+      tracks.back().navigation = c->picture();
     if (r.tracker) localizations.push_back({r.entry->id, &*r.tracker});
   }
   WriteSnapshotsAndReport(out_, scenario_, *world_, body_tracks_, tracks, localizations,

@@ -87,6 +87,9 @@ struct Door {
 struct Place {
   std::optional<core::Pose2> pose;
   std::optional<core::Polygon2> area;
+  // A goal with a meaning (§6.3.1 station node: an office, a showcase); places
+  // named station_* and dock_* are stations anyway. Needs a pose.
+  bool station = false;
 };
 
 struct WorldDescription {

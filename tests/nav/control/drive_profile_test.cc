@@ -7,7 +7,11 @@
 namespace pavilion::nav {
 namespace {
 
-ControlTick At(double t) { return ControlTick{0, t, {}}; }
+ControlTick At(double t) {
+  ControlTick tick;
+  tick.now_s = t;
+  return tick;
+}
 
 TEST(DriveProfileControllerTest, AppliesEachStepOnceFromItsTime) {
   DriveProfileController drive({{0.0, 1.0, 1.0}, {0.5, 2.0, -2.0}, {0.5, 3.0, 3.0}, {2.0, 0, 0}});

@@ -10,6 +10,14 @@
 namespace pavilion::nav {
 namespace {
 
+ControlTick Tick(std::int64_t tick, double now_s, const core::Pose2& belief) {
+  ControlTick t;
+  t.tick = tick;
+  t.now_s = now_s;
+  t.belief = belief;
+  return t;
+}
+
 RouteControllerOptions Options() {
   RouteControllerOptions o;
   o.start_s = 1.0;
@@ -23,9 +31,9 @@ RouteControllerOptions Options() {
 
 TEST(RouteControllerTest, WaitsForStartAndRunsAtItsRate) {
   RouteController route({{0, 0}, {2, 0}}, Options());
-  EXPECT_FALSE(route.OnTick({0, 0.0, {0, 0, 0}}));     // before the start
-  EXPECT_FALSE(route.OnTick({101, 1.01, {0, 0, 0}}));  // not a control tick
-  const auto command = route.OnTick({100, 1.0, {0, 0, 0}});
+  EXPECT_FALSE(route.OnTick(Tick(0, 0.0, {0, 0, 0})));     // before the start
+  EXPECT_FALSE(route.OnTick(Tick(101, 1.01, {0, 0, 0})));  // not a control tick
+  const auto command = route.OnTick(Tick(100, 1.0, {0, 0, 0}));
   ASSERT_TRUE(command);
   EXPECT_GT(command->left_radps, 0.0);  // accelerating straight ahead
   EXPECT_NEAR(command->left_radps, command->right_radps, 1e-9);
@@ -37,11 +45,11 @@ TEST(RouteControllerTest, WaitsForStartAndRunsAtItsRate) {
 // Standing on the goal, the first control tick ends the mission.
 TEST(RouteControllerTest, ReportsTheMissionDoneAtTheGoal) {
   RouteController route({{0, 0}, {1, 0}}, Options());
-  const auto command = route.OnTick({200, 2.0, {1.0, 0.0, 0.0}});
+  const auto command = route.OnTick(Tick(200, 2.0, {1.0, 0.0, 0.0}));
   ASSERT_TRUE(command);
   ASSERT_TRUE(route.mission()->done);
   EXPECT_DOUBLE_EQ(route.mission()->done_at_s, 2.0);
-  EXPECT_FALSE(route.OnTick({204, 2.04, {1.0, 0.0, 0.0}}));  // done: nothing more
+  EXPECT_FALSE(route.OnTick(Tick(204, 2.04, {1.0, 0.0, 0.0})));  // done: nothing more
 }
 
 TEST(RouteControllerTest, RejectsAZeroControlPeriod) {

@@ -18,6 +18,7 @@
 #include "core/random/random_stream.h"
 #include "nav/local/initial_path_planner.h"
 #include "nav/local/local_grid.h"
+#include "nav/local/nf1.h"
 #include "nav/local/ompl_path_planner.h"
 
 namespace pavilion::nav {
@@ -32,6 +33,7 @@ void PrintTo(const PlannerFactory& factory, std::ostream* os) { *os << factory.n
 
 std::vector<PlannerFactory> Factories() {
   return {
+      {"nf1", [] { return std::make_unique<Nf1Planner>(); }},
       {"ompl_rrt_connect",
        [] {
          return std::make_unique<OmplPathPlanner>(

@@ -1,0 +1,91 @@
+#include "nav/local/scan_obstacles.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "core/geometry/polygon.h"
+#include "core/geometry/segment2.h"
+
+namespace pavilion::nav {
+
+ScanObstacles::ScanObstacles(std::vector<Eigen::Vector2d> footprint_in_robot,
+                             std::vector<Eigen::Vector2d> ghosts_in_world)
+    : footprint_(std::move(footprint_in_robot)), ghosts_in_world_(std::move(ghosts_in_world)) {}
+
+void ScanObstacles::AddScan(const core::LaserScan& scan, const core::Pose2& odom_from_robot) {
+  auto it = std::find_if(lasers_.begin(), lasers_.end(),
+                         [&](const LaserPoints& l) { return l.sensor_id == scan.sensor_id; });
+  if (it == lasers_.end()) {
+    lasers_.push_back({scan.sensor_id, {}});
+    it = std::prev(lasers_.end());
+  }
+  it->in_odom.clear();
+  const core::Pose2 odom_from_sensor = odom_from_robot * scan.robot_from_sensor;
+  for (const core::LaserReading& r : scan.readings) {
+    if (!r.valid) continue;
+    const Eigen::Vector2d in_sensor(r.range_m * std::cos(r.bearing_rad),
+                                    r.range_m * std::sin(r.bearing_rad));
+    const Eigen::Vector2d in_robot = scan.robot_from_sensor * in_sensor;
+    if (!footprint_.empty() && core::Contains(footprint_, in_robot)) continue;
+    it->in_odom.push_back(odom_from_sensor * in_sensor);
+  }
+}
+
+void ScanObstacles::InRobot(const core::Pose2& odom_from_robot, const core::Pose2& world_from_robot,
+                            double reach_m, std::vector<Eigen::Vector2d>* points_in_robot) const {
+  points_in_robot->clear();
+  const core::Pose2 robot_from_odom = odom_from_robot.Inverse();
+  const double reach2 = reach_m * reach_m;
+  for (const LaserPoints& l : lasers_) {
+    for (const Eigen::Vector2d& p : l.in_odom) {
+      const Eigen::Vector2d q = robot_from_odom * p;
+      if (q.squaredNorm() <= reach2) points_in_robot->push_back(q);
+    }
+  }
+  const core::Pose2 robot_from_world = world_from_robot.Inverse();
+  for (const Eigen::Vector2d& g : ghosts_in_world_) {
+    if ((g - world_from_robot.translation()).squaredNorm() > reach2) continue;
+    points_in_robot->push_back(robot_from_world * g);
+  }
+}
+
+void ScanObstacles::InWorld(const core::Pose2& odom_from_robot, const core::Pose2& world_from_robot,
+                            double reach_m, std::vector<Eigen::Vector2d>* points_in_world) const {
+  points_in_world->clear();
+  const core::Pose2 world_from_odom = world_from_robot * odom_from_robot.Inverse();
+  const Eigen::Vector2d center = world_from_robot.translation();
+  const double reach2 = reach_m * reach_m;
+  for (const LaserPoints& l : lasers_) {
+    for (const Eigen::Vector2d& p : l.in_odom) {
+      const Eigen::Vector2d q = world_from_odom * p;
+      if ((q - center).squaredNorm() <= reach2) points_in_world->push_back(q);
+    }
+  }
+  for (const Eigen::Vector2d& g : ghosts_in_world_) {
+    if ((g - center).squaredNorm() <= reach2) points_in_world->push_back(g);
+  }
+}
+
+std::size_t ScanObstacles::laser_points() const {
+  std::size_t n = 0;
+  for (const LaserPoints& l : lasers_) n += l.in_odom.size();
+  return n;
+}
+
+double PolygonClearance(std::span<const Eigen::Vector2d> polygon,
+                        std::span<const Eigen::Vector2d> points) {
+  double best = std::numeric_limits<double>::infinity();
+  const core::Polygon2 outline(polygon.begin(), polygon.end());
+  for (const Eigen::Vector2d& p : points) {
+    if (core::Contains(outline, p)) return 0.0;
+    for (std::size_t i = 0; i < polygon.size(); ++i) {
+      const Eigen::Vector2d& a = polygon[i];
+      const Eigen::Vector2d& b = polygon[(i + 1) % polygon.size()];
+      best = std::min(best, core::PointSegmentDistance(p, a, b));
+    }
+  }
+  return best;
+}
+
+}  // namespace pavilion::nav

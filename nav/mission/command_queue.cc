@@ -1,0 +1,78 @@
+#include "nav/mission/command_queue.h"
+
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+namespace pavilion::nav {
+namespace {
+
+void Require(bool ok, const std::string& field, const std::string& range) {
+  if (!ok) throw std::invalid_argument("CommandQueueOptions." + field + " must be " + range);
+}
+
+}  // namespace
+
+void CommandQueueOptions::Validate() const {
+  Require(via_reached_radius_m > 0.0 && via_reached_radius_m <= 10.0, "via_reached_radius_m",
+          "in (0, 10] m");
+  Require(localization_pause_radius_m >= 0.0 && localization_pause_radius_m <= 1.0,
+          "localization_pause_radius_m", "in [0, 1] m");
+  Require(resume_factor >= 1.0 && resume_factor <= 100.0, "resume_factor", "in [1, 100]");
+  Require(goal_position_tolerance_m > 0.0 && goal_position_tolerance_m <= 1.0,
+          "goal_position_tolerance_m", "in (0, 1] m");
+  Require(goal_heading_tolerance_rad > 0.0 && goal_heading_tolerance_rad <= std::numbers::pi,
+          "goal_heading_tolerance_rad", "in (0, pi] rad");
+}
+
+CommandQueue::CommandQueue(const CommandQueueOptions& options) : options_(options) {
+  options_.Validate();
+}
+
+void CommandQueue::Load(std::vector<QueuedNode> nodes, const core::Pose2& goal_pose) {
+  if (nodes.empty()) throw std::invalid_argument("CommandQueue::Load needs at least one node");
+  nodes_ = std::move(nodes);
+  nodes_.back().position_m = goal_pose.translation();
+  goal_pose_ = goal_pose;
+  next_ = 0;
+  paused_ = false;
+  arrived_ = false;
+}
+
+void CommandQueue::Clear() {
+  nodes_.clear();
+  next_ = 0;
+  paused_ = false;
+  arrived_ = false;
+}
+
+void CommandQueue::Update(const core::Pose2& belief) {
+  if (empty()) return;
+  const Eigen::Vector2d p = belief.translation();
+  // Past the last via node whose disk holds the robot: a robot pushed on
+  // beyond a node it never came near does not turn back for it.
+  for (std::size_t k = nodes_.size() - 1; k-- > next_;) {
+    if ((nodes_[k].position_m - p).norm() <= options_.via_reached_radius_m) {
+      next_ = k + 1;
+      break;
+    }
+  }
+  if (!at_goal_node()) {
+    paused_ = false;
+    arrived_ = false;
+    return;
+  }
+  const double distance_m = (goal_pose_.translation() - p).norm();
+  if (distance_m <= options_.localization_pause_radius_m) {
+    paused_ = true;
+  } else if (distance_m > options_.resume_factor * options_.localization_pause_radius_m) {
+    paused_ = false;
+  }
+  const double heading_error_rad =
+      std::abs(core::NormalizeAngle(goal_pose_.theta_rad - belief.theta_rad));
+  arrived_ = distance_m <= options_.goal_position_tolerance_m &&
+             heading_error_rad <= options_.goal_heading_tolerance_rad;
+}
+
+}  // namespace pavilion::nav

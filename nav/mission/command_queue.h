@@ -1,0 +1,74 @@
+#pragma once
+
+// The command queue of the execution layer (thesis §6.3.3): the global plan's
+// nodes go to the behaviour layer one by one. Via nodes are reached inside a
+// large disk around them (2 m) and are position-only goals; the last node must
+// be met with its full pose. Near the last node (10 cm) localization pauses,
+// because its corrections make the estimate too noisy for any position
+// controller to settle on the goal.
+
+#include <Eigen/Core>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "core/types/pose2.h"
+
+namespace pavilion::nav {
+
+struct CommandQueueOptions {
+  double via_reached_radius_m = 2.0;  // §6.3.3 "a large disk around the node (2 m)", (0, 10]
+  double localization_pause_radius_m = 0.1;  // §6.3.3 "10 cm in our implementation", [0, 1]
+  // Localization resumes when the robot is pushed this many times the pause
+  // radius away from the goal again (hysteresis), [1, 100].
+  double resume_factor = 3.0;
+  // The final pose is met within these (§6.5: goals were reached to about 1 cm).
+  double goal_position_tolerance_m = 0.03;   // (0, 1]
+  double goal_heading_tolerance_rad = 0.05;  // (0, pi]
+
+  void Validate() const;  // throws std::invalid_argument naming the field
+};
+
+// A node of the plan handed to the behaviour layer.
+struct QueuedNode {
+  std::string id;
+  Eigen::Vector2d position_m = Eigen::Vector2d::Zero();  // world frame
+};
+
+class CommandQueue {
+ public:
+  explicit CommandQueue(const CommandQueueOptions& options);
+
+  // A new plan: its nodes in order, the last one the goal met with `goal_pose`
+  // (its position replaces the last node's). Requires at least one node.
+  void Load(std::vector<QueuedNode> nodes, const core::Pose2& goal_pose);
+  void Clear();
+
+  // Advances past every via node whose disk holds the robot's belief, and
+  // updates the localization pause and arrival at the goal.
+  void Update(const core::Pose2& belief);
+
+  bool empty() const { return next_ >= nodes_.size(); }
+  // The node the behaviour layer works towards; requires !empty().
+  const QueuedNode& current() const { return nodes_[next_]; }
+  // The current node is the last: the full pose must be met.
+  bool at_goal_node() const { return !empty() && next_ + 1 == nodes_.size(); }
+  const core::Pose2& goal_pose() const { return goal_pose_; }
+  // The nodes still ahead, the current one first.
+  std::span<const QueuedNode> remaining() const {
+    return std::span<const QueuedNode>(nodes_).subspan(std::min(next_, nodes_.size()));
+  }
+  bool localization_paused() const { return paused_; }
+  // The final pose is met within the tolerances (set by Update).
+  bool arrived() const { return arrived_; }
+
+ private:
+  CommandQueueOptions options_;
+  std::vector<QueuedNode> nodes_;
+  std::size_t next_ = 0;
+  core::Pose2 goal_pose_;
+  bool paused_ = false;
+  bool arrived_ = false;
+};
+
+}  // namespace pavilion::nav

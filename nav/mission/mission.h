@@ -1,0 +1,80 @@
+#pragma once
+
+// Missions (issue 14, thesis §4.5.3 and §6.3.3): one goal each — a node of the
+// map's topology to reach with its full pose, then an optional dwell there. A
+// tour is a sequence of missions. Plain value types the scenarios read: the
+// events a navigation controller reports, its figures (metrics.md names) and
+// what the top-down snapshot draws of it.
+
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/types/pose2.h"
+
+namespace pavilion::nav {
+
+struct Mission {
+  std::string goal;        // node id of the robot's map (a station)
+  core::Pose2 goal_pose;   // the node's full pose (x, y, theta), world frame
+  double dwell_s = 0.0;    // wait at the goal after arrival, s, >= 0
+  double timeout_s = 0.0;  // aborted when not completed this long after its start, s, > 0
+};
+
+// Why a mission was aborted (metrics.md: missions_aborted by reason).
+enum class AbortReason { kUnreachable, kTimeout, kLost, kBlocked };
+inline constexpr std::array<AbortReason, 4> kAbortReasons = {
+    AbortReason::kUnreachable, AbortReason::kTimeout, AbortReason::kLost, AbortReason::kBlocked};
+const char* ToString(AbortReason reason);
+
+// What the navigation reports up (events.jsonl: mission_started,
+// mission_completed, mission_aborted, blocked, replanned).
+struct NavigationEvent {
+  enum class Type { kMissionStarted, kMissionCompleted, kMissionAborted, kBlocked, kReplanned };
+  Type type = Type::kMissionStarted;
+  double at_s = 0.0;
+  int mission = 0;                                 // index in the robot's sequence of missions
+  std::string goal;                                // the mission's goal node
+  AbortReason reason = AbortReason::kUnreachable;  // kMissionAborted
+  std::string cause;                               // kReplanned: "band_snap" or "blocked"
+  double duration_s = 0.0;                         // kMissionCompleted/Aborted: since its start
+  double path_length_m = 0;  // kMissionCompleted/Aborted: travelled since its start (odometry)
+};
+const char* ToString(NavigationEvent::Type type);
+
+// Running figures of one robot's navigation (metrics.md, Navigation and fleet).
+struct NavigationFigures {
+  int missions_started = 0;
+  int missions_completed = 0;
+  std::array<int, kAbortReasons.size()> missions_aborted{};  // by AbortReason
+  double mission_time_s = 0.0;                               // summed over completed missions
+  double mission_path_length_m = 0.0;  // summed over completed missions (odometry)
+  int replans = 0;                     // band snaps and blocked replans
+  int band_snaps = 0;
+  int global_plans = 0;
+  int blocked_episodes = 0;     // slower than the blocked speed for longer than the blocked time
+  double time_blocked_s = 0.0;  // inside blocked episodes, from their first slow moment
+  double longest_blocked_s = 0.0;
+  // Clearance: distance (m) from the robot's polygon to the nearest obstacle
+  // point (laser readings and ghost points) at each dynamic-window cycle.
+  double clearance_sum_m = 0.0;
+  std::int64_t clearance_samples = 0;
+  double min_clearance_m = 0.0;  // meaningful when clearance_samples > 0
+  std::int64_t dwa_cycles = 0;
+  std::int64_t band_updates = 0;
+  std::int64_t no_admissible_cycles = 0;  // the dynamic window found nothing but stop
+
+  int missions_aborted_total() const;
+};
+
+// What the snapshot draws of a robot's navigation (world frame).
+struct NavigationPicture {
+  std::vector<Eigen::Vector2d> plan;  // the global plan's nodes still ahead
+  std::vector<Eigen::Vector2d> band_centers;
+  std::vector<double> band_radii_m;
+  std::vector<Eigen::Vector2d> dwa_arc;  // the chosen command's predicted path
+};
+
+}  // namespace pavilion::nav

@@ -1,0 +1,42 @@
+#pragma once
+
+// The goals a robot works through (issue 14's `mission:`): a fixed list of
+// stations, or a tour of n stations drawn from the seed — each round visits n
+// of the candidate stations once in a random order, rounds repeating when
+// asked, and a round never starts where the last one ended.
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/random/random_stream.h"
+
+namespace pavilion::nav {
+
+class MissionSequence {
+ public:
+  // The stations in this order, once.
+  static MissionSequence List(std::vector<std::string> stations);
+  // Rounds of `per_round` stations drawn from `among` (each once per round;
+  // 1 <= per_round <= among.size(), checked by the caller's reader), forever
+  // when `repeat`.
+  static MissionSequence Tour(std::vector<std::string> among, int per_round, bool repeat,
+                              core::RandomStream random);
+
+  // The next goal, none when the sequence is done.
+  std::optional<std::string> Next();
+
+ private:
+  MissionSequence() = default;
+  void DrawRound();
+
+  std::vector<std::string> among_;
+  int per_round_ = 0;
+  bool repeat_ = false;
+  std::optional<core::RandomStream> random_;
+  std::vector<std::string> pending_;  // the current round, next goal last
+  std::string last_;
+  bool drawn_ = false;
+};
+
+}  // namespace pavilion::nav

@@ -1,0 +1,357 @@
+#include "nav/mission/navigation_controller.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <utility>
+
+#include "nav/local/nf1.h"
+
+namespace pavilion::nav {
+namespace {
+
+constexpr double kMaxStartS = 1e7;
+constexpr double kMaxTimeoutS = 1e6;
+// How long (s) the chosen dynamic-window arc is drawn ahead.
+constexpr double kArcDrawS = 2.0;
+// A station goal is looked up in the map; this node id means none.
+constexpr int kNoNode = -1;
+
+void Require(bool ok, const std::string& field, const std::string& range) {
+  if (!ok) {
+    throw std::invalid_argument("NavigationControllerOptions." + field + " must be " + range);
+  }
+}
+
+std::int64_t PeriodTicks(double step_s, double rate_hz) {
+  return std::max<std::int64_t>(1, std::llround(1.0 / (rate_hz * step_s)));
+}
+
+// SplitMix64: one seed per plan from the robot's seed and the plan's number.
+std::uint64_t PlanSeed(std::uint64_t seed, std::uint64_t plan) {
+  std::uint64_t z = seed + 0x9e3779b97f4a7c15ULL * (plan + 1);
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return z ^ (z >> 31);
+}
+
+std::unique_ptr<InitialPathPlanner> MakeInitialPlanner(const NavigationControllerOptions& o) {
+  switch (o.initial_planner) {
+    case InitialPlanner::kNf1:
+      return std::make_unique<Nf1Planner>();
+    case InitialPlanner::kOmplRrtConnect: {
+      OmplPlannerOptions ompl = o.ompl;
+      ompl.type = OmplPlannerType::kRrtConnect;
+      return std::make_unique<OmplPathPlanner>(ompl);
+    }
+    case InitialPlanner::kOmplRrtStar: {
+      OmplPlannerOptions ompl = o.ompl;
+      ompl.type = OmplPlannerType::kRrtStar;
+      return std::make_unique<OmplPathPlanner>(ompl);
+    }
+  }
+  throw std::invalid_argument("NavigationControllerOptions.initial_planner is unknown");
+}
+
+std::vector<Eigen::Vector2d> GhostPoints(const core::RobotMap& map) {
+  std::vector<Eigen::Vector2d> ghosts;
+  for (const core::MapGhostPoint& g : map.ghost_points) ghosts.push_back(g.position_m);
+  return ghosts;
+}
+
+}  // namespace
+
+void NavigationControllerOptions::Validate() const {
+  Require(step_s > 0.0 && step_s <= 1.0, "step_s", "in (0, 1] s");
+  Require(start_s >= 0.0 && start_s <= kMaxStartS, "start_s", "in [0, 1e7] s");
+  Require(dwa_rate_hz >= 1.0 && dwa_rate_hz <= 1000.0, "dwa_rate_hz", "in [1, 1000] Hz");
+  Require(band_rate_hz >= 0.1 && band_rate_hz <= 100.0, "band_rate_hz", "in [0.1, 100] Hz");
+  Require(dwell_s >= 0.0 && dwell_s <= 3600.0, "dwell_s", "in [0, 3600] s");
+  Require(timeout_s > 0.0 && timeout_s <= kMaxTimeoutS, "timeout_s", "in (0, 1e6] s");
+  Require(dwa_reach_m > 0.0 && dwa_reach_m <= 20.0, "dwa_reach_m", "in (0, 20] m");
+  Require(band_lookahead_m > 0.0 && band_lookahead_m <= 10.0, "band_lookahead_m", "in (0, 10] m");
+  Require(approach_radius_m > 0.0 && approach_radius_m <= 5.0, "approach_radius_m", "in (0, 5] m");
+  Require(blocked_node_cost_m >= 0.0 && blocked_node_cost_m <= 1e4, "blocked_node_cost_m",
+          "in [0, 1e4] m");
+  ompl.Validate();
+  local.Validate();
+  dwa.Validate();
+  queue.Validate();
+  blocked.Validate();
+  graph.Validate();
+}
+
+NavigationController::NavigationController(core::RobotMap map,
+                                           std::vector<Eigen::Vector2d> footprint_in_robot,
+                                           MissionSequence missions,
+                                           const NavigationControllerOptions& options)
+    : options_(options),
+      map_(std::move(map)),
+      footprint_(std::move(footprint_in_robot)),
+      missions_(std::move(missions)),
+      graph_(map_),
+      obstacles_(footprint_, GhostPoints(map_)),
+      dwa_(options.dwa, footprint_),
+      queue_(options.queue),
+      blocked_(options.blocked) {
+  options_.Validate();
+  local_ = std::make_unique<LocalPlanner>(options_.local, MakeInitialPlanner(options_));
+  dwa_period_ticks_ = PeriodTicks(options_.step_s, options_.dwa_rate_hz);
+  band_period_ticks_ = PeriodTicks(options_.step_s, options_.band_rate_hz);
+  figures_.min_clearance_m = std::numeric_limits<double>::infinity();
+}
+
+NavigationController::~NavigationController() = default;
+
+std::optional<WheelSpeeds> NavigationController::OnScan(const core::LaserScan& scan,
+                                                        const ScanContext& context) {
+  obstacles_.AddScan(scan, context.odometry);
+  return std::nullopt;
+}
+
+std::optional<WheelSpeeds> NavigationController::OnTick(const ControlTick& tick) {
+  if (tick.tick % dwa_period_ticks_ != 0) return std::nullopt;
+  held_ = command_;
+  Cycle(tick);
+  if (cycled_ && command_.left_mps == held_.left_mps && command_.right_mps == held_.right_mps) {
+    return std::nullopt;
+  }
+  cycled_ = true;
+  return ToWheels(command_);
+}
+
+void NavigationController::Cycle(const ControlTick& tick) {
+  const double dt_s = tick.now_s - last_cycle_s_;
+  const double travelled_m = (tick.odometry.translation() - last_odometry_.translation()).norm();
+  const double turned_rad =
+      std::abs(core::NormalizeAngle(tick.odometry.theta_rad - last_odometry_.theta_rad));
+  if (cycled_) odometer_m_ += travelled_m;
+  last_odometry_ = tick.odometry;
+  last_cycle_s_ = tick.now_s;
+  command_ = {};
+  if (tick.now_s + 1e-9 < options_.start_s) return;
+  if (state_ == State::kLost) {
+    if (tick.localization_lost) return;
+    state_ = State::kWaiting;  // relocalized: carry on with the next mission
+  }
+  if (state_ == State::kDwelling && tick.now_s + 1e-9 >= dwell_until_s_) {
+    queue_.Clear();
+    state_ = State::kWaiting;
+  }
+  if (state_ == State::kWaiting) StartNextMission(tick);
+  if (state_ != State::kDriving) return;
+  if (dt_s > 0.0) {
+    const BlockedMonitor::Step step =
+        blocked_.Update(tick.now_s, travelled_m / dt_s, turned_rad / dt_s, true);
+    if (step.became_blocked) Emit(NavigationEvent::Type::kBlocked, tick.now_s);
+    if (step.abort) return EndMission(tick, false, AbortReason::kBlocked);
+    if (step.replan) {
+      const int avoid =
+          graph_.FindIndex(queue_.empty() ? current_.goal : queue_.current().id).value_or(kNoNode);
+      if (!PlanGlobal(tick, avoid)) return EndMission(tick, false, AbortReason::kUnreachable);
+      PlanLocal(tick, true, "blocked");
+    }
+  }
+  CheckProgress(tick);
+  if (state_ != State::kDriving) return;
+  if (tick.tick % band_period_ticks_ == 0) UpdateBand(tick);
+  Drive(tick);
+}
+
+void NavigationController::StartNextMission(const ControlTick& tick) {
+  const std::optional<std::string> goal = missions_.Next();
+  if (!goal) {
+    state_ = State::kDone;
+    status_.done = true;
+    status_.done_at_s = tick.now_s;
+    return;
+  }
+  ++mission_index_;
+  const int node = graph_.FindIndex(*goal).value_or(kNoNode);
+  current_ = Mission{*goal, node == kNoNode ? core::Pose2{} : map_.nodes[node].pose,
+                     options_.dwell_s, options_.timeout_s};
+  mission_start_s_ = tick.now_s;
+  mission_start_odometer_m_ = odometer_m_;
+  ++figures_.missions_started;
+  Emit(NavigationEvent::Type::kMissionStarted, tick.now_s);
+  state_ = State::kDriving;
+  blocked_.Reset();
+  if (node == kNoNode || !PlanGlobal(tick, kNoNode)) {
+    return EndMission(tick, false, AbortReason::kUnreachable);
+  }
+  PlanLocal(tick, false, "");
+}
+
+bool NavigationController::PlanGlobal(const ControlTick& tick, int avoid_node) {
+  std::vector<double> extra(map_.nodes.size(), 0.0);
+  if (avoid_node != kNoNode) extra[avoid_node] = options_.blocked_node_cost_m;
+  const std::optional<GraphPath> path =
+      PlanFromPosition(graph_, map_, tick.belief.translation(),
+                       graph_.FindIndex(current_.goal).value_or(kNoNode), options_.graph, extra);
+  if (!path) return false;
+  ++figures_.global_plans;
+  std::vector<QueuedNode> nodes;
+  for (int n : path->nodes) nodes.push_back({map_.nodes[n].id, map_.nodes[n].pose.translation()});
+  queue_.Load(std::move(nodes), current_.goal_pose);
+  queue_.Update(tick.belief);
+  return true;
+}
+
+void NavigationController::PlanLocal(const ControlTick& tick, bool replan, const char* cause) {
+  if (queue_.empty()) return;
+  obstacles_.InWorld(tick.odometry, tick.belief, 0.75 * options_.local.grid.size_m, &points_);
+  local_target_ = queue_.current().id;
+  local_->Plan(tick.belief.translation(), queue_.current().position_m, points_,
+               PlanSeed(options_.seed, plans_++));
+  if (!replan) return;
+  ++figures_.replans;
+  NavigationEvent e;
+  e.type = NavigationEvent::Type::kReplanned;
+  e.at_s = tick.now_s;
+  e.mission = mission_index_;
+  e.goal = current_.goal;
+  e.cause = cause;
+  events_.push_back(std::move(e));
+}
+
+void NavigationController::UpdateBand(const ControlTick& tick) {
+  if (queue_.empty()) return;
+  if (queue_.current().id != local_target_ || !local_->has_band()) {
+    PlanLocal(tick, false, "");
+    return;
+  }
+  obstacles_.InWorld(tick.odometry, tick.belief, 0.75 * options_.local.grid.size_m, &points_);
+  ++figures_.band_updates;
+  switch (local_->Update(tick.belief.translation(), points_)) {
+    case LocalPlanner::Status::kOk:
+      break;
+    case LocalPlanner::Status::kSnapped:
+      ++figures_.band_snaps;
+      PlanLocal(tick, true, "band_snap");
+      break;
+    case LocalPlanner::Status::kExtend:
+    case LocalPlanner::Status::kNoBand:
+      PlanLocal(tick, false, "");
+      break;
+  }
+}
+
+void NavigationController::CheckProgress(const ControlTick& tick) {
+  if (tick.localization_lost) {
+    EndMission(tick, false, AbortReason::kLost);
+    state_ = State::kLost;
+    return;
+  }
+  if (tick.now_s - mission_start_s_ > current_.timeout_s) {
+    return EndMission(tick, false, AbortReason::kTimeout);
+  }
+  queue_.Update(tick.belief);
+  if (queue_.arrived()) EndMission(tick, true, AbortReason::kUnreachable);
+}
+
+void NavigationController::Drive(const ControlTick& tick) {
+  const core::Pose2 robot_from_world = tick.belief.Inverse();
+  DwaGoal goal;
+  const Eigen::Vector2d goal_position = queue_.goal_pose().translation();
+  const bool approach =
+      queue_.at_goal_node() &&
+      (goal_position - tick.belief.translation()).norm() <= options_.approach_radius_m;
+  if (approach) {
+    goal.pose_goal = true;
+    goal.goal_in_robot = robot_from_world * goal_position;
+    goal.goal_heading_in_robot_rad =
+        core::NormalizeAngle(queue_.goal_pose().theta_rad - tick.belief.theta_rad);
+    goal.target_in_robot = goal.goal_in_robot;
+  } else {
+    const Eigen::Vector2d target = local_->has_band()
+                                       ? local_->TargetAhead(options_.band_lookahead_m)
+                                       : queue_.current().position_m;
+    goal.target_in_robot = robot_from_world * target;
+  }
+  obstacles_.InRobot(tick.odometry, tick.belief, options_.dwa_reach_m, &points_);
+  const double clearance_m = PolygonClearance(footprint_, points_);
+  if (std::isfinite(clearance_m)) {
+    figures_.clearance_sum_m += clearance_m;
+    ++figures_.clearance_samples;
+    figures_.min_clearance_m = std::min(figures_.min_clearance_m, clearance_m);
+  }
+  const DwaResult result = dwa_.Choose(held_, points_, goal);
+  ++figures_.dwa_cycles;
+  if (!result.admissible_found) ++figures_.no_admissible_cycles;
+  command_ = result.command;
+  arc_in_world_.clear();
+  for (const Eigen::Vector2d& p : dwa_.ChosenArc(result, kArcDrawS)) {
+    arc_in_world_.push_back(tick.belief * p);
+  }
+}
+
+void NavigationController::EndMission(const ControlTick& tick, bool completed, AbortReason reason) {
+  NavigationEvent e;
+  e.type =
+      completed ? NavigationEvent::Type::kMissionCompleted : NavigationEvent::Type::kMissionAborted;
+  e.at_s = tick.now_s;
+  e.mission = mission_index_;
+  e.goal = current_.goal;
+  e.reason = reason;
+  e.duration_s = tick.now_s - mission_start_s_;
+  e.path_length_m = odometer_m_ - mission_start_odometer_m_;
+  if (completed) {
+    ++figures_.missions_completed;
+    figures_.mission_time_s += e.duration_s;
+    figures_.mission_path_length_m += e.path_length_m;
+    state_ = State::kDwelling;
+    dwell_until_s_ = tick.now_s + current_.dwell_s;
+  } else {
+    ++figures_.missions_aborted[static_cast<std::size_t>(reason)];
+    queue_.Clear();
+    state_ = State::kWaiting;
+  }
+  events_.push_back(std::move(e));
+  blocked_.Reset();
+  command_ = {};
+  arc_in_world_.clear();
+}
+
+void NavigationController::Emit(NavigationEvent::Type type, double at_s) {
+  NavigationEvent e;
+  e.type = type;
+  e.at_s = at_s;
+  e.mission = mission_index_;
+  e.goal = current_.goal;
+  events_.push_back(std::move(e));
+}
+
+WheelSpeeds NavigationController::ToWheels(const WheelVelocity& rim) const {
+  return {rim.left_mps / options_.odometry.left_wheel_radius_m,
+          rim.right_mps / options_.odometry.right_wheel_radius_m};
+}
+
+std::optional<MissionStatus> NavigationController::mission() const { return status_; }
+
+void NavigationController::TakeEvents(std::vector<NavigationEvent>* events) {
+  events->insert(events->end(), events_.begin(), events_.end());
+  events_.clear();
+}
+
+const NavigationFigures* NavigationController::navigation() const {
+  figures_.blocked_episodes = blocked_.episodes();
+  figures_.time_blocked_s = blocked_.time_blocked_s();
+  figures_.longest_blocked_s = blocked_.longest_blocked_s();
+  return &figures_;
+}
+
+std::optional<NavigationPicture> NavigationController::picture() const {
+  NavigationPicture p;
+  for (const QueuedNode& n : queue_.remaining()) p.plan.push_back(n.position_m);
+  if (local_->has_band()) {
+    for (const auto& b : local_->band().bubbles()) {
+      p.band_centers.push_back(b.center);
+      p.band_radii_m.push_back(b.radius_m);
+    }
+  }
+  p.dwa_arc = arc_in_world_;
+  return p;
+}
+
+}  // namespace pavilion::nav

@@ -1,0 +1,133 @@
+#pragma once
+
+// The three-layer navigation of Expo.02 (thesis chapter 6, Fig. 6.5) as a
+// robot-stack controller: missions from a MissionSequence; global planning on
+// the map's topology (§6.3.2) when a mission starts or when blocked; the
+// command queue (§6.3.3) handing the plan's nodes down one by one; the local
+// path planner — initial path and elastic band at `band_rate_hz` (§6.3.4); and
+// the dynamic window in (v_l, v_r) at `dwa_rate_hz` commanding the wheels. It
+// sees only the robot's belief, its odometry and raw scans, never ground truth.
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/localization/encoder_odometry.h"
+#include "core/map/robot_map.h"
+#include "nav/control/controller.h"
+#include "nav/local/local_planner.h"
+#include "nav/local/ompl_path_planner.h"
+#include "nav/local/scan_obstacles.h"
+#include "nav/mission/blocked_monitor.h"
+#include "nav/mission/command_queue.h"
+#include "nav/mission/mission_sequence.h"
+#include "nav/planning/graph_planner.h"
+#include "nav/planning/topology_graph.h"
+#include "nav/reactive/dynamic_window.h"
+
+namespace pavilion::nav {
+
+// Which planner gives the band its initial path (§6.3.4: NF1).
+enum class InitialPlanner { kNf1, kOmplRrtConnect, kOmplRrtStar };
+
+struct NavigationControllerOptions {
+  double step_s = 0.005;      // the physics step: the control ticks' period, s, (0, 1]
+  double start_s = 0.0;       // the first mission starts then, s, [0, 1e7]
+  double dwa_rate_hz = 10.0;  // Fig. 6.5 loop 3: the dynamic window, Hz, [1, 1000]
+  double band_rate_hz = 5.0;  // Fig. 6.5 loop 2: band updates ("several Hz"), Hz, [0.1, 100]
+  double dwell_s = 0.0;       // wait at each goal after arrival, s, [0, 3600]
+  double timeout_s =
+      300.0;  // a mission not completed this long after its start is aborted, s, (0, 1e6]
+  // Obstacle points within this of the robot go to the dynamic window, m, (0, 20].
+  double dwa_reach_m = 3.0;
+  double band_lookahead_m =
+      1.0;  // the dynamic window steers to the band this far ahead, m, (0, 10]
+  // Within this of the final goal the dynamic window steers to the goal pose
+  // itself (its pose mode), m, (0, 5].
+  double approach_radius_m = 1.0;
+  // A blocked replan raises the cost of the node the robot was heading for by
+  // this much (m of path), so the global planner may pick another way, [0, 1e4].
+  double blocked_node_cost_m = 20.0;
+  InitialPlanner initial_planner = InitialPlanner::kNf1;
+  OmplPlannerOptions ompl;
+  LocalPlannerOptions local;
+  DynamicWindowOptions dwa;
+  CommandQueueOptions queue;
+  BlockedMonitorOptions blocked;
+  GraphPlannerOptions graph;
+  // Wheel radii that turn the window's rim speeds into wheel speeds: the
+  // robot's calibrated odometry model.
+  core::EncoderOdometryOptions odometry;
+  std::uint64_t seed = 1;  // the sampling planners' seeds (scenario seed and robot)
+
+  void Validate() const;  // throws std::invalid_argument naming the field
+};
+
+class NavigationController : public Controller {
+ public:
+  // `footprint_in_robot`: the robot's convex outline (counter-clockwise); the
+  // map's nodes name the missions' goals.
+  NavigationController(core::RobotMap map, std::vector<Eigen::Vector2d> footprint_in_robot,
+                       MissionSequence missions, const NavigationControllerOptions& options);
+  ~NavigationController() override;
+
+  std::optional<WheelSpeeds> OnTick(const ControlTick& tick) override;
+  std::optional<WheelSpeeds> OnScan(const core::LaserScan& scan,
+                                    const ScanContext& context) override;
+  std::optional<MissionStatus> mission() const override;
+  bool localization_paused() const override { return queue_.localization_paused(); }
+  void TakeEvents(std::vector<NavigationEvent>* events) override;
+  const NavigationFigures* navigation() const override;
+  std::optional<NavigationPicture> picture() const override;
+
+ private:
+  enum class State { kWaiting, kDriving, kDwelling, kLost, kDone };
+  void Cycle(const ControlTick& tick);
+  void StartNextMission(const ControlTick& tick);
+  bool PlanGlobal(const ControlTick& tick, int avoid_node);
+  void PlanLocal(const ControlTick& tick, bool replan, const char* cause);
+  void UpdateBand(const ControlTick& tick);
+  void Drive(const ControlTick& tick);
+  void EndMission(const ControlTick& tick, bool completed, AbortReason reason);
+  void CheckProgress(const ControlTick& tick);
+  void Emit(NavigationEvent::Type type, double at_s);
+  WheelSpeeds ToWheels(const WheelVelocity& rim) const;
+
+  NavigationControllerOptions options_;
+  core::RobotMap map_;
+  std::vector<Eigen::Vector2d> footprint_;
+  MissionSequence missions_;
+  TopologyGraph graph_;
+  ScanObstacles obstacles_;
+  std::unique_ptr<LocalPlanner> local_;
+  DynamicWindow dwa_;
+  CommandQueue queue_;
+  BlockedMonitor blocked_;
+  std::int64_t dwa_period_ticks_ = 1;
+  std::int64_t band_period_ticks_ = 1;
+
+  State state_ = State::kWaiting;
+  Mission current_;
+  int mission_index_ = -1;
+  double mission_start_s_ = 0.0;
+  double mission_start_odometer_m_ = 0.0;
+  double dwell_until_s_ = 0.0;
+  std::string local_target_;  // the queue node the band was planned to
+  std::uint64_t plans_ = 0;   // initial paths planned: the sampling planners' seed counter
+  WheelVelocity command_;     // rim speeds commanded by this cycle
+  WheelVelocity held_;        // rim speeds held since the last cycle
+  core::Pose2 last_odometry_;
+  double last_cycle_s_ = 0.0;
+  bool cycled_ = false;
+  double odometer_m_ = 0.0;
+  std::vector<Eigen::Vector2d> points_;  // scratch: obstacle points of a cycle
+  std::vector<Eigen::Vector2d> arc_in_world_;
+  std::vector<NavigationEvent> events_;
+  mutable NavigationFigures figures_;  // blocked figures filled in on reading
+  MissionStatus status_;
+};
+
+}  // namespace pavilion::nav
