@@ -10,17 +10,32 @@
 namespace pavilion::nav {
 
 ScanObstacles::ScanObstacles(std::vector<Eigen::Vector2d> footprint_in_robot,
-                             std::vector<Eigen::Vector2d> ghosts_in_world)
-    : footprint_(std::move(footprint_in_robot)), ghosts_in_world_(std::move(ghosts_in_world)) {}
+                             std::vector<Eigen::Vector2d> ghosts_in_world, double blind_memory_s)
+    : footprint_(std::move(footprint_in_robot)),
+      ghosts_in_world_(std::move(ghosts_in_world)),
+      blind_memory_s_(blind_memory_s) {}
 
 void ScanObstacles::AddScan(const core::LaserScan& scan, const core::Pose2& odom_from_robot) {
   auto it = std::find_if(lasers_.begin(), lasers_.end(),
                          [&](const LaserPoints& l) { return l.sensor_id == scan.sensor_id; });
   if (it == lasers_.end()) {
-    lasers_.push_back({scan.sensor_id, {}});
+    LaserPoints added;
+    added.sensor_id = scan.sensor_id;
+    lasers_.push_back(std::move(added));
     it = std::prev(lasers_.end());
   }
+  if (!it->in_odom.empty()) memory_.push_back({scan.stamp_s, std::move(it->in_odom)});
+  std::erase_if(memory_,
+                [&](const Remembered& m) { return m.stamp_s < scan.stamp_s - blind_memory_s_; });
   it->in_odom.clear();
+  it->robot_from_sensor = scan.robot_from_sensor;
+  it->max_range_m = scan.max_range_m;
+  if (!scan.readings.empty()) {
+    it->min_bearing_rad =
+        std::min(scan.readings.front().bearing_rad, scan.readings.back().bearing_rad);
+    it->max_bearing_rad =
+        std::max(scan.readings.front().bearing_rad, scan.readings.back().bearing_rad);
+  }
   const core::Pose2 odom_from_sensor = odom_from_robot * scan.robot_from_sensor;
   for (const core::LaserReading& r : scan.readings) {
     if (!r.valid) continue;
@@ -43,11 +58,28 @@ void ScanObstacles::InRobot(const core::Pose2& odom_from_robot, const core::Pose
       if (q.squaredNorm() <= reach2) points_in_robot->push_back(q);
     }
   }
+  for (const Remembered& m : memory_) {
+    for (const Eigen::Vector2d& p : m.in_odom) {
+      const Eigen::Vector2d q = robot_from_odom * p;
+      if (q.squaredNorm() <= reach2 && !Covered(q)) points_in_robot->push_back(q);
+    }
+  }
   const core::Pose2 robot_from_world = world_from_robot.Inverse();
   for (const Eigen::Vector2d& g : ghosts_in_world_) {
     if ((g - world_from_robot.translation()).squaredNorm() > reach2) continue;
     points_in_robot->push_back(robot_from_world * g);
   }
+}
+
+bool ScanObstacles::Covered(const Eigen::Vector2d& point_in_robot) const {
+  for (const LaserPoints& l : lasers_) {
+    const Eigen::Vector2d q = l.robot_from_sensor.Inverse() * point_in_robot;
+    const double bearing = std::atan2(q.y(), q.x());
+    if (bearing >= l.min_bearing_rad && bearing <= l.max_bearing_rad && q.norm() < l.max_range_m) {
+      return true;
+    }
+  }
+  return false;
 }
 
 void ScanObstacles::InWorld(const core::Pose2& odom_from_robot, const core::Pose2& world_from_robot,

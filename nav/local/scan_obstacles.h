@@ -5,6 +5,12 @@
 // beyond it — plus the map's ghost points injected as virtual readings. Scans
 // are kept in the odometry frame, which moves smoothly with the robot, so a
 // scan taken a few ticks ago still lands where it was seen.
+//
+// The dynamic window also gets a short memory of the blind zones: a reading
+// of the last `blind_memory_s` that no laser's field of view covers now (the
+// sides of a robot with two lasers back to back, §6.3.5.1) stays an obstacle,
+// so that a robot turning through a door does not sweep its corner into the
+// door post it saw a moment ago. The local grid keeps to the thesis: no memory.
 
 #include <Eigen/Core>
 #include <span>
@@ -21,15 +27,16 @@ class ScanObstacles {
   // `footprint_in_robot`: the robot's polygon; readings inside it (the robot
   // seeing itself) are dropped. `ghosts_in_world`: the map's ghost points.
   ScanObstacles(std::vector<Eigen::Vector2d> footprint_in_robot,
-                std::vector<Eigen::Vector2d> ghosts_in_world);
+                std::vector<Eigen::Vector2d> ghosts_in_world, double blind_memory_s = 1.0);
 
   // Replaces the points of `scan`'s laser; `odom_from_robot` is the robot's
   // odometry pose when the scan arrived.
   void AddScan(const core::LaserScan& scan, const core::Pose2& odom_from_robot);
 
-  // The laser points and the ghost points within `reach_m` of the robot, in
-  // the robot frame (the dynamic window's input). `world_from_robot` is the
-  // belief, `odom_from_robot` the odometry pose, both now.
+  // The laser points, the remembered blind-zone points and the ghost points
+  // within `reach_m` of the robot, in the robot frame (the dynamic window's
+  // input). `world_from_robot` is the belief, `odom_from_robot` the odometry
+  // pose, both now.
   void InRobot(const core::Pose2& odom_from_robot, const core::Pose2& world_from_robot,
                double reach_m, std::vector<Eigen::Vector2d>* points_in_robot) const;
   // The same within `reach_m` of the robot in the world frame (the local grid's input).
@@ -42,10 +49,23 @@ class ScanObstacles {
   struct LaserPoints {
     std::string sensor_id;
     std::vector<Eigen::Vector2d> in_odom;
+    core::Pose2 robot_from_sensor;
+    double min_bearing_rad = 0.0;  // the scan's field of view
+    double max_bearing_rad = 0.0;
+    double max_range_m = 0.0;
   };
+  struct Remembered {
+    double stamp_s = 0.0;
+    std::vector<Eigen::Vector2d> in_odom;
+  };
+  // True when a laser's current field of view covers the point (robot frame).
+  bool Covered(const Eigen::Vector2d& point_in_robot) const;
+
   std::vector<Eigen::Vector2d> footprint_;
   std::vector<Eigen::Vector2d> ghosts_in_world_;
+  double blind_memory_s_;
   std::vector<LaserPoints> lasers_;
+  std::vector<Remembered> memory_;  // earlier scans, oldest first
 };
 
 // Distance (m) from a convex polygon to the nearest of `points` (0 for a point

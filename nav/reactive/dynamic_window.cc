@@ -48,6 +48,12 @@ void DynamicWindowOptions::Validate() const {
     fail("max_speed_mps must be in (0, max_wheel_speed_mps] m/s");
   }
   if (!in(ttc_horizon_s, 0.0, 60.0)) fail("ttc_horizon_s must be in (0, 60] s");
+  if (!(max_turn_rate_radps > 0.0 && max_turn_rate_radps <= 20.0)) {
+    fail("max_turn_rate_radps must be in (0, 20] rad/s");
+  }
+  if (!(heading_horizon_s >= period_s && heading_horizon_s <= 10.0)) {
+    fail("heading_horizon_s must be in [period_s, 10] s");
+  }
   if (!(weight_heading >= 0.0 && std::isfinite(weight_heading))) {
     fail("weight_heading must be finite and >= 0");
   }
@@ -144,12 +150,16 @@ void DynamicWindow::BuildCandidates(const WheelVelocity& current, const DwaGoal&
     if (scene.orienting) {
       const double turn_decel = 2.0 * a / options_.wheelbase_m;
       const double error_rad = std::abs(core::NormalizeAngle(goal.goal_heading_in_robot_rad));
-      scene.turn_cap_radps = std::max(StoppableSpeed(error_rad, turn_decel, options_.period_s),
-                                      std::abs(now.omega_radps) - turn_decel * options_.period_s);
+      scene.turn_cap_radps =
+          std::min(scene.turn_cap_radps,
+                   std::max(StoppableSpeed(error_rad, turn_decel, options_.period_s),
+                            std::abs(now.omega_radps) - turn_decel * options_.period_s));
     }
   }
   // The caps never forbid the hardest braking the window allows.
   scene.speed_cap_mps = std::max(cap, std::abs(now.v_mps) - step_mps);
+  scene.turn_cap_radps = std::max(
+      scene.turn_cap_radps, std::abs(now.omega_radps) - 2.0 * step_mps / options_.wheelbase_m);
   auto window = [&](double c) {
     const double w = options_.max_wheel_speed_mps;
     double lo = std::max(c - step_mps, -w);
@@ -306,6 +316,10 @@ double DynamicWindow::Objective(const Candidate& c, const DwaGoal& goal, const S
     return std::abs(core::NormalizeAngle(std::atan2(d.y(), d.x()) - pose.z()));
   };
   double clearance = Clamp01(c.ttc_s / options_.ttc_horizon_s);
+  // Standing still is always clear; rewarding that would make stopping beat
+  // any admissible move past a close door post (the classic DWA stall).
+  // Stop is chosen when nothing else is admissible, or when it leads.
+  if (!goal.pose_goal && c.twist.v_mps == 0.0 && c.twist.omega_radps == 0.0) clearance = 0.0;
   // Within the margin: the first-order growth of the clearance over one
   // period, against the travel one period of acceleration gives from
   // standstill; reversing away is not penalised.
@@ -318,7 +332,16 @@ double DynamicWindow::Objective(const Candidate& c, const DwaGoal& goal, const S
   double heading = 0.0;
   double speed = 0.0;
   if (!goal.pose_goal) {
-    heading = 1.0 - bearing_error(goal.target_in_robot) / std::numbers::pi;
+    // The heading is judged where the candidate leads within the heading
+    // horizon (Fox et al. 1997 judge it at the predicted position): over one
+    // 0.1 s period a turn from rest changes it too little to outweigh the
+    // clearance of standing still, and the robot would dither.
+    // (In contact the escape rules lead; the heading is judged after the period.)
+    const Eigen::Vector3d ahead =
+        PoseAfter(c.twist, escaping ? options_.period_s : options_.heading_horizon_s);
+    const Eigen::Vector2d d = goal.target_in_robot - ahead.head<2>();
+    heading = 1.0 - std::abs(core::NormalizeAngle(std::atan2(d.y(), d.x()) - ahead.z())) /
+                        std::numbers::pi;
     speed = c.twist.v_mps / options_.max_speed_mps;
   } else {
     const double d_pred_m = (goal.goal_in_robot - at).norm();
@@ -355,7 +378,8 @@ DwaResult DynamicWindow::Choose(const WheelVelocity& current,
   }
   DwaResult result;
   Scene scene;
-  scene.speed_cap_mps = scene.turn_cap_radps = kInfinity;
+  scene.speed_cap_mps = kInfinity;
+  scene.turn_cap_radps = options_.max_turn_rate_radps;
   result.command = BrakeCommand(current);
   result.time_to_collision_s = options_.ttc_horizon_s;
   result.candidates_evaluated = static_cast<int>(candidates_.size());

@@ -55,6 +55,13 @@ struct DynamicWindowOptions {
   double max_wheel_speed_mps = 0.8;   // rim speed limit, m/s, (0, 5]
   double max_wheel_accel_mps2 = 1.0;  // rim acceleration and braking, m/s², (0, 20]
   double max_speed_mps = 0.6;         // translation limit, m/s, (0, max_wheel_speed_mps]; Expo.02
+  // Turn rate limit, rad/s, (0, 20]: the travel limit alone lets the wheels
+  // spin the robot at 2 v_wheel / b, which swept a square robot's corners into
+  // a door post faster than it could brake (issue 14, office_errands).
+  double max_turn_rate_radps = 1.0;
+  // Position-only mode judges the heading where a candidate leads in this
+  // time, s, [period_s, 10].
+  double heading_horizon_s = 1.0;
   double ttc_horizon_s = 3.0;         // time to collision saturates here, s, (0, 60]
   double safety_margin_m = 0.02;      // the robot polygon grown by this, m, [0, 0.5]
   double lookahead_m = 1.2;           // clearance reach (generalized arc), m, (0, 10];

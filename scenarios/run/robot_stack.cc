@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <string>
 
+#include "core/geometry/segment2.h"
 #include "core/random/random_stream.h"
 #include "nav/control/drive_profile.h"
 #include "nav/control/route_controller.h"
@@ -75,11 +77,21 @@ std::vector<Eigen::Vector2d> RoutePath(const Scenario& scenario, std::size_t ind
   }
 }
 
-// Radius (m) of the circle around the robot's origin holding its footprint.
-double Circumradius(const std::vector<Eigen::Vector2d>& footprint) {
-  double r = 0.0;
-  for (const Eigen::Vector2d& p : footprint) r = std::max(r, p.norm());
-  return r;
+// The circle the local planner plans for (§6.3.4: "the robot is assumed to
+// be circular"): midway between the footprint's inscribed and circumscribed
+// circles about the robot's origin. The circumscribed circle alone would call
+// a square robot standing 5 cm from a wall trapped; the dynamic window checks
+// the true polygon anyway.
+double PlanningRadius(const std::vector<Eigen::Vector2d>& footprint) {
+  double outer = 0.0;
+  double inner = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < footprint.size(); ++i) {
+    const Eigen::Vector2d& a = footprint[i];
+    const Eigen::Vector2d& b = footprint[(i + 1) % footprint.size()];
+    outer = std::max(outer, a.norm());
+    inner = std::min(inner, core::PointSegmentDistance(Eigen::Vector2d::Zero(), a, b));
+  }
+  return 0.5 * (inner + outer);
 }
 
 // The chapter 6 navigation of a `mission:` robot: its options completed from
@@ -95,7 +107,9 @@ std::unique_ptr<nav::Controller> MakeNavigationController(const Scenario& scenar
   o.seed = core::RandomStream(scenario.seed,
                               core::RandomStream::StreamId((entry.id + "/planner").c_str()))
                .NextU64();
-  const double radius_m = Circumradius(robot.footprint_m);
+  // The polygon that must clear obstacles: chassis, wheels and casters.
+  const std::vector<Eigen::Vector2d> outline = robot.OutlineWithWheels();
+  const double radius_m = PlanningRadius(outline);
   o.local.grid.robot_radius_m = radius_m;
   o.local.band.robot_radius_m = radius_m;
   o.dwa.wheelbase_m = entry.config.odometry.wheelbase_m;
@@ -122,8 +136,8 @@ std::unique_ptr<nav::Controller> MakeNavigationController(const Scenario& scenar
                                    core::RandomStream::StreamId((entry.id + "/tour").c_str())))
           : nav::MissionSequence::List(mission.stations);
   try {
-    return std::make_unique<nav::NavigationController>(std::move(map), robot.footprint_m,
-                                                       std::move(sequence), o);
+    return std::make_unique<nav::NavigationController>(std::move(map), outline, std::move(sequence),
+                                                       o);
   } catch (const std::invalid_argument& e) {
     throw InputError(Diagnostic{scenario.source_file, 0,
                                 "robots[" + std::to_string(index) + "].mission", e.what()});

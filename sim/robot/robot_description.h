@@ -94,6 +94,10 @@ struct RobotDescription {
   std::map<std::string, Material> materials;
 
   double wheelbase_m() const { return left_wheel.position_m.y() - right_wheel.position_m.y(); }
+  // The outline seen from above with the wheels (their collision spheres'
+  // discs, as 16-gons) and casters: what must clear an obstacle at any
+  // height, counter-clockwise, convex (the navigation's robot polygon).
+  std::vector<Eigen::Vector2d> OutlineWithWheels() const;
   // Chassis assembly plus both wheels (kg).
   double total_mass_kg() const {
     return chassis_mass_kg + left_wheel.mass_kg + right_wheel.mass_kg;

@@ -14,6 +14,7 @@
 #include <set>
 #include <sstream>
 
+#include "core/geometry/polygon.h"
 #include "sim/world/triangle_mesh.h"
 
 namespace pavilion::sim {
@@ -293,29 +294,6 @@ void AppendHullPoints(const CollisionShape& s, std::vector<Eigen::Vector3d>* out
       }
       break;
   }
-}
-
-// Andrew's monotone chain: the convex hull, counter-clockwise, without collinear points.
-std::vector<Eigen::Vector2d> ConvexHull(std::vector<Eigen::Vector2d> p) {
-  std::sort(p.begin(), p.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
-  });
-  if (p.size() < 3) return p;
-  auto cross = [](const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-    return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
-  };
-  std::vector<Eigen::Vector2d> hull(2 * p.size());
-  std::size_t k = 0;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    while (k >= 2 && cross(hull[k - 2], hull[k - 1], p[i]) <= 1e-12) --k;
-    hull[k++] = p[i];
-  }
-  for (std::size_t i = p.size() - 1, lower = k + 1; i-- > 0;) {
-    while (k >= lower && cross(hull[k - 2], hull[k - 1], p[i]) <= 1e-12) --k;
-    hull[k++] = p[i];
-  }
-  hull.resize(k - 1);
-  return hull;
 }
 
 // A link reached from base_link through fixed joints, with its pose.
@@ -629,7 +607,7 @@ void ReadChassisShape(const Context& ctx, const std::vector<RigidLink>& rigid,
     z_max = std::max(z_max, p.z());
     planar.push_back(p.head<2>());
   }
-  d.footprint_m = ConvexHull(planar);
+  d.footprint_m = core::ConvexHull(planar);
   if (d.footprint_m.size() < 3) {
     ctx.Fail(ctx.AtLink(names.chassis_link) + "the chassis' collision geometry has no area seen " +
              "from above");
