@@ -49,6 +49,8 @@ class Controller {
                                             const ScanContext& /*context*/) {
     return std::nullopt;
   }
+  // A bumper reading (bit i: zone i pressed), after the tick's scans.
+  virtual void OnBumper(const core::BumperReading& /*reading*/, const ScanContext& /*context*/) {}
   // Controllers working towards a goal report it; the others none.
   virtual std::optional<MissionStatus> mission() const { return std::nullopt; }
 

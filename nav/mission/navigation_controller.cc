@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <stdexcept>
 #include <utility>
 
@@ -54,6 +55,28 @@ std::unique_ptr<InitialPathPlanner> MakeInitialPlanner(const NavigationControlle
   throw std::invalid_argument("NavigationControllerOptions.initial_planner is unknown");
 }
 
+// Points a pressed bumper zone puts on the outline (over its bearings).
+constexpr int kBumperPointsPerZone = 4;
+
+// The point of a convex outline (about the origin) at `bearing_rad`, moved in
+// by a millimetre: a contact.
+Eigen::Vector2d OutlineAt(const std::vector<Eigen::Vector2d>& outline, double bearing_rad) {
+  constexpr double kInsideM = 1e-3;
+  const Eigen::Vector2d dir(std::cos(bearing_rad), std::sin(bearing_rad));
+  double reach = 0.0;
+  for (std::size_t i = 0; i < outline.size(); ++i) {
+    const Eigen::Vector2d& a = outline[i];
+    const Eigen::Vector2d& b = outline[(i + 1) % outline.size()];
+    const Eigen::Vector2d e = b - a;
+    const double denom = dir.x() * e.y() - dir.y() * e.x();
+    if (std::abs(denom) < 1e-12) continue;
+    const double t = (a.x() * e.y() - a.y() * e.x()) / denom;      // along dir
+    const double u = (a.x() * dir.y() - a.y() * dir.x()) / denom;  // along the edge
+    if (t > 0.0 && u >= 0.0 && u <= 1.0) reach = std::max(reach, t);
+  }
+  return std::max(0.0, reach - kInsideM) * dir;
+}
+
 std::vector<Eigen::Vector2d> GhostPoints(const core::RobotMap& map) {
   std::vector<Eigen::Vector2d> ghosts;
   for (const core::MapGhostPoint& g : map.ghost_points) ghosts.push_back(g.position_m);
@@ -74,6 +97,7 @@ void NavigationControllerOptions::Validate() const {
   Require(approach_radius_m > 0.0 && approach_radius_m <= 5.0, "approach_radius_m", "in (0, 5] m");
   Require(blocked_node_cost_m >= 0.0 && blocked_node_cost_m <= 1e4, "blocked_node_cost_m",
           "in [0, 1e4] m");
+  Require(bumper_hold_s >= 0.0 && bumper_hold_s <= 60.0, "bumper_hold_s", "in [0, 60] s");
   ompl.Validate();
   local.Validate();
   dwa.Validate();
@@ -108,6 +132,24 @@ std::optional<WheelSpeeds> NavigationController::OnScan(const core::LaserScan& s
                                                         const ScanContext& context) {
   obstacles_.AddScan(scan, context.odometry);
   return std::nullopt;
+}
+
+void NavigationController::OnBumper(const core::BumperReading& reading,
+                                    const ScanContext& context) {
+  if (reading.zones_in_contact == 0) return;
+  bumper_points_.clear();
+  for (std::size_t z = 0; z < options_.bumper_zones_rad.size(); ++z) {
+    if (!(reading.zones_in_contact & (1u << z))) continue;
+    const auto [from, to] = options_.bumper_zones_rad[z];
+    const double span = core::NormalizeAngle(to - from) < 0.0
+                            ? core::NormalizeAngle(to - from) + 2.0 * std::numbers::pi
+                            : core::NormalizeAngle(to - from);
+    for (int k = 1; k < kBumperPointsPerZone; ++k) {
+      const double bearing = from + span * k / kBumperPointsPerZone;
+      bumper_points_.push_back(OutlineAt(footprint_, bearing));
+    }
+  }
+  bumper_until_s_ = context.now_s + options_.bumper_hold_s;
 }
 
 std::optional<WheelSpeeds> NavigationController::OnTick(const ControlTick& tick) {
@@ -270,6 +312,9 @@ void NavigationController::Drive(const ControlTick& tick) {
     goal.target_in_robot = robot_from_world * target;
   }
   obstacles_.InRobot(tick.odometry, tick.belief, options_.dwa_reach_m, &points_);
+  if (tick.now_s <= bumper_until_s_) {
+    points_.insert(points_.end(), bumper_points_.begin(), bumper_points_.end());
+  }
   const double clearance_m = PolygonClearance(footprint_, points_);
   if (std::isfinite(clearance_m)) {
     figures_.clearance_sum_m += clearance_m;

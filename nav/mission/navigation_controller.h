@@ -62,6 +62,12 @@ struct NavigationControllerOptions {
   // robot's calibrated odometry model.
   core::EncoderOdometryOptions odometry;
   std::uint64_t seed = 1;  // the sampling planners' seeds (scenario seed and robot)
+  // The bumper zones' bearings from the robot's origin (rad, counter-clockwise
+  // from `from` to `to`), bit i of a reading = zone i. A pressed zone becomes
+  // obstacle points on the robot's outline for the dynamic window, held
+  // `bumper_hold_s` after release: contact in a laser's blind zone.
+  std::vector<std::pair<double, double>> bumper_zones_rad;
+  double bumper_hold_s = 1.0;  // s, [0, 60]
 
   void Validate() const;  // throws std::invalid_argument naming the field
 };
@@ -77,6 +83,7 @@ class NavigationController : public Controller {
   std::optional<WheelSpeeds> OnTick(const ControlTick& tick) override;
   std::optional<WheelSpeeds> OnScan(const core::LaserScan& scan,
                                     const ScanContext& context) override;
+  void OnBumper(const core::BumperReading& reading, const ScanContext& context) override;
   std::optional<MissionStatus> mission() const override;
   bool localization_paused() const override { return queue_.localization_paused(); }
   void TakeEvents(std::vector<NavigationEvent>* events) override;
@@ -124,6 +131,9 @@ class NavigationController : public Controller {
   bool cycled_ = false;
   double odometer_m_ = 0.0;
   std::vector<Eigen::Vector2d> points_;  // scratch: obstacle points of a cycle
+  // Virtual points of pressed bumper zones (robot frame) and when they lapse.
+  std::vector<Eigen::Vector2d> bumper_points_;
+  double bumper_until_s_ = -1.0;
   std::vector<Eigen::Vector2d> arc_in_world_;
   std::vector<NavigationEvent> events_;
   mutable NavigationFigures figures_;  // blocked figures filled in on reading

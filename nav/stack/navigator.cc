@@ -27,6 +27,10 @@ SenseResult Navigator::Sense(const SensorFrame& frame) {
     if (b.zones_in_contact != 0 && bumper_zones_ == 0 && estimator_) estimator_->OnCollision();
     bumper_zones_ = b.zones_in_contact;
   }
+  if (controller_ && !frame.bumpers.empty()) {
+    const ScanContext context{frame.now_s, belief(), odometry_.pose()};
+    for (const core::BumperReading& b : frame.bumpers) controller_->OnBumper(b, context);
+  }
   if (estimator_) result.cycle = estimator_->Update(frame.encoders, frame.scans);
   if (controller_) {
     const ScanContext context{frame.now_s, belief(), odometry_.pose()};

@@ -110,6 +110,9 @@ std::unique_ptr<nav::Controller> MakeNavigationController(const Scenario& scenar
   // The polygon that must clear obstacles: chassis, wheels and casters.
   const std::vector<Eigen::Vector2d> outline = robot.OutlineWithWheels();
   const double radius_m = PlanningRadius(outline);
+  for (const sim::BumperZone& z : entry.config.bumpers) {
+    o.bumper_zones_rad.emplace_back(z.from_rad, z.to_rad);
+  }
   o.local.grid.robot_radius_m = radius_m;
   o.local.band.robot_radius_m = radius_m;
   o.dwa.wheelbase_m = entry.config.odometry.wheelbase_m;
