@@ -22,10 +22,10 @@ struct EkfPoseEstimatorOptions {
   Eigen::Matrix3d initial_covariance = Eigen::Matrix3d::Identity() * 1e-4;
   // Added to the pose covariance at each bumper contact (a collision's pose
   // jump, 1 sigma), m and rad; >= 0. Chosen: walkers' bumps turned the
-  // simulated Robox by up to about 3 degrees and shoved it by up to 10 cm
+  // simulated Robox by up to about 10 degrees and shoved it by up to 10 cm
   // (issue 14, expo_tour).
-  double collision_sigma_m = 0.08;
-  double collision_sigma_rad = 0.06;
+  double collision_sigma_m = 0.10;
+  double collision_sigma_rad = 0.15;
 
   void Validate() const;  // throws std::invalid_argument naming the field
 };

@@ -22,9 +22,12 @@ std::optional<WheelSpeeds> Navigator::Control(std::int64_t tick, double now_s) {
 SenseResult Navigator::Sense(const SensorFrame& frame) {
   SenseResult result;
   for (const core::EncoderReading& reading : frame.encoders) odometry_.Update(reading);
-  // A bumper pressed anew: a collision the odometry did not see.
+  // A zone pressed anew, and the release after a press: a collision moves the
+  // robot in ways its odometry does not see, for as long as it lasts.
   for (const core::BumperReading& b : frame.bumpers) {
-    if (b.zones_in_contact != 0 && bumper_zones_ == 0 && estimator_) estimator_->OnCollision();
+    const bool pressed_anew = (b.zones_in_contact & ~bumper_zones_) != 0;
+    const bool released = b.zones_in_contact == 0 && bumper_zones_ != 0;
+    if ((pressed_anew || released) && estimator_) estimator_->OnCollision();
     bumper_zones_ = b.zones_in_contact;
   }
   if (controller_ && !frame.bumpers.empty()) {

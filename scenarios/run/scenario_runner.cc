@@ -358,6 +358,8 @@ void ScenarioRun::MoveBodies(double t) {
     if (stop && t >= walker_paused_until_s_[b]) {
       walker_paused_until_s_[b] = t + kWalkerContactPauseS;
     }
+    // A walker standing for a robot yields: the robot can push it aside.
+    if (visitor_body_[b]) world_->SetYielding(b, stop);
     world_->SetPlanarVelocity(b, stop ? Eigen::Vector2d::Zero() : body_commands_[b].linear_mps,
                               stop ? 0.0 : body_commands_[b].yaw_rate_radps);
   }

@@ -69,6 +69,10 @@ struct World::Impl {
     // linear and yaw decelerations (m/s², rad/s²); zero for other bodies.
     double slide_decel_mps2 = 0.0;
     double spin_decel_radps2 = 0.0;
+    // A driven upright body's decelerations while it yields (SetYielding).
+    double yield_slide_decel_mps2 = 0.0;
+    double yield_spin_decel_radps2 = 0.0;
+    bool yielding = false;
   };
 
   Impl(WorldDescription world_description, const WorldOptions& world_options)
@@ -104,21 +108,23 @@ struct World::Impl {
   // planar velocity, for the coming step of `dt`.
   static void ApplyPlanarMotion(Body* body, double dt) {
     Body& b = *body;
-    if (b.slide_decel_mps2 > 0.0 && b.rigid->getInvMass() > 0.0 &&
+    const double slide_decel_mps2 = b.yielding ? b.yield_slide_decel_mps2 : b.slide_decel_mps2;
+    const double spin_decel_radps2 = b.yielding ? b.yield_spin_decel_radps2 : b.spin_decel_radps2;
+    if (slide_decel_mps2 > 0.0 && b.rigid->getInvMass() > 0.0 &&
         b.rigid->getWorldTransform().getOrigin().z() <
             b.spec.shape.HalfHeight() + kContactDistanceM) {
       // Coulomb friction with the floor; it stops a body but never reverses it.
       btVector3 v = b.rigid->getLinearVelocity();
       const double speed = std::hypot(v.x(), v.y());
-      const double dv = std::min(speed, b.slide_decel_mps2 * dt);
+      const double dv = std::min(speed, slide_decel_mps2 * dt);
       if (speed > 0.0)
         b.rigid->setLinearVelocity(
             btVector3(v.x() * (1 - dv / speed), v.y() * (1 - dv / speed), v.z()));
       btVector3 w = b.rigid->getAngularVelocity();
-      const double dw = std::min(std::abs(w.z()), b.spin_decel_radps2 * dt);
+      const double dw = std::min(std::abs(w.z()), spin_decel_radps2 * dt);
       b.rigid->setAngularVelocity(btVector3(w.x(), w.y(), w.z() - std::copysign(dw, w.z())));
     }
-    if (!b.spec.driven) return;
+    if (!b.spec.driven || b.yielding) return;
     const btVector3 v = b.rigid->getLinearVelocity();
     b.rigid->setLinearVelocity(btVector3(b.velocity_mps.x(), b.velocity_mps.y(), v.z()));
     const btVector3 w = b.rigid->getAngularVelocity();
@@ -212,7 +218,7 @@ int World::AddBody(const BodySpec& spec) {
   const int element = im.elements.Add(spec.id, spec.material, true);
   rigid->setUserIndex(element);
   Impl::Body record{spec, element, rigid.get(), {0, 0}, 0.0, 0.0, 0.0};
-  if (spec.upright && !spec.driven) {
+  if (spec.upright) {
     // Bullet combines friction coefficients by their product; so do we.
     const double mu =
         material.friction * im.description.MaterialNamed(im.description.floor.material).friction;
@@ -224,6 +230,10 @@ int World::AddBody(const BodySpec& spec) {
     record.spin_decel_radps2 = inertia.z() > 0 ? (2.0 / 3.0) * mu * spec.mass_kg *
                                                      im.options.gravity_mps2 * r / inertia.z()
                                                : 0.0;
+  }
+  if (spec.driven) {  // driven bodies slide so only while they yield
+    record.yield_slide_decel_mps2 = std::exchange(record.slide_decel_mps2, 0.0);
+    record.yield_spin_decel_radps2 = std::exchange(record.spin_decel_radps2, 0.0);
   }
   im.physics.AddRigidBody(std::move(shape), std::move(motion), std::move(rigid));
   im.bodies.push_back(record);
@@ -288,6 +298,11 @@ void World::SetPlanarVelocity(int body, const Eigen::Vector2d& velocity_mps,
   Impl::Body& b = impl_->bodies.at(body);
   b.velocity_mps = velocity_mps;
   b.yaw_rate_radps = yaw_rate_radps;
+}
+
+void World::SetYielding(int body, bool yielding) {
+  Impl::Body& b = impl_->bodies.at(body);
+  b.yielding = yielding && b.spec.driven && b.spec.upright;
 }
 
 void World::ApplyImpulse(int body, const Eigen::Vector2d& impulse_ns) {

@@ -194,6 +194,11 @@ class World {
 
   // For driven bodies: the planar velocity (world frame) held during the next steps.
   void SetPlanarVelocity(int body, const Eigen::Vector2d& velocity_mps, double yaw_rate_radps);
+  // A driven upright body that yields is not driven while it does: it stands
+  // and gives way when pressed, sliding with the floor's Coulomb friction like
+  // an undriven upright body (a person making room for a machine pushing
+  // them), instead of holding its set velocity against any force.
+  void SetYielding(int body, bool yielding);
   // Applies a horizontal impulse at the body's centre (a push).
   void ApplyImpulse(int body, const Eigen::Vector2d& impulse_ns);
   // Moves a body to a new pose at rest (a kidnap).

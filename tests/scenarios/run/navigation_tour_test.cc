@@ -70,7 +70,7 @@ TEST(NavigationTour, OfficeErrandsShortRunCompletesEveryErrand) {
 // sees or the map's ghost points guard is hit.
 TEST(NavigationTour, ExpoTourShortRunReachesStationsWithoutHittingExhibits) {
   const std::filesystem::path dir = pavilion::testing::TestDir() / "expo";
-  const RunMetrics m = RunFor("expo_tour", 2, 240.0, dir);
+  const RunMetrics m = RunFor("expo_tour", 1, 240.0, dir);
   const RobotMetrics& r = m.robots.front();
   ASSERT_TRUE(r.navigation);
   EXPECT_GE(r.navigation->missions_completed, 4);
