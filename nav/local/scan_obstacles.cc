@@ -8,6 +8,13 @@
 #include "core/geometry/segment2.h"
 
 namespace pavilion::nav {
+namespace {
+
+// Blind-zone memory: one scan per laser this often (s), points this near (m).
+constexpr double kMemoryPeriodS = 0.1;
+constexpr double kMemoryReachM = 3.0;
+
+}  // namespace
 
 ScanObstacles::ScanObstacles(std::vector<Eigen::Vector2d> footprint_in_robot,
                              std::vector<Eigen::Vector2d> ghosts_in_world, double blind_memory_s)
@@ -24,7 +31,19 @@ void ScanObstacles::AddScan(const core::LaserScan& scan, const core::Pose2& odom
     lasers_.push_back(std::move(added));
     it = std::prev(lasers_.end());
   }
-  if (!it->in_odom.empty()) memory_.push_back({scan.stamp_s, std::move(it->in_odom)});
+  // The blind-zone memory keeps a scan per laser every kMemoryPeriodS, and of
+  // it only the points within kMemoryReachM of the robot: what the dynamic
+  // window may need, at a tenth of the points to test each cycle.
+  if (!it->in_odom.empty() && scan.stamp_s - it->remembered_s >= kMemoryPeriodS) {
+    Remembered kept{scan.stamp_s, {}};
+    for (const Eigen::Vector2d& p : it->in_odom) {
+      if ((p - odom_from_robot.translation()).squaredNorm() <= kMemoryReachM * kMemoryReachM) {
+        kept.in_odom.push_back(p);
+      }
+    }
+    memory_.push_back(std::move(kept));
+    it->remembered_s = scan.stamp_s;
+  }
   std::erase_if(memory_,
                 [&](const Remembered& m) { return m.stamp_s < scan.stamp_s - blind_memory_s_; });
   it->in_odom.clear();
@@ -109,7 +128,10 @@ double PolygonClearance(std::span<const Eigen::Vector2d> polygon,
                         std::span<const Eigen::Vector2d> points) {
   double best = std::numeric_limits<double>::infinity();
   const core::Polygon2 outline(polygon.begin(), polygon.end());
+  double radius_m = 0.0;
+  for (const Eigen::Vector2d& v : polygon) radius_m = std::max(radius_m, v.norm());
   for (const Eigen::Vector2d& p : points) {
+    if (p.norm() - radius_m > best) continue;  // farther than the nearest so far
     if (core::Contains(outline, p)) return 0.0;
     for (std::size_t i = 0; i < polygon.size(); ++i) {
       const Eigen::Vector2d& a = polygon[i];

@@ -53,6 +53,7 @@ class ScanObstacles {
     double min_bearing_rad = 0.0;  // the scan's field of view
     double max_bearing_rad = 0.0;
     double max_range_m = 0.0;
+    double remembered_s = -1e9;  // stamp of its last scan kept in memory_
   };
   struct Remembered {
     double stamp_s = 0.0;
@@ -65,7 +66,7 @@ class ScanObstacles {
   std::vector<Eigen::Vector2d> ghosts_in_world_;
   double blind_memory_s_;
   std::vector<LaserPoints> lasers_;
-  std::vector<Remembered> memory_;  // earlier scans, oldest first
+  std::vector<Remembered> memory_;  // earlier scans (thinned), oldest first
 };
 
 // Distance (m) from a convex polygon to the nearest of `points` (0 for a point

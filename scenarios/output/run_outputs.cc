@@ -93,6 +93,11 @@ void WritePerformanceJson(const std::filesystem::path& out, const RunSummary& s,
     perf["localization_us_per_odometry_tick"] =
         1e6 * s.estimator_tick_s / static_cast<double>(s.estimator_ticks);
   }
+  if (s.robot_sim_s > 0) {
+    // The robots' control steps per simulated robot-second (issue 14's budget:
+    // 5.5 ms of CPU per robot and simulated second for the whole stack).
+    perf["control_ms_per_robot_sim_s"] = 1e3 * s.control_s / s.robot_sim_s;
+  }
   perf["laser_rays_per_s"] =
       s.sensors_s > 0 ? static_cast<double>(s.laser_rays) / s.sensors_s : 0.0;
   perf["stages_s"] = {{"startup", s.startup_s},

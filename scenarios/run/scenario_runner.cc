@@ -380,7 +380,9 @@ bool ScenarioRun::WalkerMeetsRobot(int b, const Eigen::Vector2d& velocity) const
 
 void ScenarioRun::ControlRobots(std::int64_t tick, double t) {
   for (RobotRun& r : robots_) {
+    const auto t_control = Clock::now();
     const std::optional<nav::WheelSpeeds> command = r.navigator->Control(tick, t);
+    summary_.control_s += Seconds(Clock::now() - t_control);
     if (command) r.robot->SetWheelSpeeds(command->left_radps, command->right_radps);
     const nav::Controller* controller = r.navigator->controller();
     const std::optional<nav::MissionStatus> mission =
@@ -653,6 +655,7 @@ RunSummary ScenarioRun::Finish() {
   WriteSnapshotsAndReport(out_, scenario_, *world_, body_tracks_, tracks, localizations,
                           summary_.metrics);
   summary_.sim_duration_s = sim_s;
+  summary_.robot_sim_s = sim_s * static_cast<double>(robots_.size());
   summary_.ticks = ticks_run_;
   summary_.wall_time_s = Seconds(Clock::now() - t_start_);
   summary_.real_time_factor = summary_.loop_s > 0 ? sim_s / summary_.loop_s : 0.0;

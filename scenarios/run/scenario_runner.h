@@ -43,6 +43,10 @@ struct RunSummary {
   // others (odometry prediction only).
   double estimator_cycle_s = 0.0;
   double estimator_tick_s = 0.0;
+  // Thread time in the robots' control steps (Navigator::Control: the chapter 6
+  // navigation's dynamic window, band and planning) and the simulated robot-seconds.
+  double control_s = 0.0;
+  double robot_sim_s = 0.0;
   std::int64_t estimator_cycles = 0;
   std::int64_t estimator_ticks = 0;  // robot-ticks without a cycle
   std::int64_t laser_rays = 0;       // rays cast by every laser (counted by the scanners)
