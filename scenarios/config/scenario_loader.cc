@@ -450,10 +450,9 @@ void ReadRobots(YamlDocument* doc, MapReader& top, const std::string& base, Scen
     ReadMission(doc, r, *s, &robot);
     ReadWander(doc, r, model_ok, &robot);
     // One controller per robot: a scripted drive, a route, a mission or a wander.
-    const int controllers = static_cast<int>(!robot.drive.empty()) +
-                            static_cast<int>(robot.route.has_value()) +
-                            static_cast<int>(robot.mission.has_value()) +
-                            static_cast<int>(robot.wander.has_value());
+    const int controllers =
+        static_cast<int>(!robot.drive.empty()) + static_cast<int>(robot.route.has_value()) +
+        static_cast<int>(robot.mission.has_value()) + static_cast<int>(robot.wander.has_value());
     if (controllers > 1) {
       const std::string key = robot.wander ? "wander" : robot.mission ? "mission" : "route";
       doc->Error(r.Child(key), r.PathOf(key),

@@ -144,4 +144,3 @@ void BM_ElasticBandUpdate(benchmark::State& state) {
 BENCHMARK(BM_ElasticBandUpdate)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
-

@@ -119,4 +119,3 @@ void BM_DynamicWindowChooseEscape(benchmark::State& state) {
 BENCHMARK(BM_DynamicWindowChooseEscape)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
-

@@ -209,4 +209,3 @@ BENCHMARK_CAPTURE(BM_OmplInitialPath, rrt_star, nav::OmplPlannerType::kRrtStar)
     ->Unit(benchmark::kMillisecond);
 
 }  // namespace
-
