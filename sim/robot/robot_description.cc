@@ -16,10 +16,10 @@ const MountSpec& RobotDescription::Mount(const std::string& link) const {
 }
 
 std::vector<Eigen::Vector2d> RobotDescription::OutlineWithWheels() const {
-  constexpr int kDiscVertices = 8;
+  constexpr int kDiscVertices = 16;
   std::vector<Eigen::Vector2d> points = footprint_m;
   const auto add_disc = [&](const Eigen::Vector2d& c, double r) {
-    // The octagon around the disc (its vertices at r / cos(pi / 8)) holds it.
+    // The 16-gon around the disc (its vertices at r / cos(pi / 16)) holds it.
     const double outer = r / std::cos(std::numbers::pi / kDiscVertices);
     for (int k = 0; k < kDiscVertices; ++k) {
       const double a = 2.0 * std::numbers::pi * k / kDiscVertices;

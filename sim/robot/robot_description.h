@@ -95,7 +95,7 @@ struct RobotDescription {
 
   double wheelbase_m() const { return left_wheel.position_m.y() - right_wheel.position_m.y(); }
   // The outline seen from above with the wheels (their collision spheres'
-  // discs, as octagons) and casters: what must clear an obstacle at any
+  // discs, as 16-gons) and casters: what must clear an obstacle at any
   // height, counter-clockwise, convex (the navigation's robot polygon).
   std::vector<Eigen::Vector2d> OutlineWithWheels() const;
   // Chassis assembly plus both wheels (kg).
