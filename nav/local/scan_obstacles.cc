@@ -6,6 +6,7 @@
 
 #include "core/geometry/polygon.h"
 #include "core/geometry/segment2.h"
+#include "nav/reactive/swept_polygon.h"
 
 namespace pavilion::nav {
 namespace {
@@ -47,7 +48,7 @@ void ScanObstacles::AddScan(const core::LaserScan& scan, const core::Pose2& odom
   std::erase_if(memory_,
                 [&](const Remembered& m) { return m.stamp_s < scan.stamp_s - blind_memory_s_; });
   it->in_odom.clear();
-  it->robot_from_sensor = scan.robot_from_sensor;
+  it->sensor_from_robot = scan.robot_from_sensor.Inverse();
   it->max_range_m = scan.max_range_m;
   if (!scan.readings.empty()) {
     it->min_bearing_rad =
@@ -92,7 +93,7 @@ void ScanObstacles::InRobot(const core::Pose2& odom_from_robot, const core::Pose
 
 bool ScanObstacles::Covered(const Eigen::Vector2d& point_in_robot) const {
   for (const LaserPoints& l : lasers_) {
-    const Eigen::Vector2d q = l.robot_from_sensor.Inverse() * point_in_robot;
+    const Eigen::Vector2d q = l.sensor_from_robot * point_in_robot;
     const double bearing = std::atan2(q.y(), q.x());
     if (bearing >= l.min_bearing_rad && bearing <= l.max_bearing_rad && q.norm() < l.max_range_m) {
       return true;
@@ -128,8 +129,7 @@ double PolygonClearance(std::span<const Eigen::Vector2d> polygon,
                         std::span<const Eigen::Vector2d> points) {
   double best = std::numeric_limits<double>::infinity();
   const core::Polygon2 outline(polygon.begin(), polygon.end());
-  double radius_m = 0.0;
-  for (const Eigen::Vector2d& v : polygon) radius_m = std::max(radius_m, v.norm());
+  const double radius_m = Circumradius(outline);
   for (const Eigen::Vector2d& p : points) {
     if (p.norm() - radius_m > best) continue;  // farther than the nearest so far
     if (core::Contains(outline, p)) return 0.0;

@@ -49,8 +49,8 @@ class ScanObstacles {
   struct LaserPoints {
     std::string sensor_id;
     std::vector<Eigen::Vector2d> in_odom;
-    core::Pose2 robot_from_sensor;
-    double min_bearing_rad = 0.0;  // the scan's field of view
+    core::Pose2 sensor_from_robot;  // its mount, inverted once per scan
+    double min_bearing_rad = 0.0;   // the scan's field of view
     double max_bearing_rad = 0.0;
     double max_range_m = 0.0;
     double remembered_s = -1e9;  // stamp of its last scan kept in memory_

@@ -7,7 +7,9 @@
 #include <stdexcept>
 #include <utility>
 
+#include "core/geometry/segment2.h"
 #include "nav/local/nf1.h"
+#include "nav/reactive/swept_polygon.h"
 
 namespace pavilion::nav {
 namespace {
@@ -63,18 +65,15 @@ constexpr int kBumperPointsPerZone = 4;
 Eigen::Vector2d OutlineAt(const std::vector<Eigen::Vector2d>& outline, double bearing_rad) {
   constexpr double kInsideM = 1e-3;
   const Eigen::Vector2d dir(std::cos(bearing_rad), std::sin(bearing_rad));
-  double reach = 0.0;
+  // A ray from the origin twice the circumradius long leaves the outline once.
+  const Eigen::Vector2d end = 2.0 * Circumradius(outline) * dir;
+  double t = 0.0;
   for (std::size_t i = 0; i < outline.size(); ++i) {
-    const Eigen::Vector2d& a = outline[i];
-    const Eigen::Vector2d& b = outline[(i + 1) % outline.size()];
-    const Eigen::Vector2d e = b - a;
-    const double denom = dir.x() * e.y() - dir.y() * e.x();
-    if (std::abs(denom) < 1e-12) continue;
-    const double t = (a.x() * e.y() - a.y() * e.x()) / denom;      // along dir
-    const double u = (a.x() * dir.y() - a.y() * dir.x()) / denom;  // along the edge
-    if (t > 0.0 && u >= 0.0 && u <= 1.0) reach = std::max(reach, t);
+    const double hit = core::RaySegmentHit(Eigen::Vector2d::Zero(), end, outline[i],
+                                           outline[(i + 1) % outline.size()]);
+    if (std::isfinite(hit)) t = std::max(t, hit);
   }
-  return std::max(0.0, reach - kInsideM) * dir;
+  return std::max(0.0, t * end.norm() - kInsideM) * dir;
 }
 
 std::vector<Eigen::Vector2d> GhostPoints(const core::RobotMap& map) {
@@ -242,7 +241,7 @@ bool NavigationController::PlanGlobal(const ControlTick& tick, int avoid_node) {
 
 void NavigationController::PlanLocal(const ControlTick& tick, bool replan, const char* cause) {
   if (queue_.empty()) return;
-  obstacles_.InWorld(tick.odometry, tick.belief, 0.75 * options_.local.grid.size_m, &points_);
+  obstacles_.InWorld(tick.odometry, tick.belief, GridReachM(), &points_);
   local_target_ = queue_.current().id;
   local_->Plan(tick.belief.translation(), queue_.current().position_m, points_,
                PlanSeed(options_.seed, plans_++));
@@ -263,7 +262,7 @@ void NavigationController::UpdateBand(const ControlTick& tick) {
     PlanLocal(tick, false, "");
     return;
   }
-  obstacles_.InWorld(tick.odometry, tick.belief, 0.75 * options_.local.grid.size_m, &points_);
+  obstacles_.InWorld(tick.odometry, tick.belief, GridReachM(), &points_);
   ++figures_.band_updates;
   switch (local_->Update(tick.belief.translation(), points_)) {
     case LocalPlanner::Status::kOk:

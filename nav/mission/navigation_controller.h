@@ -102,6 +102,9 @@ class NavigationController : public Controller {
   void CheckProgress(const ControlTick& tick);
   void Emit(NavigationEvent::Type type, double at_s);
   WheelSpeeds ToWheels(const WheelVelocity& rim) const;
+  // Obstacle points this near the robot go to the local grid: its half-diagonal.
+  double GridReachM() const { return kGridReachPerSide * options_.local.grid.size_m; }
+  static constexpr double kGridReachPerSide = 0.75;  // > sqrt(2) / 2
 
   NavigationControllerOptions options_;
   core::RobotMap map_;

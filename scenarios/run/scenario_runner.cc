@@ -13,6 +13,7 @@
 #include <set>
 #include <tuple>
 
+#include "nav/reactive/swept_polygon.h"
 #include "nav/stack/navigator.h"
 #include "scenarios/config/input_error.h"
 #include "scenarios/config/robot_setup.h"
@@ -266,11 +267,7 @@ void ScenarioRun::BuildCollisionClasses() {
   robot_contacts_.assign(world_->body_count(), 0);
   walker_paused_until_s_.assign(world_->body_count(), -1.0);
   for (const RobotRun& r : robots_) {
-    double radius_m = 0.0;
-    for (const Eigen::Vector2d& v : r.entry->config.description.footprint_m) {
-      radius_m = std::max(radius_m, v.norm());
-    }
-    robot_radius_m_.push_back(radius_m);
+    robot_radius_m_.push_back(nav::Circumradius(r.entry->config.description.footprint_m));
   }
   std::vector<bool> visitor_element(elements.size(), false);
   for (int b = 0; b < world_->body_count(); ++b) {
