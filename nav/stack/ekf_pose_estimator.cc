@@ -65,6 +65,8 @@ EstimatorCycle EkfPoseEstimator::ReportCycle(long matches_before) const {
   c.matched_lines += static_cast<int>(
       std::max(0L, matched - (c.matched_lines + c.matched_beacons + c.matched_other)));
   c.lost = localizer_->status().state == core::LocalizationState::kLost;
+  c.mode = c.lost ? LocalizationMode::kLost : LocalizationMode::kLocalized;
+  c.hypotheses = c.lost ? 0 : 1;
   return c;
 }
 

@@ -1,8 +1,9 @@
 #pragma once
 
 // The estimator seam of the robot stack (nav::Navigator): what turns a robot's
-// encoder readings and scans into a pose estimate. Today the EKF pose tracking
-// of thesis §4.4 (EkfPoseEstimator); global localization (chapter 5) next.
+// encoder readings and scans into a pose estimate: the EKF pose tracking of
+// thesis §4.4 (EkfPoseEstimator), or global localization with the framework of
+// chapter 5, Fig. 5.17 (GlobalPoseEstimator).
 
 #include <optional>
 #include <span>
@@ -14,6 +15,22 @@
 
 namespace pavilion::nav {
 
+// Where the estimator stands in the framework of thesis Fig. 5.17, by n, the
+// number of location hypotheses it holds: localized (n = 1: one hypothesis,
+// tracked), not localized (n > 1: unresolved location ambiguity) or lost
+// (n = 0). The estimator decides from its own data only.
+enum class LocalizationMode { kLocalized, kNotLocalized, kLost };
+
+// "localized", "not_localized", "lost" (events.jsonl, localization.csv).
+const char* LocalizationModeName(LocalizationMode mode);
+
+// One location hypothesis (thesis eq. 5.62): its estimate and its support.
+struct LocationHypothesis {
+  core::PoseWithCovariance estimate;  // at the estimator's latest time
+  int pairings = 0;                   // p', the non-star pairings of its supporting set
+  double joint_mahalanobis = 0.0;     // its goodness of fit (§5.5.2)
+};
+
 // What one estimation cycle did (a localization cycle: thesis Fig. 4.2).
 struct EstimatorCycle {
   int predictions = 0;   // visible map features
@@ -22,6 +39,8 @@ struct EstimatorCycle {
   int matched_beacons = 0;
   int matched_other = 0;
   bool lost = false;  // the estimator declares itself lost
+  LocalizationMode mode = LocalizationMode::kLocalized;
+  int hypotheses = 1;  // n at the end of the cycle
 };
 
 class PoseEstimator {
@@ -32,7 +51,17 @@ class PoseEstimator {
   virtual std::optional<EstimatorCycle> Update(
       std::span<const core::EncoderReading> encoders,
       const std::vector<const core::LaserScan*>& scans) = 0;
+  // The estimate the robot acts on: its only hypothesis when localized, the
+  // best one (§5.5.2) otherwise; meaningless when lost.
   virtual const core::PoseWithCovariance& estimate() const = 0;
+  virtual LocalizationMode mode() const {
+    return lost_reason() == "none" ? LocalizationMode::kLocalized : LocalizationMode::kLost;
+  }
+  // The hypothesis set, best first (empty when lost).
+  virtual std::vector<LocationHypothesis> hypotheses() const {
+    if (mode() == LocalizationMode::kLost) return {};
+    return {LocationHypothesis{estimate(), 0, 0.0}};
+  }
   // Why the estimator declares itself lost ("none" while it tracks), for events.
   virtual std::string lost_reason() const = 0;
   // While paused (the navigation near a goal, §6.3.3: "localization gets
