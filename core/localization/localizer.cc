@@ -4,13 +4,12 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <map>
 #include <set>
 #include <stdexcept>
 #include <string>
 #include <utility>
 
-#include "core/localization/scan_deskew.h"
+#include "core/localization/scan_observations.h"
 
 namespace pavilion::core {
 namespace {
@@ -240,78 +239,18 @@ ObservationStatus Localizer::AddScan(const LaserScan& scan) {
 
 ObservationStatus Localizer::ProcessScan(const LaserScan& raw) {
   const LaserSensorOptions& laser = LaserOptions(raw.sensor_id);
-  LaserScan scan = raw;
-  if (laser.deskew) {
-    std::optional<LaserScan> registered = DeskewScan(raw, buffer_);
-    if (!registered) {
-      ++counters_.too_old;
-      return ObservationStatus::kTooOld;
-    }
-    scan = std::move(*registered);
-  } else if (!scan.readings.empty()) {
-    scan.stamp_s += scan.readings.front().time_offset_s;
+  std::optional<LaserScan> scan = RegisterScan(raw, laser, buffer_);
+  if (!scan) {
+    ++counters_.too_old;
+    return ObservationStatus::kTooOld;
   }
-  const ObservationStatus admitted = Admit(scan.stamp_s);
+  const ObservationStatus admitted = Admit(scan->stamp_s);
   if (admitted != ObservationStatus::kIntegrated) {
     if (admitted == ObservationStatus::kTooOld) ++counters_.too_old;
     if (admitted == ObservationStatus::kOutOfOrder) ++counters_.out_of_order;
     return admitted;
   }
-
-  ObservationBatch batch;
-  batch.sensor_id = scan.sensor_id;
-  batch.stamp_s = scan.stamp_s;
-  batch.view.robot_from_sensor = scan.robot_from_sensor;
-  batch.view.robot_from_sensor_covariance = laser.robot_from_sensor_covariance;
-  batch.view.perception_radius_m =
-      laser.perception_radius_m > 0.0 ? laser.perception_radius_m : scan.max_range_m;
-  batch.view.min_view_angle_rad = laser.min_view_angle_rad;
-  if (raw.readings.size() >= 2) {  // field of view: the span of the bearings
-    double lo = std::numeric_limits<double>::infinity();
-    double hi = -lo;
-    for (const LaserReading& r : raw.readings) {
-      lo = std::min(lo, r.bearing_rad);
-      hi = std::max(hi, r.bearing_rad);
-    }
-    if (hi > lo && hi - lo < 2.0 * std::numbers::pi) {
-      batch.view.min_bearing_rad = lo;
-      batch.view.max_bearing_rad = hi;
-    }
-  }
-  batch.types.push_back(ObservationType::kLine);
-
-  // Lines: the pieces of one line seen through gaps share their line
-  // (Segment::line_id) and form one observation with several segments.
-  const std::vector<Segment> segments = ExtractLines(scan, laser.lines);
-  std::map<int, std::size_t> by_line_id;
-  for (const Segment& s : segments) {
-    if (s.line_id >= 0) {
-      const auto it = by_line_id.find(s.line_id);
-      if (it != by_line_id.end()) {
-        batch.observations[it->second].segments.push_back({s.first_endpoint, s.last_endpoint});
-        continue;
-      }
-      by_line_id[s.line_id] = batch.observations.size();
-    }
-    Observation o;
-    o.type = ObservationType::kLine;
-    o.z = {s.line.alpha_rad, s.line.r_m};
-    o.covariance = s.line.covariance;
-    o.segments.push_back({s.first_endpoint, s.last_endpoint});
-    batch.observations.push_back(std::move(o));
-  }
-  if (laser.extract_beacons) {
-    batch.types.push_back(ObservationType::kBeacon);
-    for (const Beacon& b : ExtractBeacons(scan, laser.beacons)) {
-      const Point2Uncertain p = b.Cartesian();
-      Observation o;
-      o.type = ObservationType::kBeacon;
-      o.z = p.position_m;
-      o.covariance = p.covariance;
-      batch.observations.push_back(std::move(o));
-    }
-  }
-  return Integrate(batch);
+  return Integrate(ScanObservations(*scan, raw, laser));
 }
 
 ObservationStatus Localizer::AddObservations(const ObservationBatch& batch) {

@@ -5,10 +5,6 @@
 #include <utility>
 
 namespace pavilion::nav {
-namespace {
-// Scan stamps are compared with a laser's due time up to this rounding (s).
-constexpr double kDueToleranceS = 1e-9;
-}  // namespace
 
 void EkfPoseEstimatorOptions::Validate() const {
   if (!(rate_hz > 0.0)) throw std::invalid_argument("EkfPoseEstimatorOptions.rate_hz must be > 0");
@@ -18,7 +14,7 @@ void EkfPoseEstimatorOptions::Validate() const {
 }
 
 EkfPoseEstimator::EkfPoseEstimator(core::RobotMap map, const EkfPoseEstimatorOptions& options)
-    : options_(options), next_due_s_(options.lasers.size(), 0.0) {
+    : options_(options), gate_(options.lasers, options.rate_hz) {
   options_.Validate();
   localizer_ = std::make_unique<core::Localizer>(std::move(map), options_.localizer);
   localizer_->Initialize(options_.initial_pose, options_.initial_covariance, 0.0);
@@ -32,12 +28,7 @@ std::optional<EstimatorCycle> EkfPoseEstimator::Update(
   // Scans in the order they finished; each laser's at most rate_hz times per s.
   for (const core::LaserScan* scan : scans) {
     if (paused_) break;
-    const auto it = std::find(options_.lasers.begin(), options_.lasers.end(), scan->sensor_id);
-    if (it == options_.lasers.end()) continue;
-    double& next = next_due_s_[static_cast<std::size_t>(it - options_.lasers.begin())];
-    if (scan->stamp_s + kDueToleranceS < next) continue;
-    next = std::max(next + 1.0 / options_.rate_hz, scan->stamp_s);
-    localizer_->AddScan(*scan);
+    if (gate_.Admit(*scan)) localizer_->AddScan(*scan);
   }
   const long cycles = localizer_->counters().cycles;
   if (cycles == last_cycles_) return std::nullopt;

@@ -11,6 +11,7 @@
 
 #include "core/localization/localizer.h"
 #include "nav/stack/pose_estimator.h"
+#include "nav/stack/scan_rate_gate.h"
 
 namespace pavilion::nav {
 
@@ -47,7 +48,7 @@ class EkfPoseEstimator : public PoseEstimator {
 
   std::unique_ptr<core::Localizer> localizer_;
   EkfPoseEstimatorOptions options_;
-  std::vector<double> next_due_s_;  // per entry of options_.lasers
+  ScanRateGate gate_;
   long last_cycles_ = 0;
   bool paused_ = false;
 };

@@ -58,6 +58,12 @@ struct LocalizationEntry {
   Eigen::Vector3d initial_sigma{0.01, 0.01, 0.0175};  // m, m, rad; each finite and > 0
   double significance = 0.95;       // of the validation gate (eq. 4.16), [0.5, 0.999999]
   std::vector<std::string> lasers;  // lasers that feed it; empty: all
+  // `method: global`: global localization (thesis chapter 5, Fig. 5.17) —
+  // lost is not final, the robot relocalizes itself; `ekf` (default): the
+  // chapter-4 pose tracking alone.
+  bool global = false;
+  // `initial: unknown`: the robot does not know where it starts (global only).
+  bool initial_unknown = false;
 
   void Validate() const;  // throws std::invalid_argument naming the field
 };

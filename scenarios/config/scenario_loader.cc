@@ -212,8 +212,9 @@ void ReadBodies(YamlDocument* doc, MapReader& top, const sim::WorldDescription& 
   }
 }
 
-// localization: {map, rate_hz, initial_offset: [x, y, theta], initial_sigma:
-// [x, y, theta], significance, lasers: [ids]} (thesis §4.4).
+// localization: {map, rate_hz, method: ekf|global, initial: known|unknown,
+// initial_offset: [x, y, theta], initial_sigma: [x, y, theta], significance,
+// lasers: [ids]} (thesis §4.4, chapter 5).
 void ReadLocalization(YamlDocument* doc, MapReader& r, const std::string& base,
                       const Scenario& scenario, RobotEntry* robot) {
   YAML::Node node = r.Child("localization");
@@ -240,6 +241,22 @@ void ReadLocalization(YamlDocument* doc, MapReader& r, const std::string& base,
   }
   if (auto o = m.Numbers("initial_offset", 3, false))
     l.initial_offset = {(*o)[0], (*o)[1], (*o)[2]};
+  const std::string method = m.String("method", "ekf");
+  if (method != "ekf" && method != "global") {
+    doc->Error(m.Child("method"), m.PathOf("method"),
+               "expected 'ekf' (thesis chapter 4) or 'global' (chapter 5), not '" + method + "'");
+  }
+  const std::string initial = m.String("initial", "known");
+  if (initial != "known" && initial != "unknown") {
+    doc->Error(m.Child("initial"), m.PathOf("initial"),
+               "expected 'known' or 'unknown', not '" + initial + "'");
+  }
+  l.initial_unknown = initial == "unknown";
+  l.global = method == "global" || l.initial_unknown;
+  if (l.initial_unknown && method == "ekf" && m.Has("method")) {
+    doc->Error(m.Child("initial"), m.PathOf("initial"),
+               "'initial: unknown' needs 'method: global' (the EKF tracks from a known start)");
+  }
   std::vector<OptionField<LocalizationEntry>> fields = {
       {"rate_hz", &LocalizationEntry::rate_hz},
       {"initial_sigma", &LocalizationEntry::initial_sigma},

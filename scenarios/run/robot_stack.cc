@@ -14,6 +14,7 @@
 #include "nav/mission/navigation_controller.h"
 #include "nav/route/route_planner.h"
 #include "nav/stack/ekf_pose_estimator.h"
+#include "nav/stack/global_pose_estimator.h"
 #include "scenarios/config/input_error.h"
 #include "scenarios/maps/closed_doors.h"
 #include "scenarios/maps/map_derivation.h"
@@ -42,22 +43,52 @@ core::LocalizerOptions LocalizerOptionsFor(const RobotEntry& robot) {
   return o;
 }
 
-std::unique_ptr<nav::PoseEstimator> MakeEstimator(const RobotEntry& robot, core::RobotMap map) {
+std::vector<std::string> EstimatorLasers(const RobotEntry& robot) {
   const LocalizationEntry& entry = robot.localization;
-  nav::EkfPoseEstimatorOptions options;
-  options.localizer = LocalizerOptionsFor(robot);
-  options.rate_hz = entry.rate_hz;
+  std::vector<std::string> lasers;
   for (const sim::LaserMount& mount : robot.config.lasers) {
     if (entry.lasers.empty() ||
         std::find(entry.lasers.begin(), entry.lasers.end(), mount.id) != entry.lasers.end()) {
-      options.lasers.push_back(mount.id);
+      lasers.push_back(mount.id);
     }
   }
-  options.initial_pose = {
-      robot.pose.x_m + entry.initial_offset.x_m, robot.pose.y_m + entry.initial_offset.y_m,
-      core::NormalizeAngle(robot.pose.theta_rad + entry.initial_offset.theta_rad)};
+  return lasers;
+}
+
+// The estimate's start: the true start pose plus the entry's offset.
+core::PoseWithCovariance InitialEstimate(const RobotEntry& robot) {
+  const LocalizationEntry& entry = robot.localization;
   const Eigen::Vector3d var = entry.initial_sigma.cwiseProduct(entry.initial_sigma);
-  options.initial_covariance = var.asDiagonal().toDenseMatrix();
+  return {{robot.pose.x_m + entry.initial_offset.x_m, robot.pose.y_m + entry.initial_offset.y_m,
+           core::NormalizeAngle(robot.pose.theta_rad + entry.initial_offset.theta_rad)},
+          var.asDiagonal().toDenseMatrix()};
+}
+
+// Global localization's defaults for a simulated robot (issue 18): the
+// chapter-4 EKF's lost detection made quicker — six failed cycles (1.5 s with
+// two lasers at 2 Hz) instead of twenty — since a loss is no longer final but
+// starts a new generation.
+constexpr int kGlobalLostFailedCycles = 6;
+
+std::unique_ptr<nav::PoseEstimator> MakeEstimator(const RobotEntry& robot, core::RobotMap map) {
+  const LocalizationEntry& entry = robot.localization;
+  if (entry.global) {
+    nav::GlobalPoseEstimatorOptions options;
+    options.localizer.tracking = LocalizerOptionsFor(robot);
+    options.localizer.tracking.lost_failed_cycles = kGlobalLostFailedCycles;
+    options.localizer.tree.significance = entry.significance;
+    options.rate_hz = entry.rate_hz;
+    options.lasers = EstimatorLasers(robot);
+    if (!entry.initial_unknown) options.initial = InitialEstimate(robot);
+    return std::make_unique<nav::GlobalPoseEstimator>(std::move(map), options);
+  }
+  nav::EkfPoseEstimatorOptions options;
+  options.localizer = LocalizerOptionsFor(robot);
+  options.rate_hz = entry.rate_hz;
+  options.lasers = EstimatorLasers(robot);
+  const core::PoseWithCovariance initial = InitialEstimate(robot);
+  options.initial_pose = initial.pose;
+  options.initial_covariance = initial.covariance;
   return std::make_unique<nav::EkfPoseEstimator>(std::move(map), options);
 }
 

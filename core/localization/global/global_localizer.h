@@ -1,0 +1,167 @@
+#pragma once
+
+// Global EKF localization (thesis §5.6, Fig. 5.17): hypothesis generation when
+// lost (n = 0), hypothesis tracking with track splitting while not localized
+// (n > 1), and the chapter-4 EKF (Localizer) while localized (n = 1). The
+// localizer decides from its own data only; lost is not sticky: a loss starts
+// a new generation.
+//
+// Deviations from the thesis, and why:
+// - Localized, the single hypothesis is tracked by the chapter-4 EKF itself
+//   (strongest-observation matching, map cross-covariances, time stamps and
+//   scan registration, its lost detection), not by Algorithm 2: that filter
+//   is the one measured against Tables 4.1-4.3, and a robot that knows its
+//   start pose behaves exactly as before. Track splitting (Algorithm 2) runs
+//   while not localized.
+// - Every hypothesis is predicted with its own uncertainty by the odometry
+//   model (eqs. 2.5-2.13) and keeps its own pose-map cross-covariances; the
+//   robots of §5.7.2 assumed equal prediction uncertainty for all hypotheses
+//   to save time, which is no longer needed (tracking costs microseconds).
+// - Duplicates are hypotheses whose locations are closer than chi^2_{alpha,3}
+//   (eq. 5.70) whatever their supporting sets: the maps split one wall into
+//   several segments, and pairings with neighbouring pieces give one
+//   location; eq. 5.71's S_i = S_j would keep both.
+// - A hypothesis is falsified not only when no valid pairing exists at its
+//   prediction (§5.7.1) — for `falsify_failed_cycles` consecutive cycles with
+//   enough evidence — but also when it has explained, summed over its life,
+//   `max_pairing_deficit` fewer observations than the best: in repeated
+//   offices the wrong rooms stay compatible with most observations, and only
+//   the accumulated evidence separates them.
+// - Localized is declared when a single hypothesis remains and has survived
+//   `min_cycles_to_localize` cycles since its generation, and the generation
+//   hit no limit: a lone hypothesis of a truncated search may be the wrong one.
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/localization/global/interpretation_tree.h"
+#include "core/localization/localizer.h"
+
+namespace pavilion::core {
+
+struct GlobalLocalizerOptions {
+  LocalizerOptions tracking;  // the chapter-4 EKF of the localized state, with its lost detection
+  InterpretationTreeOptions tree;
+  // A cycle fails for a hypothesis when it pairs nothing although the batch has
+  // at least this many observations and the hypothesis as many visible
+  // predictions; >= 1.
+  int min_evidence = 3;
+  int falsify_failed_cycles = 2;   // consecutive failed cycles falsify; >= 1
+  int max_pairing_deficit = 6;     // see the header comment; >= 1
+  int min_cycles_to_localize = 2;  // >= 0
+  // Batches of the robot's other lasers join the local map of a generation
+  // when at most this much older, compounded with the robot's motion, s; >= 0.
+  double generation_window_s = 0.6;
+  // The odometry kept for predicting the hypotheses, s; > 0.
+  double odometry_span_s = 5.0;
+
+  void Validate() const;  // throws std::invalid_argument naming the field
+};
+
+enum class GlobalLocalizationState { kLost, kNotLocalized, kLocalized };
+
+// Why the localizer last declared itself lost.
+enum class GlobalLostCause {
+  kNone,
+  kUnknownStart,     // initial: unknown
+  kTrackingLost,     // the EKF's lost detection (see LocalizerStatus::reason)
+  kNoValidPairings,  // every hypothesis falsified (§5.7.1)
+  kNoHypotheses,     // a generation found none
+};
+
+// Cumulative counts since construction.
+struct GlobalLocalizerCounters {
+  long generations = 0;
+  long tracking_cycles = 0;  // Algorithm 2 cycles (not localized)
+  long tree_nodes = 0;
+  long node_limit_hits = 0;
+  long hypothesis_limit_hits = 0;
+  long splits = 0;  // hypotheses that split into several offspring
+  long falsified = 0;
+  long duplicates = 0;
+  long losses = 0;
+  long localizations = 0;
+};
+
+class GlobalLocalizer {
+ public:
+  // Starts lost (initial: unknown) until Initialize(). Throws from Validate().
+  GlobalLocalizer(RobotMap map, const GlobalLocalizerOptions& options);
+  GlobalLocalizer(const GlobalLocalizer&) = delete;
+  GlobalLocalizer& operator=(const GlobalLocalizer&) = delete;
+
+  // A known start: localized at once (the chapter-4 EKF from this prior).
+  void Initialize(const Pose2& world_from_robot, const Eigen::Matrix3d& covariance, double stamp_s);
+
+  void AddEncoders(const EncoderReading& reading);
+  // One localization cycle on the scan (§4.4 when localized, §5.4-5.5 otherwise).
+  void AddScan(const LaserScan& scan);
+
+  // Suspends the EKF's lost detection (a robot at a station, §6.3.3).
+  void SuspendLostDetection(bool suspended, double now_s);
+  // A felt collision (see Localizer::AddPoseUncertainty): every hypothesis's too.
+  void AddPoseUncertainty(const Eigen::Matrix3d& covariance);
+
+  GlobalLocalizationState state() const { return state_; }
+  GlobalLostCause lost_cause() const { return lost_cause_; }
+  // n: 1 when localized, the hypotheses held otherwise (0 when lost).
+  int hypothesis_count() const;
+  // Best first (§5.5.2), predicted to the latest encoder time.
+  std::vector<LocationHypothesisData> Hypotheses() const;
+  // Localized: the EKF's estimate; not localized: the best hypothesis's; lost:
+  // the last estimate carried by odometry.
+  PoseWithCovariance Estimate() const;
+  long cycles() const { return cycles_; }  // scans processed (any state)
+  const Localizer& tracker() const { return tracker_; }
+  const GlobalLocalizerCounters& counters() const { return counters_; }
+  const TreeSearchStats& last_search() const { return last_search_; }
+  const GlobalLocalizerOptions& options() const { return options_; }
+
+ private:
+  struct Hypothesis {
+    PoseWithCovariance state;  // at stamp_s
+    double stamp_s = 0.0;
+    PoseMapCrossCovariance correlations;
+    std::vector<Pairing> support;
+    int pairings = 0;
+    double joint_mahalanobis = 0.0;
+    int failed_cycles = 0;
+    int deficit = 0;  // observations explained fewer than the best, summed over its life
+    int age = 0;      // tracking cycles survived since its generation
+  };
+  const LaserSensorOptions& LaserOptions(const std::string& sensor_id) const;
+  void Predict(double stamp_s, Hypothesis* h);
+  void Generate(const ObservationBatch& batch);
+  LocalMap GenerationMap(const ObservationBatch& batch) const;
+  void TrackAll(const ObservationBatch& batch);
+  std::vector<Hypothesis> TrackOne(const LocalMap& local, Hypothesis& h, bool may_split);
+  bool Verify(const LocalMap& local, Hypothesis* offspring) const;
+  void Prune();
+  void DeclareLost(GlobalLostCause cause);
+  void Localize(const Hypothesis& h);
+  PoseWithCovariance AtLatest(const Hypothesis& h) const;
+
+  RobotMap map_;
+  GlobalLocalizerOptions options_;
+  MeasurementPredictor predictor_;
+  InterpretationTree tree_;
+  Localizer tracker_;
+  OdometryBuffer odometry_;
+  std::optional<EncoderReading> last_encoders_;
+  Pose2 dead_reckoning_;
+  GlobalLocalizationState state_ = GlobalLocalizationState::kLost;
+  GlobalLostCause lost_cause_ = GlobalLostCause::kUnknownStart;
+  std::vector<Hypothesis> hypotheses_;            // best first
+  std::vector<ObservationBatch> latest_batches_;  // per sensor, the latest (for generation)
+  PoseWithCovariance lost_estimate_;
+  double lost_estimate_stamp_s_ = 0.0;
+  bool generation_limited_ = false;
+  long cycles_ = 0;
+  GlobalLocalizerCounters counters_;
+  TreeSearchStats last_search_;
+};
+
+const char* GlobalLostCauseName(GlobalLostCause cause);
+
+}  // namespace pavilion::core

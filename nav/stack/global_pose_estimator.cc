@@ -1,0 +1,122 @@
+#include "nav/stack/global_pose_estimator.h"
+
+#include <stdexcept>
+#include <utility>
+
+namespace pavilion::nav {
+namespace {
+
+const char* TrackingLostReason(core::LostReason reason) {
+  switch (reason) {
+    case core::LostReason::kNoMatchTimeout:
+      return "no_match_timeout";
+    case core::LostReason::kRepeatedGateFailures:
+      return "repeated_gate_failures";
+    case core::LostReason::kUncertaintyTooLarge:
+      return "uncertainty_too_large";
+    case core::LostReason::kNone:
+      break;
+  }
+  return "tracking_lost";
+}
+
+}  // namespace
+
+void GlobalPoseEstimatorOptions::Validate() const {
+  if (!(rate_hz > 0.0))
+    throw std::invalid_argument("GlobalPoseEstimatorOptions.rate_hz must be > 0");
+  if (!(collision_sigma_m >= 0.0) || !(collision_sigma_rad >= 0.0)) {
+    throw std::invalid_argument("GlobalPoseEstimatorOptions.collision_sigma_m must be >= 0");
+  }
+  localizer.Validate();
+}
+
+GlobalPoseEstimator::GlobalPoseEstimator(core::RobotMap map,
+                                         const GlobalPoseEstimatorOptions& options)
+    : options_(options), gate_(options.lasers, options.rate_hz) {
+  options_.Validate();
+  localizer_ = std::make_unique<core::GlobalLocalizer>(std::move(map), options_.localizer);
+  if (options_.initial) {
+    localizer_->Initialize(options_.initial->pose, options_.initial->covariance, 0.0);
+  }
+  estimate_ = localizer_->Estimate();
+}
+
+std::optional<EstimatorCycle> GlobalPoseEstimator::Update(
+    std::span<const core::EncoderReading> encoders,
+    const std::vector<const core::LaserScan*>& scans) {
+  for (const core::EncoderReading& e : encoders) localizer_->AddEncoders(e);
+  for (const core::LaserScan* scan : scans) {
+    if (paused_) break;
+    if (gate_.Admit(*scan)) localizer_->AddScan(*scan);
+  }
+  estimate_ = localizer_->Estimate();
+  if (localizer_->cycles() == last_cycles_) return std::nullopt;
+  last_cycles_ = localizer_->cycles();
+  return ReportCycle();
+}
+
+EstimatorCycle GlobalPoseEstimator::ReportCycle() const {
+  EstimatorCycle c;
+  c.mode = mode();
+  c.hypotheses = localizer_->hypothesis_count();
+  c.lost = c.mode == LocalizationMode::kLost;
+  if (c.mode == LocalizationMode::kLocalized) {
+    const core::CycleReport& report = localizer_->tracker().last_cycle();
+    c.predictions = report.predictions;
+    c.observations = report.observations;
+    for (const core::FeatureMatch& m : report.matches) {
+      if (m.type == core::ObservationType::kLine) {
+        ++c.matched_lines;
+      } else if (m.type == core::ObservationType::kBeacon) {
+        ++c.matched_beacons;
+      } else {
+        ++c.matched_other;
+      }
+    }
+  } else if (c.hypotheses > 0) {
+    c.matched_lines = localizer_->Hypotheses().front().pairings;  // the best hypothesis's p'
+  }
+  return c;
+}
+
+LocalizationMode GlobalPoseEstimator::mode() const {
+  switch (localizer_->state()) {
+    case core::GlobalLocalizationState::kLocalized:
+      return LocalizationMode::kLocalized;
+    case core::GlobalLocalizationState::kNotLocalized:
+      return LocalizationMode::kNotLocalized;
+    case core::GlobalLocalizationState::kLost:
+      break;
+  }
+  return LocalizationMode::kLost;
+}
+
+std::vector<LocationHypothesis> GlobalPoseEstimator::hypotheses() const {
+  std::vector<LocationHypothesis> out;
+  for (const core::LocationHypothesisData& h : localizer_->Hypotheses()) {
+    out.push_back(LocationHypothesis{h.location, h.pairings, h.joint_mahalanobis});
+  }
+  return out;
+}
+
+std::string GlobalPoseEstimator::lost_reason() const {
+  if (localizer_->state() != core::GlobalLocalizationState::kLost) return "none";
+  if (localizer_->lost_cause() == core::GlobalLostCause::kTrackingLost) {
+    return TrackingLostReason(localizer_->tracker().status().reason);
+  }
+  return core::GlobalLostCauseName(localizer_->lost_cause());
+}
+
+void GlobalPoseEstimator::SetPaused(bool paused, double now_s) {
+  if (paused_ != paused) localizer_->SuspendLostDetection(paused, now_s);
+  paused_ = paused;
+}
+
+void GlobalPoseEstimator::OnCollision() {
+  const double p = options_.collision_sigma_m * options_.collision_sigma_m;
+  const double t = options_.collision_sigma_rad * options_.collision_sigma_rad;
+  localizer_->AddPoseUncertainty(Eigen::Vector3d(p, p, t).asDiagonal());
+}
+
+}  // namespace pavilion::nav
