@@ -71,8 +71,7 @@ inline core::RobotMap LShapedRoomMap() {
 // `walls`, ranges with N(0, sigma) noise when `noise` is given; no return
 // beyond max range (valid = false).
 inline core::LaserScan CastScan(const std::vector<Wall>& walls, const core::Pose2& world_from_robot,
-                                double stamp_s, core::RandomStream* noise,
-                                double sigma_m = 0.01) {
+                                double stamp_s, core::RandomStream* noise, double sigma_m = 0.01) {
   constexpr int kReadings = 181;
   core::LaserScan scan;
   scan.sensor_id = "front";
@@ -88,7 +87,8 @@ inline core::LaserScan CastScan(const std::vector<Wall>& walls, const core::Pose
     const Eigen::Vector2d end =
         origin + scan.max_range_m * Eigen::Vector2d(std::cos(angle), std::sin(angle));
     double t = std::numeric_limits<double>::infinity();
-    for (const Wall& w : walls) t = std::min(t, core::RaySegmentHit(origin, end, w.first, w.second));
+    for (const Wall& w : walls)
+      t = std::min(t, core::RaySegmentHit(origin, end, w.first, w.second));
     r.valid = std::isfinite(t);
     r.range_m = r.valid ? t * scan.max_range_m : scan.max_range_m;
     if (r.valid && noise != nullptr) r.range_m += noise->Normal(0.0, sigma_m);

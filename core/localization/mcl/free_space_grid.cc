@@ -39,8 +39,8 @@ MapFreeSpace::MapFreeSpace(const RobotMap& map, const MapFreeSpaceOptions& optio
   const Box2& box = field_.geometry_bounds();
   for (long i = 0; i < n; ++i) {
     const Eigen::Vector2d c = field_.CellCenter(i);
-    const bool inside = c.x() >= box.lo.x() && c.x() <= box.hi.x() && c.y() >= box.lo.y() &&
-                        c.y() <= box.hi.y();
+    const bool inside =
+        c.x() >= box.lo.x() && c.x() <= box.hi.x() && c.y() >= box.lo.y() && c.y() <= box.hi.y();
     passable[static_cast<std::size_t>(i)] =
         inside && field_.CellDistanceM(i) >= options_.robot_radius_m;
   }

@@ -49,8 +49,8 @@ class MapFreeSpace {
   void Flood(const RobotMap& map, const std::vector<char>& passable);
 
   MapFreeSpaceOptions options_;
-  LikelihoodField field_;     // clearance, capped just above robot_radius_m
-  std::vector<long> free_;    // free cell indices, ascending
+  LikelihoodField field_;      // clearance, capped just above robot_radius_m
+  std::vector<long> free_;     // free cell indices, ascending
   std::vector<char> is_free_;  // per cell of field_
 };
 

@@ -142,8 +142,8 @@ long LikelihoodField::CellIndex(const Vec2& point_in_map) const {
 Vec2 LikelihoodField::CellCenter(long index) const {
   const long x = index % width_;
   const long y = index / width_;
-  return origin_m_ + options_.resolution_m * Vec2(static_cast<double>(x) + 0.5,
-                                                  static_cast<double>(y) + 0.5);
+  return origin_m_ +
+         options_.resolution_m * Vec2(static_cast<double>(x) + 0.5, static_cast<double>(y) + 0.5);
 }
 
 double LikelihoodField::DistanceM(const Vec2& point_in_map) const {
@@ -169,11 +169,13 @@ void LikelihoodField::Rasterize(const MapGeometry& geometry, std::vector<char>* 
     for (long y = lo / width_; y <= hi / width_; ++y) {
       for (long x = lo % width_; x <= hi % width_; ++x) {
         const long i = y * width_ + x;
-        if ((CellCenter(i) - centre).norm() <= radius_m) (*occupied)[static_cast<std::size_t>(i)] = 1;
+        if ((CellCenter(i) - centre).norm() <= radius_m)
+          (*occupied)[static_cast<std::size_t>(i)] = 1;
       }
     }
     // The rim, so that discs thinner than a cell still leave a closed ring.
-    const int n = static_cast<int>(std::ceil(2.0 * std::numbers::pi * radius_m * kSamplesPerCell / res));
+    const int n =
+        static_cast<int>(std::ceil(2.0 * std::numbers::pi * radius_m * kSamplesPerCell / res));
     for (int i = 0; i < n; ++i) {
       const double angle = 2.0 * std::numbers::pi * i / n;
       mark(centre + radius_m * Vec2(std::cos(angle), std::sin(angle)));
@@ -184,7 +186,8 @@ void LikelihoodField::Rasterize(const MapGeometry& geometry, std::vector<char>* 
 void LikelihoodField::Transform(const std::vector<char>& occupied) {
   // "Infinity" above every squared distance on the grid but small enough that
   // the parabola intersections keep their precision.
-  const double far = static_cast<double>(width_) * width_ + static_cast<double>(height_) * height_ + 1.0;
+  const double far =
+      static_cast<double>(width_) * width_ + static_cast<double>(height_) * height_ + 1.0;
   const int n_max = std::max(width_, height_);
   std::vector<double> squared(occupied.size());
   std::vector<double> f(static_cast<std::size_t>(height_)), d(static_cast<std::size_t>(n_max));

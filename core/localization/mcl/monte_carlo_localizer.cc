@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <span>
 #include <stdexcept>
 #include <utility>
 
@@ -67,14 +68,14 @@ MonteCarloLocalizer::MonteCarloLocalizer(RobotMap map, const EncoderOdometryOpti
       random_(options.seed, options.stream_id) {
   const WheelNoise calibrated = odometry_.noise();
   particle_noise_ = {std::max(calibrated.k_left_m, options_.wheel_k_floor_m),
-                     std::max(calibrated.k_right_m, options_.wheel_k_floor_m),
-                     calibrated.k_turn_m};
+                     std::max(calibrated.k_right_m, options_.wheel_k_floor_m), calibrated.k_turn_m};
   // Pose2{} start with a point cloud there until an Initialize*.
   Initialize(PoseWithCovariance{});
 }
 
 void MonteCarloLocalizer::ResetFilter() {
   update_pending_ = true;
+  posterior_count_ = particles_.size();
   w_slow_ = 0.0;
   w_fast_ = 0.0;
   UpdateEstimate();
@@ -127,8 +128,8 @@ void MonteCarloLocalizer::AddEncoders(const EncoderReading& reading) {
     const double n0 = random_.Normal();
     const double n1 = random_.Normal();
     const Eigen::Vector2d du = root * Eigen::Vector2d(n0, n1);  // [s_r, s_l]
-    p.pose = DiffDriveStep(
-        p.pose, {travel.left_m + du[kLeftWheel], travel.right_m + du[kRightWheel]}, b);
+    p.pose = DiffDriveStep(p.pose,
+                           {travel.left_m + du[kLeftWheel], travel.right_m + du[kRightWheel]}, b);
   }
   UpdateEstimate();
 }
@@ -157,8 +158,7 @@ std::vector<Vec2> MonteCarloLocalizer::BeamEndsInRobot(const LaserScan& scan) co
 
 bool MonteCarloLocalizer::AddScan(const LaserScan& scan) {
   if (!update_pending_) {
-    const double moved_m =
-        (odometry_pose_.translation() - last_update_pose_.translation()).norm();
+    const double moved_m = (odometry_pose_.translation() - last_update_pose_.translation()).norm();
     const double turned_rad =
         std::abs(NormalizeAngle(odometry_pose_.theta_rad - last_update_pose_.theta_rad));
     if (moved_m <= options_.update_min_d_m && turned_rad <= options_.update_min_a_rad) {
@@ -172,6 +172,7 @@ bool MonteCarloLocalizer::AddScan(const LaserScan& scan) {
   last_update_pose_ = odometry_pose_;
   update_pending_ = false;
   ++updates_;
+  posterior_count_ = particles_.size();
   if (updates_ % options_.resample_interval == 0) Resample();
   UpdateEstimate();
   return true;
@@ -227,8 +228,9 @@ void MonteCarloLocalizer::Weigh(const std::vector<Vec2>& ends_in_robot, double m
 
 void MonteCarloLocalizer::Resample() {
   const int m = static_cast<int>(particles_.size());
-  const double p_random =
-      (w_slow_ > 0.0 && free_space_.free_cells() > 0) ? std::max(0.0, 1.0 - w_fast_ / w_slow_) : 0.0;
+  const double p_random = (w_slow_ > 0.0 && free_space_.free_cells() > 0)
+                              ? std::max(0.0, 1.0 - w_fast_ / w_slow_)
+                              : 0.0;
   int random_count = 0;
   if (p_random > 0.0) {
     for (int i = 0; i < m; ++i) random_count += random_.Uniform() < p_random ? 1 : 0;
@@ -243,7 +245,8 @@ void MonteCarloLocalizer::Resample() {
     int i = 0;
     for (int k = 0; k < kept; ++k) {
       const double u = r + k * step;
-      while (u > cumulative && i + 1 < m) cumulative += particles_[static_cast<std::size_t>(++i)].weight;
+      while (u > cumulative && i + 1 < m)
+        cumulative += particles_[static_cast<std::size_t>(++i)].weight;
       next.push_back(particles_[static_cast<std::size_t>(i)]);
     }
   }
@@ -251,11 +254,14 @@ void MonteCarloLocalizer::Resample() {
   const double weight = 1.0 / m;
   for (Particle& p : next) p.weight = weight;
   particles_ = std::move(next);
+  posterior_count_ = static_cast<std::size_t>(kept > 0 ? kept : m);
 }
 
 void MonteCarloLocalizer::UpdateEstimate() {
+  const std::span<const Particle> posterior(particles_.data(),
+                                            std::min(posterior_count_, particles_.size()));
   double x = 0.0, y = 0.0, sin_sum = 0.0, cos_sum = 0.0, total = 0.0;
-  for (const Particle& p : particles_) {
+  for (const Particle& p : posterior) {
     x += p.weight * p.pose.x_m;
     y += p.weight * p.pose.y_m;
     sin_sum += p.weight * std::sin(p.pose.theta_rad);
@@ -265,7 +271,7 @@ void MonteCarloLocalizer::UpdateEstimate() {
   if (!(total > 0.0)) return;
   const Pose2 mean{x / total, y / total, std::atan2(sin_sum, cos_sum)};
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
-  for (const Particle& p : particles_) {
+  for (const Particle& p : posterior) {
     const Eigen::Vector3d d(p.pose.x_m - mean.x_m, p.pose.y_m - mean.y_m,
                             NormalizeAngle(p.pose.theta_rad - mean.theta_rad));
     covariance += p.weight * d * d.transpose();

@@ -23,15 +23,15 @@ struct MonteCarloOptions {
   // Particle count, fixed (no KLD sampling); [10, 100000]. nav2 keeps 500-2000
   // (min_particles, max_particles); chosen: the middle.
   int particles = 1000;
-  int beams = 60;              // beams per scan scored; [1, 1000]; nav2 max_beams 60
-  double sigma_hit_m = 0.2;    // sigma of the hit Gaussian, m; (0, 10]; nav2 sigma_hit
-  double z_hit = 0.5;          // weight of the hit term; [0, 1]; nav2 z_hit
-  double z_rand = 0.5;         // weight of the uniform term (z_rand / max range); [0, 1]; nav2 z_rand
-  double alpha_slow = 0.001;   // long-term likelihood average rate; (0, 1); nav2 recovery_alpha_slow
-  double alpha_fast = 0.1;     // short-term rate; (alpha_slow, 1); nav2 recovery_alpha_fast
-  double update_min_d_m = 0.25;    // travel before a sensor update, m; >= 0; nav2 update_min_d
-  double update_min_a_rad = 0.2;   // rotation before a sensor update, rad; >= 0; nav2 update_min_a
-  int resample_interval = 1;       // sensor updates per resampling; >= 1; nav2 resample_interval
+  int beams = 60;            // beams per scan scored; [1, 1000]; nav2 max_beams 60
+  double sigma_hit_m = 0.2;  // sigma of the hit Gaussian, m; (0, 10]; nav2 sigma_hit
+  double z_hit = 0.5;        // weight of the hit term; [0, 1]; nav2 z_hit
+  double z_rand = 0.5;       // weight of the uniform term (z_rand / max range); [0, 1]; nav2 z_rand
+  double alpha_slow = 0.001;  // long-term likelihood average rate; (0, 1); nav2 recovery_alpha_slow
+  double alpha_fast = 0.1;    // short-term rate; (alpha_slow, 1); nav2 recovery_alpha_fast
+  double update_min_d_m = 0.25;   // travel before a sensor update, m; >= 0; nav2 update_min_d
+  double update_min_a_rad = 0.2;  // rotation before a sensor update, rad; >= 0; nav2 update_min_a
+  int resample_interval = 1;      // sensor updates per resampling; >= 1; nav2 resample_interval
   // Floor on the per-wheel noise k of eq. 2.9 used to move particles, m; [0, 1].
   // Chosen: the thesis' k = 5e-6 m gives 1.6 mm over update_min_d, too little
   // spread for a particle set to track unmodelled slip; 1e-3 m gives 1.6 cm
@@ -42,9 +42,9 @@ struct MonteCarloOptions {
   double converged_spread_m = 0.25;
   // ... and heading sigma at most this, rad; > 0. Chosen: 10 deg.
   double converged_heading_sigma_rad = 0.17453292519943295;
-  LikelihoodFieldOptions field;   // nav2 laser_likelihood_max_dist 2.0 m
-  MapFreeSpaceOptions free_space;  // where random particles are drawn
-  std::uint64_t seed = 1;          // RandomStream seed
+  LikelihoodFieldOptions field;        // nav2 laser_likelihood_max_dist 2.0 m
+  MapFreeSpaceOptions free_space;      // where random particles are drawn
+  std::uint64_t seed = 1;              // RandomStream seed
   std::uint64_t stream_id = 0x6d636c;  // RandomStream stream id ("mcl")
 
   void Validate() const;  // throws std::invalid_argument naming the field
@@ -84,9 +84,12 @@ class MonteCarloLocalizer {
   // probability max(0, 1 - w_fast / w_slow). Returns whether it updated.
   bool AddScan(const LaserScan& scan);
 
-  // Weighted mean of all particles (circular mean for the heading) and their
-  // weighted covariance, no clustering: while the set is multi-modal the mean
-  // may lie between the modes, and the spread says so.
+  // Weighted mean (circular mean for the heading) and weighted covariance of
+  // the particles that carry the posterior: all of them after a sensor
+  // update; after a resampling, the resampled ones (injected random particles
+  // join at the next sensor update, whose weights judge them). No clustering:
+  // while the set is multi-modal the mean may lie between the modes, and the
+  // spread says so.
   const PoseWithCovariance& estimate() const { return estimate_; }
   double position_spread_m() const;
   bool converged() const;
@@ -123,6 +126,7 @@ class MonteCarloLocalizer {
   Pose2 last_update_pose_;  // odometry_pose_ at the last sensor update
   bool update_pending_ = true;
   PoseWithCovariance estimate_;
+  std::size_t posterior_count_ = 0;  // leading particles the estimate is over
   long updates_ = 0;
   int last_beams_ = 0;
   double w_slow_ = 0.0;
