@@ -83,6 +83,7 @@ void BM_MclSensorUpdate(benchmark::State& state) {
     benchmark::DoNotOptimize(mcl.AddScan(scan));
   }
   state.counters["beams"] = mcl.last_beams();
+  state.counters["free_cells"] = mcl.free_space().free_cells();
   state.counters["ns_per_particle_beam"] = benchmark::Counter(
       static_cast<double>(options.particles) * mcl.last_beams(),
       benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);

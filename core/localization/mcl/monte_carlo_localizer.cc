@@ -220,7 +220,12 @@ void MonteCarloLocalizer::Weigh(const std::vector<Vec2>& ends_in_robot, double m
     particles_[i].weight *= std::exp(log_likelihood_[i] - max_log);
     scaled_sum += particles_[i].weight;
   }
-  for (Particle& p : particles_) p.weight /= scaled_sum;
+  if (!(scaled_sum > 0.0)) {  // every prior weight underflowed: start afresh
+    for (Particle& p : particles_) p.weight = 1.0 / static_cast<double>(m);
+    scaled_sum = 1.0 / static_cast<double>(m);
+  } else {
+    for (Particle& p : particles_) p.weight /= scaled_sum;
+  }
   const double w_avg = std::exp(max_log) * scaled_sum;
   w_slow_ += options_.alpha_slow * (w_avg - w_slow_);
   w_fast_ += options_.alpha_fast * (w_avg - w_fast_);

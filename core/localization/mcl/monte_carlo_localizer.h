@@ -81,7 +81,10 @@ class MonteCarloLocalizer {
   // initialization): scores `beams` readings chosen evenly among the valid ones
   // below max range, updates w_slow and w_fast (table 8.3) and resamples every
   // resample_interval updates, injecting random free-space particles with
-  // probability max(0, 1 - w_fast / w_slow). Returns whether it updated.
+  // probability max(0, 1 - w_fast / w_slow). As in table 8.3, w_slow and
+  // w_fast start at 0 at each initialization and are never reset (nav2 resets
+  // both after an injection), so the recovery wakes only once w_slow has
+  // warmed up, some 1 / alpha_slow updates. Returns whether it updated.
   bool AddScan(const LaserScan& scan);
 
   // Weighted mean (circular mean for the heading) and weighted covariance of
