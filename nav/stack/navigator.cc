@@ -12,10 +12,11 @@ Navigator::Navigator(const NavigatorOptions& options, std::unique_ptr<PoseEstima
 
 std::optional<WheelSpeeds> Navigator::Control(std::int64_t tick, double now_s) {
   if (!controller_) return std::nullopt;
-  const bool lost = estimator_ && estimator_->lost_reason() != "none";
-  std::optional<WheelSpeeds> command =
-      controller_->OnTick(ControlTick{tick, now_s, belief(), odometry_.pose(), lost});
+  const bool lost = not_localized();
+  const ControlTick control{tick, now_s, belief(), odometry_.pose(), lost};
+  std::optional<WheelSpeeds> command = controller_->OnTick(control);
   if (estimator_) estimator_->SetPaused(controller_->localization_paused(), now_s);
+  if (lost && fallback_) return fallback_->OnTick(control);
   return command;
 }
 
@@ -35,10 +36,17 @@ SenseResult Navigator::Sense(const SensorFrame& frame) {
     for (const core::BumperReading& b : frame.bumpers) controller_->OnBumper(b, context);
   }
   if (estimator_) result.cycle = estimator_->Update(frame.encoders, frame.scans);
+  if (shadow_) result.shadow_cycle = shadow_->Update(frame.encoders, frame.scans);
+  const bool fallback = fallback_ && not_localized();
   if (controller_) {
     const ScanContext context{frame.now_s, belief(), odometry_.pose()};
     for (const core::LaserScan* scan : frame.scans) {
-      if (auto command = controller_->OnScan(*scan, context)) result.command = command;
+      if (auto command = controller_->OnScan(*scan, context); command && !fallback) {
+        result.command = command;
+      }
+      if (fallback) {
+        if (auto command = fallback_->OnScan(*scan, context)) result.command = command;
+      }
     }
   }
   return result;

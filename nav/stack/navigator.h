@@ -38,8 +38,9 @@ struct SensorFrame {
 
 // What the stack did with a tick's readings.
 struct SenseResult {
-  std::optional<EstimatorCycle> cycle;  // an estimation cycle completed
-  std::optional<WheelSpeeds> command;   // the controller reacted to a scan
+  std::optional<EstimatorCycle> cycle;         // an estimation cycle completed
+  std::optional<EstimatorCycle> shadow_cycle;  // the shadow estimator's
+  std::optional<WheelSpeeds> command;          // the controller reacted to a scan
 };
 
 class Navigator {
@@ -55,10 +56,24 @@ class Navigator {
   // controller sees the scans.
   SenseResult Sense(const SensorFrame& frame);
 
+  // While the estimator is not localized (lost, or several hypotheses, thesis
+  // Fig. 5.17) the fallback drives instead of the controller — the hall
+  // benchmark's wander, rather than steering by a wrong estimate (issue 18);
+  // the controller still sees its ticks (localization_lost) and scans.
+  void SetFallback(std::unique_ptr<Controller> fallback) { fallback_ = std::move(fallback); }
+  // An estimator run in shadow on the same readings (a baseline to compare
+  // with, e.g. Monte Carlo localization); it never drives the robot.
+  void SetShadowEstimator(std::unique_ptr<PoseEstimator> shadow) { shadow_ = std::move(shadow); }
+
   // The pose the robot believes: its estimate, or its odometry without one.
   core::Pose2 belief() const;
+  // The estimator holds no single location (lost or not localized).
+  bool not_localized() const {
+    return estimator_ && estimator_->mode() != LocalizationMode::kLocalized;
+  }
   const core::Pose2& odometry_pose() const { return odometry_.pose(); }
   const PoseEstimator* estimator() const { return estimator_.get(); }
+  const PoseEstimator* shadow_estimator() const { return shadow_.get(); }
   const Controller* controller() const { return controller_.get(); }
   Controller* mutable_controller() { return controller_.get(); }
 
@@ -66,6 +81,8 @@ class Navigator {
   core::DeadReckoning odometry_;
   std::unique_ptr<PoseEstimator> estimator_;
   std::unique_ptr<Controller> controller_;
+  std::unique_ptr<Controller> fallback_;
+  std::unique_ptr<PoseEstimator> shadow_;
   std::uint32_t bumper_zones_ = 0;  // pressed at the last bumper reading
 };
 

@@ -64,6 +64,9 @@ struct LocalizationEntry {
   bool global = false;
   // `initial: unknown`: the robot does not know where it starts (global only).
   bool initial_unknown = false;
+  // `shadow: mcl`: Monte Carlo localization runs beside it on the same
+  // readings, never driving the robot (the baseline of issue 18).
+  bool shadow_mcl = false;
 
   void Validate() const;  // throws std::invalid_argument naming the field
 };

@@ -252,6 +252,12 @@ void ReadLocalization(YamlDocument* doc, MapReader& r, const std::string& base,
                "expected 'known' or 'unknown', not '" + initial + "'");
   }
   l.initial_unknown = initial == "unknown";
+  const std::string shadow = m.String("shadow", "none");
+  if (shadow != "none" && shadow != "mcl") {
+    doc->Error(m.Child("shadow"), m.PathOf("shadow"),
+               "expected 'mcl' (Monte Carlo localization beside it) or 'none', not '" + shadow + "'");
+  }
+  l.shadow_mcl = shadow == "mcl";
   l.global = method == "global" || l.initial_unknown;
   if (l.initial_unknown && method == "ekf" && m.Has("method")) {
     doc->Error(m.Child("initial"), m.PathOf("initial"),

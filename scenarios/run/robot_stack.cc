@@ -15,6 +15,7 @@
 #include "nav/route/route_planner.h"
 #include "nav/stack/ekf_pose_estimator.h"
 #include "nav/stack/global_pose_estimator.h"
+#include "nav/stack/mcl_pose_estimator.h"
 #include "scenarios/config/input_error.h"
 #include "scenarios/maps/closed_doors.h"
 #include "scenarios/maps/map_derivation.h"
@@ -90,6 +91,33 @@ std::unique_ptr<nav::PoseEstimator> MakeEstimator(const RobotEntry& robot, core:
   options.initial_pose = initial.pose;
   options.initial_covariance = initial.covariance;
   return std::make_unique<nav::EkfPoseEstimator>(std::move(map), options);
+}
+
+// The hall benchmark's wander on `laser`, its draws from "<robot id>/wander".
+std::unique_ptr<nav::Controller> MakeWander(const Scenario& scenario, const RobotEntry& entry,
+                                            const std::string& laser,
+                                            const nav::WanderOptions& options) {
+  nav::WanderController wander(
+      options, core::RandomStream(scenario.seed,
+                                  core::RandomStream::StreamId((entry.id + "/wander").c_str())));
+  return std::make_unique<nav::WanderScanController>(std::move(wander), laser,
+                                                     entry.config.odometry);
+}
+
+// Monte Carlo localization in shadow (issue 18's baseline): the same lasers,
+// the same start knowledge, its draws from "<robot id>/mcl".
+std::unique_ptr<nav::PoseEstimator> MakeShadowMcl(const Scenario& scenario, const RobotEntry& robot,
+                                                  core::RobotMap map) {
+  nav::MclPoseEstimatorOptions options;
+  options.mcl.seed = scenario.seed;
+  options.mcl.stream_id = core::RandomStream::StreamId((robot.id + "/mcl").c_str());
+  options.lasers = EstimatorLasers(robot);
+  options.global_start = robot.localization.initial_unknown;
+  const core::PoseWithCovariance initial = InitialEstimate(robot);
+  options.initial_pose = initial.pose;
+  options.initial_covariance = initial.covariance;
+  return std::make_unique<nav::MclPoseEstimator>(std::move(map), LocalizerOptionsFor(robot).odometry,
+                                                 options);
 }
 
 // The path of a robot's route over its map's topology, from its start pose.
@@ -193,14 +221,7 @@ std::unique_ptr<nav::Controller> MakeController(const Scenario& scenario, std::s
     return std::make_unique<nav::RouteController>(RoutePath(scenario, index, *map), options);
   }
   if (entry.mission) return MakeNavigationController(scenario, index, *map);
-  if (entry.wander) {
-    nav::WanderController wander(
-        entry.wander->options,
-        core::RandomStream(scenario.seed,
-                           core::RandomStream::StreamId((entry.id + "/wander").c_str())));
-    return std::make_unique<nav::WanderScanController>(std::move(wander), entry.wander->laser,
-                                                       odometry);
-  }
+  if (entry.wander) return MakeWander(scenario, entry, entry.wander->laser, entry.wander->options);
   if (!entry.drive.empty()) return std::make_unique<nav::DriveProfileController>(entry.drive);
   return nullptr;
 }
@@ -242,8 +263,18 @@ std::unique_ptr<nav::Navigator> MakeNavigator(const Scenario& scenario, std::siz
   options.start_pose = entry.pose;
   std::unique_ptr<nav::PoseEstimator> estimator;
   if (entry.localization.enabled) estimator = MakeEstimator(entry, *map);
-  return std::make_unique<nav::Navigator>(options, std::move(estimator),
-                                          MakeController(scenario, index, map));
+  auto navigator = std::make_unique<nav::Navigator>(options, std::move(estimator),
+                                                    MakeController(scenario, index, map));
+  // A navigating robot with global localization wanders while it is not
+  // localized (issue 18), on its first laser.
+  if (entry.localization.enabled && entry.localization.global && entry.mission &&
+      !entry.config.lasers.empty()) {
+    navigator->SetFallback(MakeWander(scenario, entry, entry.config.lasers.front().id, {}));
+  }
+  if (entry.localization.enabled && entry.localization.shadow_mcl) {
+    navigator->SetShadowEstimator(MakeShadowMcl(scenario, entry, *map));
+  }
+  return navigator;
 }
 
 }  // namespace pavilion::scenarios

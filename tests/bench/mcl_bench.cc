@@ -15,51 +15,14 @@
 #include "core/localization/mcl/likelihood_field.h"
 #include "core/localization/mcl/monte_carlo_localizer.h"
 #include "scenarios/maps/map_file.h"
+#include "tests/bench/expo_scan.h"
 
 namespace {
 
 using namespace pavilion;
-
-constexpr int kReadings = 361;
-constexpr double kMaxRangeM = 8.0;
-
-core::RobotMap ExpoMap() {
-  return scenarios::LoadMapFile(std::string(PAVILION_SOURCE_DIR) + "/worlds/expo_hall/map.yaml");
-}
-
-// Where the scans are taken: the map's first station (a pose in the hall).
-core::Pose2 ScanPose(const core::RobotMap& map) {
-  for (const core::MapNode& n : map.nodes) {
-    if (n.station) return n.pose;
-  }
-  return map.nodes.front().pose;
-}
-
-// A noise-free scan from `world_from_robot` against the map's segments and discs.
-core::LaserScan CastAgainstMap(const core::RobotMap& map, const core::Pose2& world_from_robot) {
-  const core::MapGeometry g = core::CollectMapGeometry(map);
-  core::LaserScan scan;
-  scan.sensor_id = "front";
-  scan.max_range_m = kMaxRangeM;
-  const Eigen::Vector2d o = world_from_robot.translation();
-  for (int i = 0; i < kReadings; ++i) {
-    core::LaserReading r;
-    r.bearing_rad = -0.5 * std::numbers::pi + std::numbers::pi * i / (kReadings - 1);
-    const double a = world_from_robot.theta_rad + r.bearing_rad;
-    const Eigen::Vector2d e = o + kMaxRangeM * Eigen::Vector2d(std::cos(a), std::sin(a));
-    double t = std::numeric_limits<double>::infinity();
-    for (const auto& [p, q] : g.segments) t = std::min(t, core::RaySegmentHit(o, e, p, q));
-    for (const auto& [c, radius] : g.discs) {
-      for (const double h : core::LineCircleHits(o, e, c, radius)) {
-        if (h >= 0.0 && h <= 1.0) t = std::min(t, h);
-      }
-    }
-    r.valid = std::isfinite(t);
-    r.range_m = r.valid ? t * kMaxRangeM : kMaxRangeM;
-    scan.readings.push_back(r);
-  }
-  return scan;
-}
+using bench::CastAgainstMap;
+using bench::ExpoMap;
+using bench::ScanPose;
 
 // A cloud of 0.3 m and 0.2 rad (1 sigma) around the scan pose: a filter
 // that is tracking with some doubt.
