@@ -33,7 +33,8 @@ bool CrossesRightward(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
 DiscObstacle CheckSection(const core::PlanarSection& s, const Eigen::Vector2d& c, double r,
                           int ignore_group) {
   const auto ignored = [&](int element) {
-    return element < 0 || (ignore_group >= 0 && s.elements[element].group == ignore_group);
+    return element < 0 || element >= static_cast<int>(s.elements.size()) ||
+           (ignore_group >= 0 && s.elements[element].group == ignore_group);
   };
   std::vector<int> crossings(s.elements.size(), 0);
   for (const core::SectionSegment& seg : s.segments) {
@@ -62,7 +63,7 @@ DiscObstacle CheckDisc(const std::vector<core::PlanarSection>& sections, const s
   const Eigen::Vector2d margin(radius_m, radius_m);
   if ((center_m - margin).cwiseMin(floor.min_m) != floor.min_m ||
       (center_m + margin).cwiseMax(floor.max_m) != floor.max_m) {
-    return {false, "the floor's edge"};
+    return {false, kFloorEdge};
   }
   for (const core::PlanarSection& s : sections) {
     DiscObstacle hit = CheckSection(s, center_m, radius_m, ignore_group);

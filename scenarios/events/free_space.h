@@ -14,10 +14,13 @@
 
 namespace pavilion::scenarios {
 
+// DiscObstacle::what for a disc that leaves the floor.
+inline constexpr const char* kFloorEdge = "the floor's edge";
+
 // What a disc of the plane runs into.
 struct DiscObstacle {
   bool free = true;
-  std::string what;  // the element's id, or "the floor's edge"
+  std::string what;  // the element's id, or kFloorEdge
 };
 
 // A disc of `radius_m` at `center_m` against the sections: free when it lies

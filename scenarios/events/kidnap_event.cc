@@ -1,6 +1,7 @@
 #include "scenarios/events/kidnap_event.h"
 
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <numbers>
 #include <stdexcept>
@@ -139,10 +140,19 @@ std::optional<core::Pose2> KidnapEvent::DrawFreePose(const EventContext& c, int 
 
 std::string StaticObstacleAt(const sim::WorldDescription& world, const RobotFootprint& footprint,
                              const core::Pose2& pose) {
+  // The element order of sim::World (and sim::AppendStaticSection): the floor,
+  // walls, boxes, cylinders, meshes, doors.
+  std::vector<core::SectionElement> elements{{.id = "floor"}};
+  for (const auto& w : world.walls) elements.push_back({.id = w.id});
+  for (const auto& b : world.boxes) elements.push_back({.id = b.id});
+  for (const auto& c : world.cylinders) elements.push_back({.id = c.id});
+  for (const auto& m : world.meshes) elements.push_back({.id = m.id});
+  for (const auto& d : world.doors) elements.push_back({.id = d.id});
   std::vector<core::PlanarSection> sections;
   for (double h : ChassisCheckHeights(footprint.bottom_m, footprint.top_m)) {
     core::PlanarSection s;
     s.height_m = h;
+    s.elements = elements;
     sim::AppendStaticSection(world, h, &s);
     sections.push_back(std::move(s));
   }
@@ -161,11 +171,13 @@ std::shared_ptr<const ScenarioEvent> ReadKidnapTo(MapReader& r, const EventTarge
   if (pose && targets.world && targets.footprints.contains(robot)) {
     const std::string what = StaticObstacleAt(*targets.world, targets.footprints.at(robot), *pose);
     if (!what.empty()) {
+      char radius[32];
+      std::snprintf(radius, sizeof radius, "%.3g", targets.footprints.at(robot).radius_m);
+      const std::string where = what == kFloorEdge ? "would stand outside the world's floor"
+                                                   : "would overlap '" + what + "'";
       r.doc()->Error(r.Child(pose_key), r.PathOf(pose_key),
-                     "robot '" + robot + "' at this pose would overlap " +
-                         (what == "the floor's edge" ? what : "'" + what + "'") +
-                         " (its footprint's radius: " +
-                         std::to_string(targets.footprints.at(robot).radius_m) + " m)");
+                     "robot '" + robot + "' at this pose " + where +
+                         " (its footprint's radius: " + radius + " m)");
     }
   }
   if (robot.empty() || !targets.robots.contains(robot)) return nullptr;
