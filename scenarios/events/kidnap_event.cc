@@ -132,7 +132,7 @@ std::optional<core::Pose2> KidnapEvent::DrawFreePose(const EventContext& c, int 
       continue;
     }
     if (!reachable.Contains(to.translation())) continue;
-    if (!Enclosed(static_sections[1], floor, to.translation())) continue;
+    if (!Enclosed(static_sections[static_sections.size() / 2], floor, to.translation())) continue;
     if (CheckDisc(sections, floor, to.translation(), radius_m, group).free) return to;
   }
   return std::nullopt;
