@@ -5,6 +5,7 @@
 #include <numbers>
 #include <set>
 
+#include "nav/reactive/swept_polygon.h"
 #include "scenarios/config/data_paths.h"
 #include "scenarios/config/mission_reader.h"
 #include "scenarios/config/options_reader.h"
@@ -19,6 +20,8 @@ namespace pavilion::scenarios {
 namespace {
 
 constexpr double kMaxDurationS = 1e7;
+// Repetitions of one `every_s` event in a run, at most (chosen: bounds the timeline's memory).
+constexpr int kMaxEventRepeats = 1000000;
 constexpr double kMaxMassKg = 1e5;
 constexpr double kMaxBodySizeM = 100.0;
 constexpr std::int64_t kMaxGroupCount = 100000;
@@ -486,31 +489,69 @@ void ReadRobots(YamlDocument* doc, MapReader& top, const std::string& base, Scen
   }
 }
 
-void ReadEvents(YamlDocument* doc, MapReader& top, Scenario* s) {
+// A number as people write it: 60, 2.5.
+std::string FormatNumber(double value) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", value);
+  return buf;
+}
+
+// The ids and geometry events are checked against.
+EventTargets ReadEventTargets(const Scenario& s) {
+  EventTargets targets;
+  for (const auto& b : s.bodies) targets.bodies.insert(b.spec.id);
+  for (const auto& r : s.robots) {
+    targets.bodies.insert(r.id);
+    targets.robots.insert(r.id);
+    const sim::RobotDescription& model = r.config.description;
+    if (model.footprint_m.size() >= 3) {
+      targets.footprints[r.id] =
+          RobotFootprint{nav::Circumradius(model.footprint_m), model.chassis_base_z_m,
+                         model.chassis_base_z_m + model.chassis_height_m};
+    }
+  }
+  for (const auto& d : s.world.doors) targets.doors.insert(d.id);
+  targets.world = &s.world;
+  return targets;
+}
+
+// Each entry at at_s and, with every_s, again at at_s + k every_s while the
+// run lasts. `file_duration_s`: the file's duration_s (before --duration),
+// which no event may be due after.
+void ReadEvents(YamlDocument* doc, MapReader& top, double file_duration_s, Scenario* s) {
   YAML::Node list = top.Child("events");
   if (!list.IsDefined() || list.IsNull()) return;
   if (!list.IsSequence()) {
     doc->Error(list, "events", "expected a list");
     return;
   }
-  EventTargets targets;
-  for (const auto& b : s->bodies) targets.bodies.insert(b.spec.id);
-  for (const auto& r : s->robots) {
-    targets.bodies.insert(r.id);
-    targets.robots.insert(r.id);
-  }
-  for (const auto& d : s->world.doors) targets.doors.insert(d.id);
+  const EventTargets targets = ReadEventTargets(*s);
   const EventRegistry& registry = EventRegistry::Global();
   for (std::size_t i = 0; i < list.size(); ++i) {
     MapReader r(doc, list[i], IndexPath("events", i));
     if (!r.valid()) continue;
     TimedEvent e;
     e.at_s = r.RequiredNumber("at_s", 0.0, kMaxDurationS).value_or(0.0);
+    if (e.at_s > file_duration_s) {
+      doc->Error(r.Child("at_s"), r.PathOf("at_s"),
+                 "the event is due after the scenario's duration_s (" +
+                     FormatNumber(file_duration_s) + " s)");
+    }
+    const double every_s = r.Number("every_s", 0.0, 0.0, kMaxDurationS);
+    if (r.Has("every_s") && every_s * kMaxEventRepeats < s->duration_s - e.at_s) {
+      doc->Error(r.Child("every_s"), r.PathOf("every_s"),
+                 "repeats more than " + std::to_string(kMaxEventRepeats) + " times in the run");
+    }
     const std::vector<std::string> types = registry.types();
     const std::string type = r.Choice("type", types, types.front(), true);
     if (const EventReader* read = registry.Find(type)) e.event = (*read)(r, targets);
     r.Finish();
-    if (e.event) s->events.push_back(e);
+    if (!e.event) continue;
+    s->events.push_back(e);
+    if (every_s <= 0.0 || !doc->ok()) continue;
+    for (int k = 1; e.at_s + k * every_s < s->duration_s; ++k) {
+      s->events.push_back(TimedEvent{e.at_s + k * every_s, e.event});
+    }
   }
   std::stable_sort(s->events.begin(), s->events.end(),
                    [](const TimedEvent& a, const TimedEvent& b) { return a.at_s < b.at_s; });
@@ -518,8 +559,9 @@ void ReadEvents(YamlDocument* doc, MapReader& top, Scenario* s) {
 
 // kind, name, description, seed, duration_s, end_when_routes_done, the laser
 // backend and laser_max_tilt_deg; then the command line's seed and duration.
-void ReadHeader(YamlDocument* doc, MapReader& top, const ScenarioOverrides& overrides,
-                Scenario* s) {
+// Returns the file's duration_s.
+double ReadHeader(YamlDocument* doc, MapReader& top, const ScenarioOverrides& overrides,
+                  Scenario* s) {
   if (auto kind = top.RequiredString("kind"); kind && *kind != "scenario") {
     doc->Error(top.Child("kind"), "kind", "expected 'scenario', got '" + *kind + "'");
   }
@@ -534,8 +576,10 @@ void ReadHeader(YamlDocument* doc, MapReader& top, const ScenarioOverrides& over
   ReadOptions(top, &s->planar_laser,
               {{"laser_max_tilt_deg", "max_tilt_rad", &sim::PlanarCasterOptions::max_tilt_rad,
                 kRadPerDeg}});
+  const double file_duration_s = s->duration_s;
   if (overrides.seed) s->seed = *overrides.seed;
   if (overrides.duration_s) s->duration_s = *overrides.duration_s;
+  return file_duration_s;
 }
 
 // The optional mapping under `key` of `top`; an empty one (its defaults) when absent.
@@ -613,13 +657,13 @@ Scenario LoadScenarioFile(const std::string& path, const ScenarioOverrides& over
   s.source_file = path;
   MapReader top(&doc, doc.root(), "");
   if (!top.valid()) doc.ThrowIfErrors();
-  ReadHeader(&doc, top, overrides, &s);
+  const double file_duration_s = ReadHeader(&doc, top, overrides, &s);
   ReadPhysicsAndOutputs(&doc, top, &s);
   const std::string base = std::filesystem::path(path).parent_path().string();
   ReadWorldAndAdditions(&doc, top, base, &s);
   ReadBodies(&doc, top, s.world, &s);
   ReadRobots(&doc, top, base, &s);
-  ReadEvents(&doc, top, &s);
+  ReadEvents(&doc, top, file_duration_s, &s);
   top.Finish();
   doc.ThrowIfErrors();
   return s;

@@ -6,6 +6,16 @@
 
 namespace pavilion::scenarios {
 
+core::RandomStream& EventStreams::Get(const std::string& name) {
+  auto it = streams_.find(name);
+  if (it == streams_.end()) {
+    it = streams_
+             .emplace(name, core::RandomStream(seed_, core::RandomStream::StreamId(name.c_str())))
+             .first;
+  }
+  return it->second;
+}
+
 EventRegistry& EventRegistry::Global() {
   static EventRegistry* registry = [] {
     auto* r = new EventRegistry;

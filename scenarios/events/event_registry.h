@@ -4,6 +4,7 @@
 // reader registered for its `type`. Built in: push, teleport, door.
 
 #include <functional>
+#include <map>
 #include <memory>
 #include <set>
 #include <string>
@@ -12,14 +13,24 @@
 
 #include "scenarios/config/yaml_reader.h"
 #include "scenarios/events/event.h"
+#include "sim/world/world_description.h"
 
 namespace pavilion::scenarios {
 
-// The ids an event of the scenario may name.
+// A robot's outline as events that place it check it against the world.
+struct RobotFootprint {
+  double radius_m = 0.0;  // the outline's circumradius about the base frame
+  double bottom_m = 0.0;  // the chassis' underside above the floor
+  double top_m = 0.0;     // the chassis' top above the floor
+};
+
+// The ids an event of the scenario may name, and what poses are checked against.
 struct EventTargets {
   std::set<std::string> bodies;  // bodies and robots (push, teleport)
   std::set<std::string> robots;
   std::set<std::string> doors;
+  std::map<std::string, RobotFootprint> footprints;  // by robot id
+  const sim::WorldDescription* world = nullptr;      // the static geometry at the start
 };
 
 // Reads one entry's type-specific keys (`at_s` and `type` are read already);

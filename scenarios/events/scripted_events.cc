@@ -3,6 +3,8 @@
 #include <memory>
 #include <set>
 
+#include "scenarios/events/kidnap_event.h"
+
 namespace pavilion::scenarios {
 namespace {
 
@@ -27,15 +29,11 @@ EventFields PushEvent::Apply(const EventContext& c) const {
 }
 
 EventFields TeleportEvent::Apply(const EventContext& c) const {
-  if (c.robot_index->contains(target_)) {
-    const int index = c.robot_index->at(target_);
-    c.world->TeleportRobot(index, pose_);
-    c.snapshot->robots[index] = c.world->robot_state(index);
-  } else {
-    const int index = c.body_index->at(target_);
-    c.world->Teleport(index, pose_);
-    c.snapshot->bodies[index] = c.world->body_state(index);
-  }
+  // A robot teleported is a robot kidnapped (kidnap_event.h).
+  if (c.robot_index->contains(target_)) return KidnapEvent(target_, pose_, {}).Apply(c);
+  const int index = c.body_index->at(target_);
+  c.world->Teleport(index, pose_);
+  c.snapshot->bodies[index] = c.world->body_state(index);
   return EventFields{{"body", target_}, {"pose", {pose_.x_m, pose_.y_m, pose_.theta_rad}}};
 }
 
@@ -45,22 +43,27 @@ EventFields DoorEvent::Apply(const EventContext& c) const {
 }
 
 void RegisterScriptedEvents(EventRegistry* registry) {
+  RegisterKidnapEvent(registry);
   registry->Register("push", [](MapReader& r, const EventTargets& targets) {
     const std::string body = ReadTarget(r, "body", targets.bodies);
     Eigen::Vector2d impulse(0, 0);
     if (auto v = r.Numbers("impulse", 2, true)) impulse = {(*v)[0], (*v)[1]};
-    return std::make_shared<const PushEvent>(body, impulse);
+    return std::shared_ptr<const ScenarioEvent>(std::make_shared<const PushEvent>(body, impulse));
   });
   registry->Register("teleport", [](MapReader& r, const EventTargets& targets) {
     const std::string body = ReadTarget(r, "body", targets.bodies);
+    // For robots, an alias of `kidnap` to a pose (its record is a kidnap).
+    if (targets.robots.contains(body)) {
+      return ReadKidnapTo(r, targets, body, "pose", true, KidnapOptions{});
+    }
     core::Pose2 pose;
     if (auto p = r.Numbers("pose", 3, true)) pose = {(*p)[0], (*p)[1], (*p)[2]};
-    return std::make_shared<const TeleportEvent>(body, pose);
+    return std::shared_ptr<const ScenarioEvent>(std::make_shared<const TeleportEvent>(body, pose));
   });
   registry->Register("door", [](MapReader& r, const EventTargets& targets) {
     const std::string door = ReadTarget(r, "door", targets.doors);
     const bool open = r.Choice("state", {"open", "closed"}, "closed", true) == "open";
-    return std::make_shared<const DoorEvent>(door, open);
+    return std::shared_ptr<const ScenarioEvent>(std::make_shared<const DoorEvent>(door, open));
   });
 }
 

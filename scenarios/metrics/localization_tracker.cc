@@ -47,6 +47,12 @@ const LocalizationCycle& LocalizationTracker::Record(const nav::EstimatorCycle& 
   c.matched_beacons = cycle.matched_beacons;
   c.matched_other = cycle.matched_other;
   c.lost = cycle.lost;
+  c.mode = cycle.mode;
+  c.hypotheses = cycle.hypotheses;
+  if (c.mode == nav::LocalizationMode::kLost && mode_ != nav::LocalizationMode::kLost) {
+    ++declared_lost_situations_;
+  }
+  mode_ = c.mode;
   const bool lost_now = c.lost || c.position_error_m > kLostPositionErrorM ||
                         std::abs(c.heading_error_rad) > kLostHeadingErrorRad;
   lost_started_ = lost_now && !in_lost_situation_;
@@ -62,6 +68,7 @@ LocalizationFigures LocalizationTracker::Figures() const {
   LocalizationFigures f;
   f.cycles = static_cast<int>(cycles_.size());
   f.lost_situations = lost_situations_;
+  f.declared_lost_situations = declared_lost_situations_;
   if (cycles_.empty()) return f;
   std::vector<double> position, heading;
   double sum_p2 = 0.0, sum_h2 = 0.0, nees = 0.0;

@@ -33,6 +33,8 @@ struct LocalizationCycle {
   int matched_beacons = 0;
   int matched_other = 0;
   bool lost = false;  // the localizer declares itself lost
+  nav::LocalizationMode mode = nav::LocalizationMode::kLocalized;  // thesis Fig. 5.17
+  int hypotheses = 1;                                              // n
 };
 
 // The run's figures (metrics.md), over all cycles.
@@ -53,6 +55,7 @@ struct LocalizationFigures {
   double matched_beacons_per_cycle = 0.0;
   int cycles_without_match = 0;
   int lost_situations = 0;  // metrics.md: true error beyond 0.5 m / 10 deg, or declared lost
+  int declared_lost_situations = 0;  // the estimator's own: transitions into kLost
 };
 
 // True error beyond which a cycle counts as a lost situation (metrics.md).
@@ -83,6 +86,8 @@ class LocalizationTracker {
   bool lost_started_ = false;
   std::string lost_reason_ = "none";
   int lost_situations_ = 0;
+  int declared_lost_situations_ = 0;
+  nav::LocalizationMode mode_ = nav::LocalizationMode::kLocalized;
 };
 
 }  // namespace pavilion::scenarios

@@ -25,7 +25,77 @@ Json LocalizationJson(const LocalizationFigures& f) {
           {"matched_lines_per_cycle", n(f.matched_lines_per_cycle)},
           {"matched_beacons_per_cycle", n(f.matched_beacons_per_cycle)},
           {"cycles_without_match", f.cycles_without_match},
-          {"lost_situations", f.lost_situations}};
+          {"lost_situations", f.lost_situations},
+          {"declared_lost_situations", f.declared_lost_situations}};
+}
+
+Json KidnapJson(const KidnapOutcome& k) {
+  const auto n = [](double v) { return RoundForJson(v, 4); };
+  Json j = {{"at_s", n(k.at_s)},
+            {"motion_s", n(k.motion_s)},
+            {"distance_m", n(k.distance_m)},
+            {"lost_declared", k.lost_declared}};
+  if (k.lost_declared) j["motion_to_lost_s"] = n(k.motion_to_lost_s);
+  j["recovered"] = k.recovered;
+  if (k.recovered) {
+    j["time_to_relocalize_s"] = n(k.motion_to_relocalize_s);
+    j["distance_to_relocalize_m"] = n(k.distance_to_relocalize_m);
+  }
+  j["fbt_recovered"] = k.fbt_recovered;
+  if (k.fbt_recovered) j["fbt_recovery_s"] = n(k.fbt_recovery_s);
+  return j;
+}
+
+// Times are motion time (relocalization_tracker.h) but fbt_mean_recovery_s.
+Json RelocalizationJson(const RelocalizationFigures& f) {
+  const auto n = [](double v) { return RoundForJson(v, 4); };
+  Json kidnaps = Json::array();
+  for (const KidnapOutcome& k : f.outcomes) kidnaps.push_back(KidnapJson(k));
+  return {{"kidnaps", f.kidnaps},
+          {"recovered", f.recovered},
+          {"recovered_ratio", n(f.recovered_ratio)},
+          {"lost_declared_within_10s_ratio", n(f.lost_declared_within_10s_ratio)},
+          {"mean_time_to_lost_s", n(f.mean_time_to_lost_s)},
+          {"median_time_to_lost_s", n(f.median_time_to_lost_s)},
+          {"mean_time_to_relocalize_s", n(f.mean_time_to_relocalize_s)},
+          {"median_time_to_relocalize_s", n(f.median_time_to_relocalize_s)},
+          {"mean_distance_to_relocalize_m", n(f.mean_distance_to_relocalize_m)},
+          {"median_distance_to_relocalize_m", n(f.median_distance_to_relocalize_m)},
+          {"declared_losses", f.declared_losses},
+          {"false_relocalizations", f.false_relocalizations},
+          {"fbt_recovered_ratio", n(f.fbt_recovered_ratio)},
+          {"fbt_mean_recovery_s", n(f.fbt_mean_recovery_s)},
+          {"mean_hypotheses", n(f.mean_hypotheses)},
+          {"max_hypotheses", f.max_hypotheses},
+          {"per_kidnap", kidnaps}};
+}
+
+// The fleet's relocalization: counts summed, ratios over all kidnaps.
+Json FleetRelocalizationJson(const RunMetrics& m) {
+  int kidnaps = 0, recovered = 0, lost_in_time = 0, fbt = 0, false_relocalizations = 0;
+  int declared = 0;
+  for (const RobotMetrics& r : m.robots) {
+    if (!r.relocalization) continue;
+    const RelocalizationFigures& f = *r.relocalization;
+    kidnaps += f.kidnaps;
+    recovered += f.recovered;
+    false_relocalizations += f.false_relocalizations;
+    declared += f.declared_losses;
+    for (const KidnapOutcome& k : f.outcomes) {
+      lost_in_time += k.lost_declared && k.motion_to_lost_s <= kLostDeclaredMotionS ? 1 : 0;
+      fbt += k.fbt_recovered ? 1 : 0;
+    }
+  }
+  const auto ratio = [&](int count) {
+    return kidnaps > 0 ? RoundForJson(static_cast<double>(count) / kidnaps, 4) : 0.0;
+  };
+  return {{"kidnaps", kidnaps},
+          {"recovered", recovered},
+          {"recovered_ratio", ratio(recovered)},
+          {"lost_declared_within_10s_ratio", ratio(lost_in_time)},
+          {"declared_losses", declared},
+          {"false_relocalizations", false_relocalizations},
+          {"fbt_recovered_ratio", ratio(fbt)}};
 }
 
 Json NavigationJson(const nav::NavigationFigures& f, const CollisionCounts& collisions) {
@@ -63,6 +133,7 @@ Json FleetJson(const RunMetrics& m) {
   int completed = 0;
   CollisionCounts collisions;
   std::int64_t lost = 0;
+  std::int64_t declared_lost = 0;
   for (const RobotMetrics& r : m.robots) {
     if (!r.navigation) continue;
     started += r.navigation->missions_started;
@@ -75,13 +146,15 @@ Json FleetJson(const RunMetrics& m) {
     collisions.robot_into_robot += r.collisions_by_class.robot_into_robot;
     collisions.robot_hit_by_robot += r.collisions_by_class.robot_hit_by_robot;
     if (r.localization) lost += r.localization->lost_situations;
+    if (r.localization) declared_lost += r.localization->declared_lost_situations;
   }
   return {{"missions_started", started},
           {"missions_completed", completed},
           {"missions_completed_ratio",
            started > 0 ? RoundForJson(static_cast<double>(completed) / started, 4) : 0.0},
           {"collisions", CollisionCountsToJson(collisions)},
-          {"lost_situations", lost}};
+          {"lost_situations", lost},
+          {"declared_lost_situations", declared_lost}};
 }
 
 Json RobotJson(const RobotMetrics& r) {
@@ -95,6 +168,7 @@ Json RobotJson(const RobotMetrics& r) {
              {{"position_m", RoundForJson(r.odometry_final_position_error_m)},
               {"heading_rad", RoundForJson(r.odometry_final_heading_error_rad)}}}};
   if (r.localization) j["localization"] = LocalizationJson(*r.localization);
+  if (r.relocalization) j["relocalization"] = RelocalizationJson(*r.relocalization);
   if (r.route) {
     j["route"] = {
         {"stops", r.route->stops},
@@ -144,6 +218,13 @@ std::int64_t RunMetrics::events() const {
   return sum;
 }
 
+bool RunMetrics::any_relocalization() const {
+  for (const RobotMetrics& r : robots) {
+    if (r.relocalization) return true;
+  }
+  return false;
+}
+
 bool RunMetrics::any_navigation() const {
   for (const RobotMetrics& r : robots) {
     if (r.navigation) return true;
@@ -180,6 +261,7 @@ nlohmann::ordered_json MetricsToJson(const RunMetrics& m) {
         {"backend", m.laser_backend}, {"scans", m.scans()}, {"fallback_scans", m.fallback_scans()}};
   }
   if (m.any_navigation()) j["fleet"] = FleetJson(m);
+  if (m.any_relocalization()) j["fleet"]["relocalization"] = FleetRelocalizationJson(m);
   j["events"] = m.event_counts;
   return j;
 }

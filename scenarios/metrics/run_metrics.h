@@ -14,6 +14,7 @@
 #include "nav/mission/mission.h"
 #include "scenarios/metrics/collision_classes.h"
 #include "scenarios/metrics/localization_tracker.h"
+#include "scenarios/metrics/relocalization_tracker.h"
 
 namespace pavilion::scenarios {
 
@@ -42,6 +43,8 @@ struct RobotMetrics {
   double odometry_final_position_error_m = 0.0;
   double odometry_final_heading_error_rad = 0.0;  // |wrapped|
   std::optional<LocalizationFigures> localization;
+  // Robots that localize, in runs with a kidnap or a declared loss.
+  std::optional<RelocalizationFigures> relocalization;
   std::optional<RouteMetrics> route;
   std::optional<nav::NavigationFigures> navigation;  // robots with a mission
 };
@@ -66,6 +69,7 @@ struct RunMetrics {
   std::int64_t fallback_scans() const;
   std::int64_t events() const;
   bool any_navigation() const;
+  bool any_relocalization() const;
 };
 
 // metrics.json (schema 1): numbers rounded as the file has always had them.

@@ -78,7 +78,8 @@ void LocalizationTable(std::ostringstream& html, const RunMetrics& m) {
   html << "<h2>Localization</h2>\n<table>\n<tr><th>robot</th><th>cycles</th>"
           "<th>position RMSE (m)</th><th>heading RMSE (deg)</th><th>2&sigma; frontal "
           "(m)</th><th>2&sigma; lateral (m)</th><th>2&sigma; heading (deg)</th>"
-          "<th>ANEES</th><th>matched lines per cycle</th><th>lost situations</th></tr>\n";
+          "<th>ANEES</th><th>matched lines per cycle</th><th>lost situations</th>"
+          "<th>declared lost</th></tr>\n";
   for (const RobotMetrics& r : m.robots) {
     if (!r.localization) continue;
     const LocalizationFigures& l = *r.localization;
@@ -86,7 +87,8 @@ void LocalizationTable(std::ostringstream& html, const RunMetrics& m) {
     for (const std::string& cell :
          {Int(l.cycles), Num(l.position_rmse_m), Num(l.heading_rmse_deg),
           Num(l.two_sigma_frontal_m), Num(l.two_sigma_lateral_m), Num(l.two_sigma_heading_deg),
-          Num(l.anees), Num(l.matched_lines_per_cycle), Int(l.lost_situations)}) {
+          Num(l.anees), Num(l.matched_lines_per_cycle), Int(l.lost_situations),
+          Int(l.declared_lost_situations)}) {
       html << "<td>" << cell << "</td>";
     }
     html << "</tr>\n";
@@ -94,7 +96,37 @@ void LocalizationTable(std::ostringstream& html, const RunMetrics& m) {
   html << "</table>\n<p class=\"note\">Against ground truth, per localization cycle "
           "(localization.csv; metrics.md). A consistent filter has ANEES near 3; the "
           "thesis' Table 4.2 (laser only) gives 2&sigma; of 13.1 mm frontal, 13.5 mm "
-          "lateral, 0.92&deg; and 2.73 matched lines per cycle.</p>\n";
+          "lateral, 0.92&deg; and 2.73 matched lines per cycle. Lost situations: the true "
+          "error beyond 0.5 m or 10&deg;, or declared; declared lost: the estimator's own "
+          "transitions into lost.</p>\n";
+}
+
+void RelocalizationTable(std::ostringstream& html, const RunMetrics& m) {
+  html << "<h2>Relocalization</h2>\n<table>\n<tr><th>robot</th><th>kidnaps</th>"
+          "<th>recovered</th><th>lost declared within 10 s</th><th>median time to lost (s)</th>"
+          "<th>median time to relocalize (s)</th><th>median distance to relocalize (m)</th>"
+          "<th>false relocalizations</th><th>FBT recovered</th><th>FBT mean recovery (s)</th>"
+          "<th>mean / max hypotheses</th></tr>\n";
+  for (const RobotMetrics& r : m.robots) {
+    if (!r.relocalization) continue;
+    const RelocalizationFigures& f = *r.relocalization;
+    html << "<tr><td>" << Escape(r.id) << "</td>";
+    for (const std::string& cell :
+         {Int(f.kidnaps), Int(f.recovered) + " (" + Num(f.recovered_ratio, 3) + ")",
+          Num(f.lost_declared_within_10s_ratio, 3), Num(f.median_time_to_lost_s, 2),
+          Num(f.median_time_to_relocalize_s, 2), Num(f.median_distance_to_relocalize_m, 2),
+          Int(f.false_relocalizations), Num(f.fbt_recovered_ratio, 3),
+          Num(f.fbt_mean_recovery_s, 2),
+          Num(f.mean_hypotheses, 2) + " / " + Int(f.max_hypotheses)}) {
+      html << "<td>" << cell << "</td>";
+    }
+    html << "</tr>\n";
+  }
+  html << "</table>\n<p class=\"note\">Per kidnap (metrics.md; issue 18): recovered = declared "
+          "localized within 0.2 m and 5&deg; of the truth within 30 s of motion after it; times "
+          "are motion time (true speed above 0.02 m/s). False relocalization: declared localized "
+          "while more than 0.5 m or 10&deg; off. FBT: Fox, Burgard &amp; Thrun (1999), within "
+          "0.45 m of the truth for more than 10 s; its recovery time is simulated time.</p>\n";
 }
 
 void NavigationTable(std::ostringstream& html, const RunMetrics& m) {
@@ -169,6 +201,7 @@ std::string RenderReportHtml(const Scenario& scenario, const RunMetrics& metrics
         std::any_of(metrics.robots.begin(), metrics.robots.end(),
                     [](const RobotMetrics& r) { return r.localization.has_value(); });
     if (any_localization) LocalizationTable(html, metrics);
+    if (metrics.any_relocalization()) RelocalizationTable(html, metrics);
     if (metrics.any_navigation()) NavigationTable(html, metrics);
   }
   html << "<h2>Events</h2>\n<table>\n<tr><th>type</th><th>count</th></tr>\n";

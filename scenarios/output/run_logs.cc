@@ -46,7 +46,7 @@ LocalizationLog::LocalizationLog(const std::string& path) : writer_(path) {
       "time_s,id,cycle,true_x_m,true_y_m,true_theta_rad,est_x_m,est_y_m,est_theta_rad,cov_xx,"
       "cov_xy,cov_xtheta,cov_yy,cov_ytheta,cov_thetatheta,position_error_m,heading_error_rad,"
       "nees,two_sigma_frontal_m,two_sigma_lateral_m,two_sigma_heading_rad,predictions,"
-      "observations,matched_lines,matched_beacons,lost");
+      "observations,matched_lines,matched_beacons,lost,state,hypotheses");
 }
 
 void LocalizationLog::Add(const std::string& id, std::int64_t index, const LocalizationCycle& c) {
@@ -72,6 +72,8 @@ void LocalizationLog::Add(const std::string& id, std::int64_t index, const Local
                      .Add(std::int64_t{c.matched_lines})
                      .Add(std::int64_t{c.matched_beacons})
                      .Add(std::int64_t{c.lost ? 1 : 0})
+                     .Add(std::string(nav::LocalizationModeName(c.mode)))
+                     .Add(std::int64_t{c.hypotheses})
                      .str());
 }
 

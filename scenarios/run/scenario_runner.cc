@@ -20,6 +20,7 @@
 #include "scenarios/events/event_log.h"
 #include "scenarios/metrics/collision_classes.h"
 #include "scenarios/metrics/localization_tracker.h"
+#include "scenarios/metrics/relocalization_tracker.h"
 #include "scenarios/output/run_logs.h"
 #include "scenarios/output/run_outputs.h"
 #include "scenarios/output/scan_log.h"
@@ -92,6 +93,7 @@ struct RobotRun {
   std::unique_ptr<sim::SimRobot> robot;
   std::unique_ptr<nav::Navigator> navigator;
   std::optional<LocalizationTracker> tracker;  // robots that localize
+  std::optional<RelocalizationTracker> relocalization;
   RobotMetrics tally;
   RobotTracks tracks;
   bool mission_done_reported = false;
@@ -117,6 +119,7 @@ class ScenarioRun {
   void OpenLogs();
   // The phases of a tick, in order.
   void ApplyEvents(double t);
+  void EmitScripted(double t, const ScenarioEvent& e, const EventFields& fields);
   void MoveBodies(double t);
   void ControlRobots(std::int64_t tick, double t);
   void StepPhysics();
@@ -127,6 +130,8 @@ class ScenarioRun {
   void EmitNavigationEvents(RobotRun& r);
   void SenseRobots(const sim::TickSnapshot& next, double t_after);
   void MergeRobot(std::size_t k, const sim::TickSnapshot& next, double t_after);
+  void RecordCycle(RobotRun& r, const nav::EstimatorCycle& cycle, const core::Pose2& truth,
+                   double t_after);
   void RecordTrajectories(double t);
   bool RoutesDone() const;
   void BuildCollisionClasses();
@@ -158,6 +163,10 @@ class ScenarioRun {
   std::vector<nav::NavigationEvent> nav_events_;  // scratch
   std::vector<std::vector<Eigen::Vector2d>> body_tracks_;
   std::unique_ptr<EventLog> events_;
+  std::unique_ptr<EventStreams> event_streams_;
+  std::vector<const ScenarioEvent*> ongoing_events_;  // processes started, in timeline order
+  std::vector<double> robot_step_m_;  // by world robot index: true distance of the last step
+  std::vector<KidnapNote> kidnaps_;   // scratch: this tick's
   std::unique_ptr<TrajectoryLog> trajectories_;
   std::unique_ptr<LocalizationLog> localization_log_;
   std::unique_ptr<ScanLogWriter> scan_log_;
@@ -222,9 +231,14 @@ void ScenarioRun::BuildRobots(std::vector<sim::RobotConfig> configs,
     if (extensions_.add_sensors) extensions_.add_sensors(entry, run.robot.get());
     robot_index_[entry.id] = run.robot->index();
     run.navigator = MakeNavigator(scenario_, k, maps[k]);
-    if (run.navigator->estimator()) run.tracker.emplace();
+    if (run.navigator->estimator()) {
+      run.tracker.emplace();
+      run.relocalization.emplace();
+    }
   }
   work_.resize(robots_.size());
+  robot_step_m_.assign(world_->robot_count(), 0.0);
+  event_streams_ = std::make_unique<EventStreams>(scenario_.seed);
 }
 
 void ScenarioRun::OpenLogs() {
@@ -330,13 +344,30 @@ void ScenarioRun::Run() {
 }
 
 void ScenarioRun::ApplyEvents(double t) {
-  // Scripted events due by this tick happen before it is stepped.
-  const EventContext context{world_.get(), &robot_index_, &body_index_, &snapshot_};
+  // Scripted events due by this tick happen before it is stepped; processes
+  // started before (random kidnaps by distance) act first, on the last step.
+  kidnaps_.clear();
+  const EventContext context{world_.get(),         &robot_index_,  &body_index_, &snapshot_,
+                             event_streams_.get(), &robot_step_m_, &kidnaps_};
+  for (const ScenarioEvent* e : ongoing_events_) EmitScripted(t, *e, e->Continue(context));
   while (next_event_ < scenario_.events.size() &&
          scenario_.events[next_event_].at_s <= t + kDueToleranceS) {
     const ScenarioEvent& e = *scenario_.events[next_event_++].event;
-    events_->Emit(t, e.type(), e.Apply(context));
+    EmitScripted(t, e, e.Apply(context));
+    if (e.ongoing() &&
+        std::find(ongoing_events_.begin(), ongoing_events_.end(), &e) == ongoing_events_.end()) {
+      ongoing_events_.push_back(&e);
+    }
   }
+  for (const KidnapNote& kidnap : kidnaps_) {
+    for (RobotRun& r : robots_) {
+      if (r.robot->index() == kidnap.robot && r.relocalization) r.relocalization->OnKidnap(t);
+    }
+  }
+}
+
+void ScenarioRun::EmitScripted(double t, const ScenarioEvent& e, const EventFields& fields) {
+  if (!fields.is_null()) events_->Emit(t, e.type(), fields);
 }
 
 void ScenarioRun::MoveBodies(double t) {
@@ -520,8 +551,11 @@ void ScenarioRun::SenseRobots(const sim::TickSnapshot& next, double t_after) {
 void ScenarioRun::MergeRobot(std::size_t k, const sim::TickSnapshot& next, double t_after) {
   RobotRun& r = robots_[k];
   const TickWork& w = work_[k];
-  r.tally.distance_m +=
+  const double step_m =
       (next.robots[k].pose.translation() - snapshot_.robots[k].pose.translation()).norm();
+  r.tally.distance_m += step_m;
+  robot_step_m_[r.robot->index()] = step_m;
+  if (r.relocalization) r.relocalization->OnStep(world_->step_s(), step_m);
   for (const core::BumperReading& b : w.outputs.bumpers) {
     nlohmann::ordered_json zones = nlohmann::ordered_json::array();
     const auto& names = r.entry->config.bumpers;
@@ -543,18 +577,7 @@ void ScenarioRun::MergeRobot(std::size_t k, const sim::TickSnapshot& next, doubl
     if (w.sensed.cycle) {
       summary_.estimator_cycle_s += w.estimator_s;  // summed over robots: thread time
       ++summary_.estimator_cycles;
-      const LocalizationCycle& c = r.tracker->Record(*w.sensed.cycle, *r.navigator->estimator(),
-                                                     next.robots[k].pose, t_after);
-      localization_log_->Add(r.entry->id, static_cast<std::int64_t>(r.tracker->cycles().size()) - 1,
-                             c);
-      if (r.tracker->lost_started()) {
-        events_->Emit(
-            t_after, "lost",
-            EventFields{{"robot", r.entry->id},
-                        {"reason", r.tracker->lost_reason()},
-                        {"position_error_m", RoundForJson(c.position_error_m, 4)},
-                        {"heading_error_deg", RoundForJson(c.heading_error_rad * kDegPerRad, 3)}});
-      }
+      RecordCycle(r, *w.sensed.cycle, next.robots[k].pose, t_after);
     } else {
       summary_.estimator_tick_s += w.estimator_s;
       ++summary_.estimator_ticks;
@@ -562,6 +585,44 @@ void ScenarioRun::MergeRobot(std::size_t k, const sim::TickSnapshot& next, doubl
   }
   for (RunObserver* observer : extensions_.observers) {
     observer->OnRobotOutputs(*r.entry, w.outputs, t_after);
+  }
+}
+
+void ScenarioRun::RecordCycle(RobotRun& r, const nav::EstimatorCycle& cycle,
+                              const core::Pose2& truth, double t_after) {
+  const nav::PoseEstimator& estimator = *r.navigator->estimator();
+  const LocalizationCycle& c = r.tracker->Record(cycle, estimator, truth, t_after);
+  localization_log_->Add(r.entry->id, static_cast<std::int64_t>(r.tracker->cycles().size()) - 1, c);
+  const RelocalizationChange change = r.relocalization->OnCycle(
+      t_after, c.mode, c.hypotheses, c.position_error_m, c.heading_error_rad);
+  const auto error_fields = [&](EventFields fields) {
+    fields["position_error_m"] = RoundForJson(c.position_error_m, 4);
+    fields["heading_error_deg"] = RoundForJson(c.heading_error_rad * kDegPerRad, 3);
+    return fields;
+  };
+  if (change.hypotheses_changed) {
+    events_->Emit(t_after, "hypotheses",
+                  EventFields{{"robot", r.entry->id},
+                              {"n", c.hypotheses},
+                              {"mode", nav::LocalizationModeName(c.mode)}});
+  }
+  // A lost situation (metrics.md: the truth's or the estimator's) begins, or
+  // the estimator declares itself lost during one.
+  if (r.tracker->lost_started() || change.lost) {
+    const bool declared = c.mode == nav::LocalizationMode::kLost;
+    events_->Emit(
+        t_after, "lost",
+        error_fields({{"robot", r.entry->id},
+                      {"reason", declared ? estimator.lost_reason() : r.tracker->lost_reason()},
+                      {"declared", declared}}));
+  }
+  if (change.localized) {
+    events_->Emit(t_after, "localized",
+                  EventFields{{"robot", r.entry->id}, {"hypotheses", c.hypotheses}});
+  }
+  if (change.relocalized) {
+    events_->Emit(t_after, "relocalized",
+                  error_fields({{"robot", r.entry->id}, {"correct", change.correct}}));
   }
 }
 
@@ -618,6 +679,9 @@ RunMetrics ScenarioRun::CollectMetrics(double sim_s) const {
     robot.odometry_final_heading_error_rad =
         std::abs(core::NormalizeAngle(odo.theta_rad - truth.theta_rad));
     if (r.tracker) robot.localization = r.tracker->Figures();
+    if (r.relocalization && r.relocalization->active()) {
+      robot.relocalization = r.relocalization->Figures();
+    }
     const nav::Controller* controller = r.navigator->controller();
     if (controller && controller->navigation()) robot.navigation = *controller->navigation();
     if (r.entry->route) {
