@@ -53,7 +53,16 @@ std::optional<EstimatorCycle> GlobalPoseEstimator::Update(
   estimate_ = localizer_->Estimate();
   if (localizer_->cycles() == last_cycles_) return std::nullopt;
   last_cycles_ = localizer_->cycles();
-  return ReportCycle();
+  EstimatorCycle c = ReportCycle();
+  // A loss and a new generation within one tick: the cycle reports the loss,
+  // so that it is seen (events, metrics); the next one the new hypotheses.
+  if (localizer_->counters().losses != last_losses_ && c.mode != LocalizationMode::kLost) {
+    c.mode = LocalizationMode::kLost;
+    c.hypotheses = 0;
+    c.lost = true;
+  }
+  last_losses_ = localizer_->counters().losses;
+  return c;
 }
 
 EstimatorCycle GlobalPoseEstimator::ReportCycle() const {

@@ -52,7 +52,7 @@ class GlobalPoseEstimator : public PoseEstimator {
   ScanRateGate gate_;
   core::PoseWithCovariance estimate_;
   long last_cycles_ = 0;
-  long last_matches_ = 0;
+  long last_losses_ = 0;
   bool paused_ = false;
 };
 

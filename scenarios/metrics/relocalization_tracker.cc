@@ -59,10 +59,22 @@ RelocalizationChange RelocalizationTracker::OnCycle(double now_s, nav::Localizat
     change.correct = within;
     pending_relocalization_ = false;
   }
+  // A false relocalization: declared localized (from lost or not localized)
+  // while off, or off within kFalseWindowS of that declaration (a wrong lock-in
+  // shows at once). Being off later — a push the tracking did not follow — is
+  // a lost situation (LocalizationTracker), not a relocalization.
+  if (change.localized) {
+    localized_since_s_ = now_s;
+    false_counted_ = false;
+  }
   const bool off = mode == Mode::kLocalized &&
                    (position_error_m > kFalsePositionM || heading_rad > kFalseHeadingRad);
   if (mode != Mode::kLocalized || !off) unnoticed_kidnap_ = false;
-  if (off && !off_ && !unnoticed_kidnap_) ++false_relocalizations_;
+  const bool fresh = localized_since_s_ && now_s - *localized_since_s_ <= kFalseWindowS;
+  if (off && fresh && !unnoticed_kidnap_ && !false_counted_) {
+    ++false_relocalizations_;
+    false_counted_ = true;
+  }
   off_ = off;
   if (!outcomes_.empty()) {
     KidnapOutcome& k = outcomes_.back();

@@ -31,6 +31,9 @@ inline constexpr double kLostDeclaredMotionS = 10.0;
 // False relocalization: declared localized while this far off (metrics.md).
 inline constexpr double kFalsePositionM = 0.5;
 inline constexpr double kFalseHeadingRad = 10.0 * 3.14159265358979323846 / 180.0;
+// How long after a declaration of localized being off still counts as a false
+// relocalization, s. Chosen: four cycles of two lasers at 2 Hz.
+inline constexpr double kFalseWindowS = 2.0;
 // Fox, Burgard & Thrun 1999: recovered when the estimate stays within this of
 // the true position for more than kFbtHoldS.
 inline constexpr double kFbtPositionM = 0.45;
@@ -102,6 +105,8 @@ class RelocalizationTracker {
   // is the kidnap's doing, not a false relocalization.
   bool unnoticed_kidnap_ = false;
   bool off_ = false;  // the last cycle: declared localized while off
+  std::optional<double> localized_since_s_;  // the last declaration of localized
+  bool false_counted_ = false;               // that declaration counted as false
   std::optional<double> fbt_good_since_s_;
   int declared_losses_ = 0;
   int false_relocalizations_ = 0;

@@ -169,6 +169,14 @@ Json RobotJson(const RobotMetrics& r) {
               {"heading_rad", RoundForJson(r.odometry_final_heading_error_rad)}}}};
   if (r.localization) j["localization"] = LocalizationJson(*r.localization);
   if (r.relocalization) j["relocalization"] = RelocalizationJson(*r.relocalization);
+  if (r.shadow) {
+    Json shadow = {{"method", r.shadow->method},
+                   {"localization", LocalizationJson(r.shadow->localization)}};
+    if (r.shadow->relocalization) {
+      shadow["relocalization"] = RelocalizationJson(*r.shadow->relocalization);
+    }
+    j["shadow"] = std::move(shadow);
+  }
   if (r.route) {
     j["route"] = {
         {"stops", r.route->stops},

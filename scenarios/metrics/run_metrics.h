@@ -45,6 +45,14 @@ struct RobotMetrics {
   std::optional<LocalizationFigures> localization;
   // Robots that localize, in runs with a kidnap or a declared loss.
   std::optional<RelocalizationFigures> relocalization;
+  // The estimator run in shadow on the same readings (`shadow: mcl`), judged
+  // the same way.
+  struct Shadow {
+    std::string method;  // "mcl"
+    LocalizationFigures localization;
+    std::optional<RelocalizationFigures> relocalization;
+  };
+  std::optional<Shadow> shadow;
   std::optional<RouteMetrics> route;
   std::optional<nav::NavigationFigures> navigation;  // robots with a mission
 };

@@ -107,10 +107,16 @@ void RelocalizationTable(std::ostringstream& html, const RunMetrics& m) {
           "<th>median time to relocalize (s)</th><th>median distance to relocalize (m)</th>"
           "<th>false relocalizations</th><th>FBT recovered</th><th>FBT mean recovery (s)</th>"
           "<th>mean / max hypotheses</th></tr>\n";
+  std::vector<std::pair<std::string, const RelocalizationFigures*>> rows;
   for (const RobotMetrics& r : m.robots) {
-    if (!r.relocalization) continue;
-    const RelocalizationFigures& f = *r.relocalization;
-    html << "<tr><td>" << Escape(r.id) << "</td>";
+    if (r.relocalization) rows.emplace_back(r.id, &*r.relocalization);
+    if (r.shadow && r.shadow->relocalization) {
+      rows.emplace_back(r.id + " (shadow " + r.shadow->method + ")", &*r.shadow->relocalization);
+    }
+  }
+  for (const auto& [id, figures] : rows) {
+    const RelocalizationFigures& f = *figures;
+    html << "<tr><td>" << Escape(id) << "</td>";
     for (const std::string& cell :
          {Int(f.kidnaps), Int(f.recovered) + " (" + Num(f.recovered_ratio, 3) + ")",
           Num(f.lost_declared_within_10s_ratio, 3), Num(f.median_time_to_lost_s, 2),

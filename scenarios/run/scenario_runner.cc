@@ -94,6 +94,9 @@ struct RobotRun {
   std::unique_ptr<nav::Navigator> navigator;
   std::optional<LocalizationTracker> tracker;  // robots that localize
   std::optional<RelocalizationTracker> relocalization;
+  // The shadow estimator's (Navigator::shadow_estimator), judged the same way.
+  std::optional<LocalizationTracker> shadow_tracker;
+  std::optional<RelocalizationTracker> shadow_relocalization;
   RobotMetrics tally;
   RobotTracks tracks;
   bool mission_done_reported = false;
@@ -234,6 +237,10 @@ void ScenarioRun::BuildRobots(std::vector<sim::RobotConfig> configs,
     if (run.navigator->estimator()) {
       run.tracker.emplace();
       run.relocalization.emplace();
+      if (run.navigator->shadow_estimator()) {
+        run.shadow_tracker.emplace();
+        run.shadow_relocalization.emplace();
+      }
     }
   }
   work_.resize(robots_.size());
@@ -362,6 +369,9 @@ void ScenarioRun::ApplyEvents(double t) {
   for (const KidnapNote& kidnap : kidnaps_) {
     for (RobotRun& r : robots_) {
       if (r.robot->index() == kidnap.robot && r.relocalization) r.relocalization->OnKidnap(t);
+      if (r.robot->index() == kidnap.robot && r.shadow_relocalization) {
+        r.shadow_relocalization->OnKidnap(t);
+      }
     }
   }
 }
@@ -556,6 +566,7 @@ void ScenarioRun::MergeRobot(std::size_t k, const sim::TickSnapshot& next, doubl
   r.tally.distance_m += step_m;
   robot_step_m_[r.robot->index()] = step_m;
   if (r.relocalization) r.relocalization->OnStep(world_->step_s(), step_m);
+  if (r.shadow_relocalization) r.shadow_relocalization->OnStep(world_->step_s(), step_m);
   for (const core::BumperReading& b : w.outputs.bumpers) {
     nlohmann::ordered_json zones = nlohmann::ordered_json::array();
     const auto& names = r.entry->config.bumpers;
@@ -582,6 +593,12 @@ void ScenarioRun::MergeRobot(std::size_t k, const sim::TickSnapshot& next, doubl
       summary_.estimator_tick_s += w.estimator_s;
       ++summary_.estimator_ticks;
     }
+  }
+  if (r.shadow_tracker && w.sensed.shadow_cycle) {
+    const LocalizationCycle& c = r.shadow_tracker->Record(
+        *w.sensed.shadow_cycle, *r.navigator->shadow_estimator(), next.robots[k].pose, t_after);
+    r.shadow_relocalization->OnCycle(t_after, c.mode, c.hypotheses, c.position_error_m,
+                                     c.heading_error_rad);
   }
   for (RunObserver* observer : extensions_.observers) {
     observer->OnRobotOutputs(*r.entry, w.outputs, t_after);
@@ -681,6 +698,12 @@ RunMetrics ScenarioRun::CollectMetrics(double sim_s) const {
     if (r.tracker) robot.localization = r.tracker->Figures();
     if (r.relocalization && r.relocalization->active()) {
       robot.relocalization = r.relocalization->Figures();
+    }
+    if (r.shadow_tracker) {
+      robot.shadow = RobotMetrics::Shadow{"mcl", r.shadow_tracker->Figures(), std::nullopt};
+      if (r.shadow_relocalization->active()) {
+        robot.shadow->relocalization = r.shadow_relocalization->Figures();
+      }
     }
     const nav::Controller* controller = r.navigator->controller();
     if (controller && controller->navigation()) robot.navigation = *controller->navigation();

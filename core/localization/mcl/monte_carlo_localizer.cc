@@ -227,8 +227,19 @@ void MonteCarloLocalizer::Weigh(const std::vector<Vec2>& ends_in_robot, double m
     for (Particle& p : particles_) p.weight /= scaled_sum;
   }
   const double w_avg = std::exp(max_log) * scaled_sum;
-  w_slow_ += options_.alpha_slow * (w_avg - w_slow_);
-  w_fast_ += options_.alpha_fast * (w_avg - w_fast_);
+  // Table 8.3's averages, started at the first average instead of 0 (as nav2
+  // AMCL's pf.c does): a cold w_slow of 0 would keep recovery asleep for
+  // ~1/alpha_slow updates (250 m of travel at update_min_d). nav2 also
+  // restarts both after an injection, which leaves one small burst per loss;
+  // table 8.3 keeps injecting while w_fast < w_slow, which recovers far more
+  // often, and is kept here.
+  if (w_slow_ == 0.0) {
+    w_slow_ = w_avg;
+    w_fast_ = w_avg;
+  } else {
+    w_slow_ += options_.alpha_slow * (w_avg - w_slow_);
+    w_fast_ += options_.alpha_fast * (w_avg - w_fast_);
+  }
 }
 
 void MonteCarloLocalizer::Resample() {

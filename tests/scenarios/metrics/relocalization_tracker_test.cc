@@ -103,6 +103,20 @@ TEST(RelocalizationTrackerTest, FalseRelocalizationCountedPerTransition) {
   EXPECT_FALSE(f.outcomes[0].recovered);
 }
 
+// Confirms that being off long after a correct relocalization (a shove the
+// tracking did not follow) is not a false relocalization: that is a lost
+// situation of the localization figures.
+TEST(RelocalizationTrackerTest, OffLongAfterACorrectRelocalizationIsNotFalse) {
+  RelocalizationTracker t;
+  double now_s = 0.0;
+  t.OnKidnap(now_s);
+  Drive(&t, &now_s, 2.0, 0.3, Mode::kLost, 0, 3.0, 0.5);
+  Drive(&t, &now_s, 10.0, 0.3, Mode::kLocalized, 1, 0.01, 0.001);
+  Drive(&t, &now_s, 2.0, 0.3, Mode::kLocalized, 1, 0.05, 12.0 * kDeg);  // pushed, still "localized"
+  EXPECT_EQ(t.Figures().false_relocalizations, 0);
+  EXPECT_TRUE(t.Figures().outcomes[0].recovered);
+}
+
 // Confirms the Fox-Burgard-Thrun recovery: within 0.45 m for more than 10 s,
 // the stretch restarting when the estimate leaves; the recovery time is from
 // the kidnap to the start of the stretch that lasted.
