@@ -257,8 +257,9 @@ void ReadLocalization(YamlDocument* doc, MapReader& r, const std::string& base,
   l.initial_unknown = initial == "unknown";
   const std::string shadow = m.String("shadow", "none");
   if (shadow != "none" && shadow != "mcl") {
-    doc->Error(m.Child("shadow"), m.PathOf("shadow"),
-               "expected 'mcl' (Monte Carlo localization beside it) or 'none', not '" + shadow + "'");
+    doc->Error(
+        m.Child("shadow"), m.PathOf("shadow"),
+        "expected 'mcl' (Monte Carlo localization beside it) or 'none', not '" + shadow + "'");
   }
   l.shadow_mcl = shadow == "mcl";
   l.global = method == "global" || l.initial_unknown;

@@ -104,7 +104,7 @@ class RelocalizationTracker {
   // Localized through a kidnap and not yet out of kLocalized since: being off
   // is the kidnap's doing, not a false relocalization.
   bool unnoticed_kidnap_ = false;
-  bool off_ = false;  // the last cycle: declared localized while off
+  bool off_ = false;                         // the last cycle: declared localized while off
   std::optional<double> localized_since_s_;  // the last declaration of localized
   bool false_counted_ = false;               // that declaration counted as false
   std::optional<double> fbt_good_since_s_;

@@ -116,8 +116,8 @@ std::unique_ptr<nav::PoseEstimator> MakeShadowMcl(const Scenario& scenario, cons
   const core::PoseWithCovariance initial = InitialEstimate(robot);
   options.initial_pose = initial.pose;
   options.initial_covariance = initial.covariance;
-  return std::make_unique<nav::MclPoseEstimator>(std::move(map), LocalizerOptionsFor(robot).odometry,
-                                                 options);
+  return std::make_unique<nav::MclPoseEstimator>(std::move(map),
+                                                 LocalizerOptionsFor(robot).odometry, options);
 }
 
 // The path of a robot's route over its map's topology, from its start pose.

@@ -31,7 +31,8 @@ inline core::Pose2 ScanPose(const core::RobotMap& map) {
 }
 
 // A noise-free scan from `world_from_robot` against the map's segments and discs.
-inline core::LaserScan CastAgainstMap(const core::RobotMap& map, const core::Pose2& world_from_robot) {
+inline core::LaserScan CastAgainstMap(const core::RobotMap& map,
+                                      const core::Pose2& world_from_robot) {
   const core::MapGeometry g = core::CollectMapGeometry(map);
   core::LaserScan scan;
   scan.sensor_id = "front";

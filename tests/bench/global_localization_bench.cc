@@ -56,7 +56,11 @@ void BM_GlobalGeneration(benchmark::State& state) {
   state.counters["hypotheses"] = static_cast<double>(hypotheses);
   state.counters["limit_hit"] = stats.node_limit_hit || stats.hypothesis_limit_hit ? 1.0 : 0.0;
 }
-BENCHMARK(BM_GlobalGeneration)->Arg(6)->Arg(0)->Unit(benchmark::kMillisecond)->Repetitions(5)
+BENCHMARK(BM_GlobalGeneration)
+    ->Arg(6)
+    ->Arg(0)
+    ->Unit(benchmark::kMillisecond)
+    ->Repetitions(5)
     ->ReportAggregatesOnly(true);
 
 void BM_GlobalTrackOneHypothesis(benchmark::State& state) {

@@ -46,7 +46,8 @@ std::vector<std::map<std::string, double>> ReadLocalizationCsv(const fs::path& p
     std::map<std::string, double> row;
     std::string field;
     for (std::size_t k = 0; k < names.size() && std::getline(fields, field, ','); ++k) {
-      if (names[k] != "id") row[names[k]] = std::stod(field);
+      if (names[k] != "id" && names[k] != "state")
+        row[names[k]] = std::stod(field);  // text columns
     }
     rows.push_back(row);
   }
