@@ -53,6 +53,7 @@ std::optional<EstimatorCycle> GlobalPoseEstimator::Update(
   estimate_ = localizer_->Estimate();
   if (localizer_->cycles() == last_cycles_) return std::nullopt;
   last_cycles_ = localizer_->cycles();
+  reporting_loss_ = false;
   EstimatorCycle c = ReportCycle();
   // A loss and a new generation within one tick: the cycle reports the loss,
   // so that it is seen (events, metrics); the next one the new hypotheses.
@@ -60,6 +61,7 @@ std::optional<EstimatorCycle> GlobalPoseEstimator::Update(
     c.mode = LocalizationMode::kLost;
     c.hypotheses = 0;
     c.lost = true;
+    reporting_loss_ = true;
   }
   last_losses_ = localizer_->counters().losses;
   return c;
@@ -110,11 +112,13 @@ std::vector<LocationHypothesis> GlobalPoseEstimator::hypotheses() const {
 }
 
 std::string GlobalPoseEstimator::lost_reason() const {
-  if (localizer_->state() != core::GlobalLocalizationState::kLost) return "none";
-  if (localizer_->lost_cause() == core::GlobalLostCause::kTrackingLost) {
-    return TrackingLostReason(localizer_->tracker().status().reason);
+  if (localizer_->state() != core::GlobalLocalizationState::kLost && !reporting_loss_) {
+    return "none";
   }
-  return core::GlobalLostCauseName(localizer_->lost_cause());
+  if (localizer_->last_loss_cause() == core::GlobalLostCause::kTrackingLost) {
+    return TrackingLostReason(localizer_->last_tracking_reason());
+  }
+  return core::GlobalLostCauseName(localizer_->last_loss_cause());
 }
 
 void GlobalPoseEstimator::SetPaused(bool paused, double now_s) {

@@ -53,6 +53,7 @@ class GlobalPoseEstimator : public PoseEstimator {
   core::PoseWithCovariance estimate_;
   long last_cycles_ = 0;
   long last_losses_ = 0;
+  bool reporting_loss_ = false;  // the last cycle reports a loss already followed by a generation
   bool paused_ = false;
 };
 

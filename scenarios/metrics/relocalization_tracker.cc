@@ -60,27 +60,22 @@ RelocalizationChange RelocalizationTracker::OnCycle(double now_s, nav::Localizat
     pending_relocalization_ = false;
   }
   // A false relocalization: declared localized (from lost or not localized)
-  // while off, or off within kFalseWindowS of that declaration (a wrong lock-in
-  // shows at once). Being off later — a push the tracking did not follow — is
-  // a lost situation (LocalizationTracker), not a relocalization.
-  if (change.localized) {
-    localized_since_s_ = now_s;
-    false_counted_ = false;
-  }
+  // while off. Being off later — a push or a collision the tracking did not
+  // follow — is a lost situation (LocalizationTracker), not a relocalization.
   const bool off = mode == Mode::kLocalized &&
                    (position_error_m > kFalsePositionM || heading_rad > kFalseHeadingRad);
   if (mode != Mode::kLocalized || !off) unnoticed_kidnap_ = false;
-  const bool fresh = localized_since_s_ && now_s - *localized_since_s_ <= kFalseWindowS;
-  if (off && fresh && !unnoticed_kidnap_ && !false_counted_) {
-    ++false_relocalizations_;
-    false_counted_ = true;
-  }
+  if (off && change.localized && !unnoticed_kidnap_) ++false_relocalizations_;
   off_ = off;
   if (!outcomes_.empty()) {
     KidnapOutcome& k = outcomes_.back();
     if (!k.recovered && !k.lost_declared && mode == Mode::kLost) {
       k.lost_declared = true;
       k.motion_to_lost_s = k.motion_s;
+    }
+    if (!k.localized_correctly && mode == Mode::kLocalized && within) {
+      k.localized_correctly = true;
+      k.motion_to_correct_s = k.motion_s;
     }
     if (!k.recovered && mode == Mode::kLocalized && within && k.motion_s <= kRecoveryMotionS) {
       k.recovered = true;

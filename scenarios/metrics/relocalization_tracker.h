@@ -31,9 +31,6 @@ inline constexpr double kLostDeclaredMotionS = 10.0;
 // False relocalization: declared localized while this far off (metrics.md).
 inline constexpr double kFalsePositionM = 0.5;
 inline constexpr double kFalseHeadingRad = 10.0 * 3.14159265358979323846 / 180.0;
-// How long after a declaration of localized being off still counts as a false
-// relocalization, s. Chosen: four cycles of two lasers at 2 Hz.
-inline constexpr double kFalseWindowS = 2.0;
 // Fox, Burgard & Thrun 1999: recovered when the estimate stays within this of
 // the true position for more than kFbtHoldS.
 inline constexpr double kFbtPositionM = 0.45;
@@ -49,6 +46,10 @@ struct KidnapOutcome {
   bool recovered = false;
   double motion_to_relocalize_s = 0.0;    // when recovered
   double distance_to_relocalize_m = 0.0;  // when recovered
+  // The first declaration of localized within 0.2 m / 5 deg after it, however
+  // late (global_start's 60 s criterion), before the next kidnap.
+  bool localized_correctly = false;
+  double motion_to_correct_s = 0.0;  // when localized_correctly
   bool fbt_recovered = false;
   double fbt_recovery_s = 0.0;  // simulated s from the kidnap to the start of the good stretch
 };
@@ -104,9 +105,7 @@ class RelocalizationTracker {
   // Localized through a kidnap and not yet out of kLocalized since: being off
   // is the kidnap's doing, not a false relocalization.
   bool unnoticed_kidnap_ = false;
-  bool off_ = false;                         // the last cycle: declared localized while off
-  std::optional<double> localized_since_s_;  // the last declaration of localized
-  bool false_counted_ = false;               // that declaration counted as false
+  bool off_ = false;  // the last cycle: declared localized while off
   std::optional<double> fbt_good_since_s_;
   int declared_losses_ = 0;
   int false_relocalizations_ = 0;

@@ -41,6 +41,8 @@ Json KidnapJson(const KidnapOutcome& k) {
     j["time_to_relocalize_s"] = n(k.motion_to_relocalize_s);
     j["distance_to_relocalize_m"] = n(k.distance_to_relocalize_m);
   }
+  j["localized_correctly"] = k.localized_correctly;
+  if (k.localized_correctly) j["motion_to_correct_s"] = n(k.motion_to_correct_s);
   j["fbt_recovered"] = k.fbt_recovered;
   if (k.fbt_recovered) j["fbt_recovery_s"] = n(k.fbt_recovery_s);
   return j;

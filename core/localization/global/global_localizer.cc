@@ -19,12 +19,31 @@ constexpr int kLimitedExtraCycles = 4;
 
 }  // namespace
 
+int GlobalLocalizer::Hypothesis::WindowPairings() const {
+  int sum = 0;
+  for (const auto& [own, best] : recent) sum += own;
+  return sum;
+}
+
+int GlobalLocalizer::Hypothesis::WindowBest() const {
+  int sum = 0;
+  for (const auto& [own, best] : recent) sum += best;
+  return sum;
+}
+
 void GlobalLocalizerOptions::Validate() const {
   tracking.Validate();
   tree.Validate();
   if (min_evidence < 1) throw std::invalid_argument("min_evidence must be >= 1");
   if (falsify_failed_cycles < 1) throw std::invalid_argument("falsify_failed_cycles must be >= 1");
-  if (max_pairing_deficit < 1) throw std::invalid_argument("max_pairing_deficit must be >= 1");
+  if (support_window < 1) throw std::invalid_argument("support_window must be >= 1");
+  if (!(min_support_ratio > 0.0 && min_support_ratio <= 1.0)) {
+    throw std::invalid_argument("min_support_ratio must be in (0, 1]");
+  }
+  if (min_window_support < 1) throw std::invalid_argument("min_window_support must be >= 1");
+  if (min_cycles_after_ambiguity < min_cycles_to_localize) {
+    throw std::invalid_argument("min_cycles_after_ambiguity must be >= min_cycles_to_localize");
+  }
   if (min_cycles_to_localize < 0)
     throw std::invalid_argument("min_cycles_to_localize must be >= 0");
   if (!(generation_window_s >= 0.0))
@@ -201,11 +220,20 @@ void GlobalLocalizer::Generate(const ObservationBatch& batch) {
   }
   hypotheses_.clear();
   for (LocationHypothesisData& f : found) {
-    Hypothesis h{f.location,           batch.stamp_s, PoseMapCrossCovariance(map_),
-                 std::move(f.support), f.pairings,    f.joint_mahalanobis};
+    Hypothesis h{f.location,
+                 batch.stamp_s,
+                 PoseMapCrossCovariance(map_),
+                 std::move(f.support),
+                 f.pairings,
+                 f.joint_mahalanobis,
+                 0,
+                 {},
+                 0};
     hypotheses_.push_back(std::move(h));
   }
   generation_limited_ = last_search_.node_limit_hit || last_search_.hypothesis_limit_hit;
+  ambiguous_ = hypotheses_.size() > 1;
+  alone_cycles_ = 0;
   state_ = GlobalLocalizationState::kNotLocalized;
   lost_cause_ = GlobalLostCause::kNone;
   Prune();
@@ -301,7 +329,9 @@ void GlobalLocalizer::TrackAll(const ObservationBatch& batch) {
   int best = 0;
   for (const Hypothesis& h : next) best = std::max(best, h.pairings);
   for (Hypothesis& h : next) {
-    h.deficit += best - h.pairings;
+    h.recent.emplace_back(h.pairings, best);
+    if (static_cast<int>(h.recent.size()) > options_.support_window)
+      h.recent.erase(h.recent.begin());
     ++h.age;
   }
   hypotheses_ = std::move(next);
@@ -310,9 +340,16 @@ void GlobalLocalizer::TrackAll(const ObservationBatch& batch) {
     DeclareLost(GlobalLostCause::kNoValidPairings);
     return;
   }
+  if (hypotheses_.size() > 1) {
+    ambiguous_ = true;
+    alone_cycles_ = 0;
+    return;
+  }
+  ++alone_cycles_;
   const int needed =
-      options_.min_cycles_to_localize + (generation_limited_ ? kLimitedExtraCycles : 0);
-  if (hypotheses_.size() == 1 && hypotheses_.front().age >= needed) Localize(hypotheses_.front());
+      (ambiguous_ ? options_.min_cycles_after_ambiguity : options_.min_cycles_to_localize) +
+      (generation_limited_ ? kLimitedExtraCycles : 0);
+  if (alone_cycles_ >= needed) Localize(hypotheses_.front());
 }
 
 // Falsification, ranking and duplicate removal (eqs. 5.70-5.71).
@@ -320,13 +357,16 @@ void GlobalLocalizer::Prune() {
   const std::size_t before = hypotheses_.size();
   std::erase_if(hypotheses_, [&](const Hypothesis& h) {
     return h.failed_cycles >= options_.falsify_failed_cycles ||
-           h.deficit > options_.max_pairing_deficit;
+           (h.WindowBest() >= options_.min_window_support &&
+            h.WindowPairings() < options_.min_support_ratio * h.WindowBest());
   });
   counters_.falsified += static_cast<long>(before - hypotheses_.size());
-  // Rank: the least accumulated deficit, then §5.5.2 on this cycle.
+  // Rank: the most pairings over the window, then §5.5.2 on this cycle.
   std::stable_sort(hypotheses_.begin(), hypotheses_.end(),
                    [](const Hypothesis& a, const Hypothesis& b) {
-                     if (a.deficit != b.deficit) return a.deficit < b.deficit;
+                     if (a.WindowPairings() != b.WindowPairings()) {
+                       return a.WindowPairings() > b.WindowPairings();
+                     }
                      if (a.pairings != b.pairings) return a.pairings > b.pairings;
                      return a.joint_mahalanobis < b.joint_mahalanobis;
                    });
@@ -353,6 +393,8 @@ void GlobalLocalizer::DeclareLost(GlobalLostCause cause) {
   lost_estimate_stamp_s_ = odometry_.empty() ? 0.0 : odometry_.latest_stamp_s();
   state_ = GlobalLocalizationState::kLost;
   lost_cause_ = cause;
+  last_loss_cause_ = cause;
+  last_tracking_reason_ = tracker_.status().reason;
   hypotheses_.clear();
   latest_batches_.clear();
   ++counters_.losses;
@@ -397,7 +439,7 @@ PoseWithCovariance GlobalLocalizer::Estimate() const {
   if (!hypotheses_.empty()) return AtLatest(hypotheses_.front());
   // Lost: the last estimate moved by the odometry since.
   Hypothesis carried{
-      lost_estimate_, lost_estimate_stamp_s_, PoseMapCrossCovariance(map_), {}, 0, 0.0};
+      lost_estimate_, lost_estimate_stamp_s_, PoseMapCrossCovariance(map_), {}, 0, 0.0, 0, {}, 0};
   return AtLatest(carried);
 }
 

@@ -23,13 +23,19 @@
 //   location; eq. 5.71's S_i = S_j would keep both.
 // - A hypothesis is falsified not only when no valid pairing exists at its
 //   prediction (§5.7.1) — for `falsify_failed_cycles` consecutive cycles with
-//   enough evidence — but also when it has explained, summed over its life,
-//   `max_pairing_deficit` fewer observations than the best: in repeated
-//   offices the wrong rooms stay compatible with most observations, and only
-//   the accumulated evidence separates them.
-// - Localized is declared when a single hypothesis remains and has survived
-//   `min_cycles_to_localize` cycles since its generation, and the generation
-//   hit no limit: a lone hypothesis of a truncated search may be the wrong one.
+//   enough evidence — but also when, over its last `support_window` cycles, it
+//   paired less than `min_support_ratio` of what the best paired: a wrong
+//   place keeps a few chance pairings (a corridor wall is a corridor wall) and
+//   would never reach zero. A ratio over a window, not a running difference:
+//   a true hypothesis misses an observation now and then as often as its
+//   look-alikes do (a visitor, a map error), and a running difference of such
+//   misses is a random walk that sooner or later falsifies the truth.
+// - Localized is declared when a single hypothesis remains and has been alone
+//   for `min_cycles_to_localize` cycles — `min_cycles_after_ambiguity` when it
+//   had rivals: where places look alike (repeated offices) the truth can be
+//   falsified by chance, and a lone wrong survivor soon meets a contradiction
+//   if it is given time to — and more when the generation hit a limit: a lone
+//   hypothesis of a truncated search may be the wrong one.
 
 #include <memory>
 #include <string>
@@ -47,9 +53,12 @@ struct GlobalLocalizerOptions {
   // at least this many observations and the hypothesis as many visible
   // predictions; >= 1.
   int min_evidence = 3;
-  int falsify_failed_cycles = 2;   // consecutive failed cycles falsify; >= 1
-  int max_pairing_deficit = 6;     // see the header comment; >= 1
-  int min_cycles_to_localize = 2;  // >= 0
+  int falsify_failed_cycles = 6;    // consecutive failed cycles falsify (as the EKF, 1.5 s); >= 1
+  int support_window = 10;          // cycles, see the header comment; >= 1
+  double min_support_ratio = 0.75;  // see the header comment; in (0, 1]
+  int min_window_support = 8;       // the best's pairings in the window before the ratio acts; >= 1
+  int min_cycles_to_localize = 2;   // >= 0
+  int min_cycles_after_ambiguity = 10;  // >= min_cycles_to_localize
   // Batches of the robot's other lasers join the local map of a generation
   // when at most this much older, compounded with the robot's motion, s; >= 0.
   double generation_window_s = 0.6;
@@ -105,6 +114,10 @@ class GlobalLocalizer {
 
   GlobalLocalizationState state() const { return state_; }
   GlobalLostCause lost_cause() const { return lost_cause_; }
+  // The cause of the latest loss, and the EKF's reason when it was the EKF's
+  // (kept after a new generation, for reports of a loss within one tick).
+  GlobalLostCause last_loss_cause() const { return last_loss_cause_; }
+  LostReason last_tracking_reason() const { return last_tracking_reason_; }
   // n: 1 when localized, the hypotheses held otherwise (0 when lost).
   int hypothesis_count() const;
   // Best first (§5.5.2), predicted to the latest encoder time.
@@ -127,8 +140,11 @@ class GlobalLocalizer {
     int pairings = 0;
     double joint_mahalanobis = 0.0;
     int failed_cycles = 0;
-    int deficit = 0;  // observations explained fewer than the best, summed over its life
-    int age = 0;      // tracking cycles survived since its generation
+    // Its pairings and the best's over the last cycles (at most support_window).
+    std::vector<std::pair<int, int>> recent;
+    int WindowPairings() const;
+    int WindowBest() const;
+    int age = 0;  // tracking cycles survived since its generation
   };
   const LaserSensorOptions& LaserOptions(const std::string& sensor_id) const;
   void Predict(double stamp_s, Hypothesis* h);
@@ -152,11 +168,15 @@ class GlobalLocalizer {
   Pose2 dead_reckoning_;
   GlobalLocalizationState state_ = GlobalLocalizationState::kLost;
   GlobalLostCause lost_cause_ = GlobalLostCause::kUnknownStart;
+  GlobalLostCause last_loss_cause_ = GlobalLostCause::kUnknownStart;
+  LostReason last_tracking_reason_ = LostReason::kNone;
   std::vector<Hypothesis> hypotheses_;            // best first
   std::vector<ObservationBatch> latest_batches_;  // per sensor, the latest (for generation)
   PoseWithCovariance lost_estimate_;
   double lost_estimate_stamp_s_ = 0.0;
   bool generation_limited_ = false;
+  bool ambiguous_ = false;  // more than one hypothesis since the generation
+  int alone_cycles_ = 0;    // tracking cycles with a single hypothesis
   long cycles_ = 0;
   GlobalLocalizerCounters counters_;
   TreeSearchStats last_search_;
