@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
-"""Issue 18's kidnap_stress acceptance: runs scenarios/kidnap_stress.yaml over seeds
-and pools the per-kidnap outcomes of the global localization and its MCL shadow.
+"""Issue 18's acceptance runs: runs a scenario (kidnap_stress, global_start_expo,
+global_start_office) over seeds and pools the per-kidnap outcomes of the global
+localization and its MCL shadow (a global start is a kidnap at 0 s).
 
 usage: scripts/kidnap_stress_sweep.py PAVILION OUT_DIR [--seeds 1-10] [--duration S]
 """
@@ -15,6 +16,8 @@ def pooled(outcomes, figures):
     d_rel = [k["distance_to_relocalize_m"] for k in rec if "distance_to_relocalize_m" in k]
     t_lost = [k["motion_to_lost_s"] for k in outcomes if "motion_to_lost_s" in k]
     fbt = [k for k in outcomes if k.get("fbt_recovered")]
+    within60 = [k for k in outcomes
+                if k.get("localized_correctly") and k.get("motion_to_correct_s", 1e9) <= 60.0]
     false = sum(f.get("false_relocalizations", 0) for f in figures)
     med = lambda v: round(statistics.median(v), 2) if v else None
     return {"kidnaps": n, "recovered_ratio": round(len(rec) / n, 4) if n else None,
@@ -23,7 +26,8 @@ def pooled(outcomes, figures):
             "false_relocalization_ratio": round(false / n, 4) if n else None,
             "median_time_to_lost_s": med(t_lost), "median_time_to_relocalize_s": med(t_rel),
             "median_distance_to_relocalize_m": med(d_rel),
-            "fbt_recovered_ratio": round(len(fbt) / n, 4) if n else None}
+            "fbt_recovered_ratio": round(len(fbt) / n, 4) if n else None,
+            "localized_within_60s_ratio": round(len(within60) / n, 4) if n else None}
 
 
 def main():
