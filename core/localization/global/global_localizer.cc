@@ -345,6 +345,11 @@ void GlobalLocalizer::TrackAll(const ObservationBatch& batch) {
     alone_cycles_ = 0;
     return;
   }
+  // Counted only when this cycle confirmed it (§5.5: verification, |H_t| = 1
+  // with a supporting set): a hypothesis carried by odometry alone — the
+  // wheels slipping against an obstacle the laser does not see — is not
+  // evidence.
+  if (hypotheses_.front().pairings < options_.tree.min_pairings) return;
   ++alone_cycles_;
   const int needed =
       (ambiguous_ ? options_.min_cycles_after_ambiguity : options_.min_cycles_to_localize) +

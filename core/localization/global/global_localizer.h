@@ -30,12 +30,12 @@
 //   a true hypothesis misses an observation now and then as often as its
 //   look-alikes do (a visitor, a map error), and a running difference of such
 //   misses is a random walk that sooner or later falsifies the truth.
-// - Localized is declared when a single hypothesis remains and has been alone
-//   for `min_cycles_to_localize` cycles — `min_cycles_after_ambiguity` when it
-//   had rivals: where places look alike (repeated offices) the truth can be
-//   falsified by chance, and a lone wrong survivor soon meets a contradiction
-//   if it is given time to — and more when the generation hit a limit: a lone
-//   hypothesis of a truncated search may be the wrong one.
+// - Localized is declared when a single hypothesis remains and has been alone,
+//   and confirmed by at least min_pairings pairings, for `min_cycles_to_localize` cycles —
+//   `min_cycles_after_ambiguity` when it had rivals: where places look alike (repeated offices) the
+//   truth can be falsified by chance, and a lone wrong survivor soon meets a contradiction if it is
+//   given time to — and more when the generation hit a limit: a lone hypothesis of a truncated
+//   search may be the wrong one.
 
 #include <memory>
 #include <string>
@@ -53,11 +53,11 @@ struct GlobalLocalizerOptions {
   // at least this many observations and the hypothesis as many visible
   // predictions; >= 1.
   int min_evidence = 3;
-  int falsify_failed_cycles = 6;    // consecutive failed cycles falsify (as the EKF, 1.5 s); >= 1
-  int support_window = 10;          // cycles, see the header comment; >= 1
-  double min_support_ratio = 0.75;  // see the header comment; in (0, 1]
-  int min_window_support = 8;       // the best's pairings in the window before the ratio acts; >= 1
-  int min_cycles_to_localize = 2;   // >= 0
+  int falsify_failed_cycles = 6;   // consecutive failed cycles falsify (as the EKF, 1.5 s); >= 1
+  int support_window = 10;         // cycles, see the header comment; >= 1
+  double min_support_ratio = 0.5;  // see the header comment; in (0, 1]
+  int min_window_support = 8;      // the best's pairings in the window before the ratio acts; >= 1
+  int min_cycles_to_localize = 2;  // >= 0
   int min_cycles_after_ambiguity = 10;  // >= min_cycles_to_localize
   // Batches of the robot's other lasers join the local map of a generation
   // when at most this much older, compounded with the robot's motion, s; >= 0.

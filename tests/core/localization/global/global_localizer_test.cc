@@ -178,7 +178,7 @@ TEST(GlobalLocalizerTest, KidnapIsDeclaredLostAndRelocalized) {
   EXPECT_GE(run.localizer.counters().losses, 1);
 }
 
-// (c) A 12 x 4 m room (symmetric under a half turn) with a 0.8 m pillar at
+// (c) A 12 x 4 m room (symmetric under a half turn) with a 1.6 m pillar at
 // (2, 1), a 4 m laser: starting unknown at (-4, 0, 0), the robot and its
 // half-turn twin (4, 0, pi) explain the same walls, so both hypotheses
 // survive; once the pillar is seen the twin is falsified. Declared
@@ -187,7 +187,7 @@ TEST(GlobalLocalizerTest, WrongSymmetricTrackIsDiscarded) {
   std::vector<testing::Wall> walls = testing::PolygonWalls({{-6, -2}, {6, -2}, {6, 2}, {-6, 2}});
   const std::size_t room_walls = walls.size();
   for (const testing::Wall& w :
-       testing::PolygonWalls({{1.6, 0.6}, {2.4, 0.6}, {2.4, 1.4}, {1.6, 1.4}})) {
+       testing::PolygonWalls({{1.2, 0.4}, {2.8, 0.4}, {2.8, 1.6}, {1.2, 1.6}})) {
     walls.push_back(w);
   }
   const RobotMap map = SegmentMap(walls, {0, 0}, room_walls, {2.0, 1.0});
@@ -201,7 +201,7 @@ TEST(GlobalLocalizerTest, WrongSymmetricTrackIsDiscarded) {
   const Eigen::Vector2d pillar(2.0, 1.0);
   int symmetric_cycles = 0;
   int localized_at = -1;
-  for (int cycle = 1; cycle <= 120; ++cycle) {
+  for (int cycle = 1; cycle <= 400; ++cycle) {
     run.Cycle(50, 50);  // straight on, ~0.23 m/s
     const double to_pillar_m = (run.drive.pose().translation() - pillar).norm();
     if (run.Localized()) {
@@ -214,7 +214,7 @@ TEST(GlobalLocalizerTest, WrongSymmetricTrackIsDiscarded) {
       EXPECT_EQ(run.localizer.hypothesis_count(), 2) << "cycle " << cycle;
       EXPECT_EQ(run.localizer.state(), GlobalLocalizationState::kNotLocalized);
     }
-    if (run.drive.pose().x_m > 2.5) break;  // past the pillar
+    if (run.drive.pose().x_m > 4.5) break;  // well past the pillar
   }
   RecordProperty("symmetric_cycles", symmetric_cycles);
   RecordProperty("localized_at_cycle", localized_at);
