@@ -23,7 +23,7 @@ namespace {
 namespace fs = std::filesystem;
 using Json = nlohmann::json;
 
-constexpr double kLostWithinMotionS = 10.0;      // issue 18's acceptance
+constexpr double kLostWithinMotionS = 10.0;  // issue 18's acceptance
 constexpr double kRelocalizeWithinMotionS = 30.0;
 
 Json RunScenario(const std::string& name, const std::string& duration_s) {
