@@ -165,7 +165,8 @@ void NavigationTable(std::ostringstream& html, const RunMetrics& m) {
 
 void Pictures(std::ostringstream& html, const Scenario& scenario,
               const std::vector<std::uint8_t>& topdown_png,
-              const std::vector<LocalizationPlot>& localization_plots) {
+              const std::vector<LocalizationPlot>& localization_plots,
+              const std::vector<HypothesisFigure>& hypothesis_figures) {
   html << "<h2>Top-down view at the end of the run</h2>\n"
        << "<p class=\"note\">Footprints in material colours; black outline: the world cut at "
        << scenario.outputs.section_height_m
@@ -183,13 +184,24 @@ void Pictures(std::ostringstream& html, const Scenario& scenario,
          << "<img alt=\"2 sigma of " << Escape(plot.robot_id) << "\" src=\"data:image/png;base64,"
          << Base64(plot.png) << "\">\n";
   }
+  for (const HypothesisFigure& f : hypothesis_figures) {
+    html << "<h2>Location hypotheses of " << Escape(f.robot_id) << " after a kidnap</h2>\n"
+         << "<p class=\"note\">At " << Num(f.time_s, 2)
+         << " s, its largest set after a kidnap: " << f.hypotheses
+         << " hypotheses (thesis Fig. 5.19), each an arrow along its heading in a 0.4 m ring "
+            "with its 95 % position ellipse (magenta: the best, §5.5.2; yellow: the others); "
+            "blue: the true pose.</p>\n"
+         << "<img alt=\"hypotheses of " << Escape(f.robot_id) << "\" src=\"data:image/png;base64,"
+         << Base64(f.png) << "\">\n";
+  }
 }
 
 }  // namespace
 
 std::string RenderReportHtml(const Scenario& scenario, const RunMetrics& metrics,
                              const std::vector<std::uint8_t>& topdown_png,
-                             const std::vector<LocalizationPlot>& localization_plots) {
+                             const std::vector<LocalizationPlot>& localization_plots,
+                             const std::vector<HypothesisFigure>& hypothesis_figures) {
   std::ostringstream html;
   html
       << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n"
@@ -215,7 +227,7 @@ std::string RenderReportHtml(const Scenario& scenario, const RunMetrics& metrics
     html << "<tr><td>" << Escape(type) << "</td><td>" << n << "</td></tr>\n";
   }
   html << "</table>\n";
-  Pictures(html, scenario, topdown_png, localization_plots);
+  Pictures(html, scenario, topdown_png, localization_plots, hypothesis_figures);
   html << "<p class=\"note\">Files: metrics.json, performance.json (wall-clock figures), "
           "events.jsonl, trajectories.csv, localization.csv, scans.bin (robots' laser scans with "
           "ground truth), "

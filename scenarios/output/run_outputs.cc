@@ -1,5 +1,7 @@
 #include "scenarios/output/run_outputs.h"
 
+#include <Eigen/Eigenvalues>
+#include <array>
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include <numbers>
@@ -33,6 +35,60 @@ void AddNavigationTracks(const nav::NavigationPicture& p, std::vector<sim::TopDo
   if (!p.dwa_arc.empty()) out->push_back({p.dwa_arc, {40, 200, 40}, 1.0, 3.0});
 }
 
+// The 95 % position ellipse (chi^2 with 2 dof) of a hypothesis as a closed
+// polyline, and an arrow along its heading.
+constexpr double kChi2Two95 = 5.991464547107979;
+constexpr int kEllipseVertices = 48;
+constexpr double kArrowM = 0.8;
+constexpr double kMarkerM = 0.4;  // a ring around each pose, so that a tight ellipse is found
+
+void AddPoseShape(const core::Pose2& pose, const Eigen::Matrix2d& covariance,
+                  const std::array<std::uint8_t, 3>& rgb, std::vector<sim::TopDownTrack>* out) {
+  const Eigen::Vector2d c = pose.translation();
+  const Eigen::Vector2d tip =
+      c + kArrowM * Eigen::Vector2d(std::cos(pose.theta_rad), std::sin(pose.theta_rad));
+  out->push_back({{c, tip}, rgb, 1.0, 4.0});
+  std::vector<Eigen::Vector2d> marker;
+  for (int k = 0; k <= kEllipseVertices; ++k) {
+    const double a = 2.0 * std::numbers::pi * k / kEllipseVertices;
+    marker.push_back(c + kMarkerM * Eigen::Vector2d(std::cos(a), std::sin(a)));
+  }
+  out->push_back({marker, rgb, 1.0, 2.0});
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(covariance);
+  if (eig.info() != Eigen::Success) return;
+  const Eigen::Vector2d axes = (kChi2Two95 * eig.eigenvalues().cwiseMax(0.0)).cwiseSqrt();
+  std::vector<Eigen::Vector2d> ring;
+  for (int k = 0; k <= kEllipseVertices; ++k) {
+    const double a = 2.0 * std::numbers::pi * k / kEllipseVertices;
+    ring.push_back(c + eig.eigenvectors() *
+                           Eigen::Vector2d(axes.x() * std::cos(a), axes.y() * std::sin(a)));
+  }
+  out->push_back({ring, rgb, 1.0, 1.5});
+}
+
+// snapshots/hypotheses_<robot>.png: the world from above with the hypotheses.
+HypothesisFigure DrawHypotheses(const std::filesystem::path& out, const Scenario& scenario,
+                                const sim::World& world, const std::string& robot_id,
+                                const HypothesisSnapshot& snapshot) {
+  std::vector<sim::TopDownTrack> shapes;
+  for (std::size_t i = 0; i < snapshot.hypotheses.size(); ++i) {
+    const nav::LocationHypothesis& h = snapshot.hypotheses[i];
+    AddPoseShape(h.estimate.pose, h.estimate.covariance.topLeftCorner<2, 2>(),
+                 i == 0 ? std::array<std::uint8_t, 3>{200, 0, 200}
+                        : std::array<std::uint8_t, 3>{250, 210, 0},
+                 &shapes);
+  }
+  AddPoseShape(snapshot.truth, Eigen::Matrix2d::Zero(), {20, 60, 220}, &shapes);
+  sim::TopDownOptions view;
+  view.width_px = scenario.outputs.image_width_px;
+  view.section_height_m = scenario.outputs.section_height_m;
+  HypothesisFigure figure{robot_id, snapshot.time_s, static_cast<int>(snapshot.hypotheses.size()),
+                          EncodePng(sim::RenderTopDown(world, shapes, view))};
+  WriteFileAtomically((out / "snapshots" / ("hypotheses_" + robot_id + ".png")).string(),
+                      std::string(figure.png.begin(), figure.png.end()));
+  return figure;
+}
+
 }  // namespace
 
 void WriteSnapshotsAndReport(const std::filesystem::path& out, const Scenario& scenario,
@@ -64,8 +120,14 @@ void WriteSnapshotsAndReport(const std::filesystem::path& out, const Scenario& s
                         std::string(plot.png.begin(), plot.png.end()));
     plots.push_back(std::move(plot));
   }
+  std::vector<HypothesisFigure> figures;
+  for (std::size_t k = 0; k < robot_tracks.size() && k < scenario.robots.size(); ++k) {
+    if (!robot_tracks[k].hypotheses) continue;
+    figures.push_back(
+        DrawHypotheses(out, scenario, world, scenario.robots[k].id, *robot_tracks[k].hypotheses));
+  }
   WriteFileAtomically((out / "report.html").string(),
-                      RenderReportHtml(scenario, metrics, png, plots));
+                      RenderReportHtml(scenario, metrics, png, plots, figures));
 }
 
 void WritePerformanceJson(const std::filesystem::path& out, const RunSummary& s, int threads,

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "nav/mission/mission.h"
+#include "nav/stack/pose_estimator.h"
 #include "scenarios/config/scenario.h"
 #include "scenarios/metrics/localization_tracker.h"
 #include "scenarios/metrics/run_metrics.h"
@@ -19,6 +20,14 @@
 
 namespace pavilion::scenarios {
 
+// A robot's location hypotheses at one moment after a kidnap (issue 18): the
+// largest set its global localization held, with the truth.
+struct HypothesisSnapshot {
+  double time_s = 0.0;
+  core::Pose2 truth;
+  std::vector<nav::LocationHypothesis> hypotheses;  // best first
+};
+
 // What a robot's trajectory looked like, for the top-down picture.
 struct RobotTracks {
   std::vector<Eigen::Vector2d> truth;
@@ -26,6 +35,7 @@ struct RobotTracks {
   std::vector<Eigen::Vector2d> estimate;  // its localization (robots that localize)
   // Its navigation at the end (robots with a mission): plan, band, DWA arc.
   std::optional<nav::NavigationPicture> navigation;
+  std::optional<HypothesisSnapshot> hypotheses;  // robots with global localization, kidnapped
 };
 
 // A robot's localization record for its 2-sigma plot.

@@ -100,6 +100,7 @@ struct RobotRun {
   RobotMetrics tally;
   RobotTracks tracks;
   bool mission_done_reported = false;
+  bool kidnapped = false;  // a kidnap happened: its hypotheses are pictured
 };
 
 // What a robot's work of a tick produced (its own slot: written by one thread).
@@ -368,6 +369,7 @@ void ScenarioRun::ApplyEvents(double t) {
   }
   for (const KidnapNote& kidnap : kidnaps_) {
     for (RobotRun& r : robots_) {
+      if (r.robot->index() == kidnap.robot) r.kidnapped = true;
       if (r.robot->index() == kidnap.robot && r.relocalization) r.relocalization->OnKidnap(t);
       if (r.robot->index() == kidnap.robot && r.shadow_relocalization) {
         r.shadow_relocalization->OnKidnap(t);
@@ -617,6 +619,12 @@ void ScenarioRun::RecordCycle(RobotRun& r, const nav::EstimatorCycle& cycle,
     fields["heading_error_deg"] = RoundForJson(c.heading_error_rad * kDegPerRad, 3);
     return fields;
   };
+  // The largest hypothesis set after a kidnap, for the report's picture.
+  const std::size_t pictured = r.tracks.hypotheses ? r.tracks.hypotheses->hypotheses.size() : 0;
+  if (r.kidnapped && c.mode == nav::LocalizationMode::kNotLocalized &&
+      static_cast<std::size_t>(c.hypotheses) > pictured) {
+    r.tracks.hypotheses = HypothesisSnapshot{t_after, truth, estimator.hypotheses()};
+  }
   if (change.hypotheses_changed) {
     events_->Emit(t_after, "hypotheses",
                   EventFields{{"robot", r.entry->id},
