@@ -36,9 +36,8 @@ std::optional<EstimatorCycle> EkfPoseEstimator::Update(
   return ReportCycle(matches_before);
 }
 
-EstimatorCycle EkfPoseEstimator::ReportCycle(long matches_before) const {
+EstimatorCycle CycleFromReport(const core::CycleReport& report) {
   EstimatorCycle c;
-  const core::CycleReport& report = localizer_->last_cycle();
   c.predictions = report.predictions;
   c.observations = report.observations;
   for (const core::FeatureMatch& m : report.matches) {
@@ -50,6 +49,15 @@ EstimatorCycle EkfPoseEstimator::ReportCycle(long matches_before) const {
       ++c.matched_other;
     }
   }
+  return c;
+}
+
+Eigen::Matrix3d CollisionCovariance(double sigma_m, double sigma_rad) {
+  return Eigen::Vector3d(sigma_m * sigma_m, sigma_m * sigma_m, sigma_rad * sigma_rad).asDiagonal();
+}
+
+EstimatorCycle EkfPoseEstimator::ReportCycle(long matches_before) const {
+  EstimatorCycle c = CycleFromReport(localizer_->last_cycle());
   // Batches before the last one of this tick: their matches count as lines
   // (lasers give lines and beacons; the last report says how many of each).
   const long matched = localizer_->counters().matches - matches_before;
@@ -62,9 +70,8 @@ EstimatorCycle EkfPoseEstimator::ReportCycle(long matches_before) const {
 }
 
 void EkfPoseEstimator::OnCollision() {
-  const double p = options_.collision_sigma_m * options_.collision_sigma_m;
-  const double t = options_.collision_sigma_rad * options_.collision_sigma_rad;
-  localizer_->AddPoseUncertainty(Eigen::Vector3d(p, p, t).asDiagonal());
+  localizer_->AddPoseUncertainty(
+      CollisionCovariance(options_.collision_sigma_m, options_.collision_sigma_rad));
 }
 
 void EkfPoseEstimator::SetPaused(bool paused, double now_s) {

@@ -31,6 +31,13 @@ struct EkfPoseEstimatorOptions {
   void Validate() const;  // throws std::invalid_argument naming the field
 };
 
+// A cycle's counts from the EKF's report of its latest batch: predictions,
+// observations and the matches by type.
+EstimatorCycle CycleFromReport(const core::CycleReport& report);
+
+// The covariance a felt collision adds (x, y, theta independent, 1 sigma each).
+Eigen::Matrix3d CollisionCovariance(double sigma_m, double sigma_rad);
+
 class EkfPoseEstimator : public PoseEstimator {
  public:
   EkfPoseEstimator(core::RobotMap map, const EkfPoseEstimatorOptions& options);

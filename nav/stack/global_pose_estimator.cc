@@ -3,6 +3,8 @@
 #include <stdexcept>
 #include <utility>
 
+#include "nav/stack/ekf_pose_estimator.h"
+
 namespace pavilion::nav {
 namespace {
 
@@ -68,24 +70,14 @@ std::optional<EstimatorCycle> GlobalPoseEstimator::Update(
 }
 
 EstimatorCycle GlobalPoseEstimator::ReportCycle() const {
-  EstimatorCycle c;
-  c.mode = mode();
+  const LocalizationMode now = mode();
+  EstimatorCycle c = now == LocalizationMode::kLocalized
+                         ? CycleFromReport(localizer_->tracker().last_cycle())
+                         : EstimatorCycle{};
+  c.mode = now;
   c.hypotheses = localizer_->hypothesis_count();
   c.lost = c.mode == LocalizationMode::kLost;
-  if (c.mode == LocalizationMode::kLocalized) {
-    const core::CycleReport& report = localizer_->tracker().last_cycle();
-    c.predictions = report.predictions;
-    c.observations = report.observations;
-    for (const core::FeatureMatch& m : report.matches) {
-      if (m.type == core::ObservationType::kLine) {
-        ++c.matched_lines;
-      } else if (m.type == core::ObservationType::kBeacon) {
-        ++c.matched_beacons;
-      } else {
-        ++c.matched_other;
-      }
-    }
-  } else if (c.hypotheses > 0) {
+  if (c.mode != LocalizationMode::kLocalized && c.hypotheses > 0) {
     c.matched_lines = localizer_->Hypotheses().front().pairings;  // the best hypothesis's p'
   }
   return c;
@@ -127,9 +119,8 @@ void GlobalPoseEstimator::SetPaused(bool paused, double now_s) {
 }
 
 void GlobalPoseEstimator::OnCollision() {
-  const double p = options_.collision_sigma_m * options_.collision_sigma_m;
-  const double t = options_.collision_sigma_rad * options_.collision_sigma_rad;
-  localizer_->AddPoseUncertainty(Eigen::Vector3d(p, p, t).asDiagonal());
+  localizer_->AddPoseUncertainty(
+      CollisionCovariance(options_.collision_sigma_m, options_.collision_sigma_rad));
 }
 
 }  // namespace pavilion::nav
