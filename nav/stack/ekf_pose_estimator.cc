@@ -80,7 +80,11 @@ void EkfPoseEstimator::SetPaused(bool paused, double now_s) {
 }
 
 std::string EkfPoseEstimator::lost_reason() const {
-  switch (localizer_->status().reason) {
+  return LostReasonName(localizer_->status().reason);
+}
+
+const char* LostReasonName(core::LostReason reason) {
+  switch (reason) {
     case core::LostReason::kNone:
       return "none";
     case core::LostReason::kNoMatchTimeout:

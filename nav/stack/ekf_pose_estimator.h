@@ -35,6 +35,9 @@ struct EkfPoseEstimatorOptions {
 // observations and the matches by type.
 EstimatorCycle CycleFromReport(const core::CycleReport& report);
 
+// "none", "no_match_timeout", "repeated_gate_failures", "uncertainty_too_large".
+const char* LostReasonName(core::LostReason reason);
+
 // The covariance a felt collision adds (x, y, theta independent, 1 sigma each).
 Eigen::Matrix3d CollisionCovariance(double sigma_m, double sigma_rad);
 

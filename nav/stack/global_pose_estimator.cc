@@ -6,23 +6,6 @@
 #include "nav/stack/ekf_pose_estimator.h"
 
 namespace pavilion::nav {
-namespace {
-
-const char* TrackingLostReason(core::LostReason reason) {
-  switch (reason) {
-    case core::LostReason::kNoMatchTimeout:
-      return "no_match_timeout";
-    case core::LostReason::kRepeatedGateFailures:
-      return "repeated_gate_failures";
-    case core::LostReason::kUncertaintyTooLarge:
-      return "uncertainty_too_large";
-    case core::LostReason::kNone:
-      break;
-  }
-  return "tracking_lost";
-}
-
-}  // namespace
 
 void GlobalPoseEstimatorOptions::Validate() const {
   if (!(rate_hz > 0.0))
@@ -108,7 +91,8 @@ std::string GlobalPoseEstimator::lost_reason() const {
     return "none";
   }
   if (localizer_->last_loss_cause() == core::GlobalLostCause::kTrackingLost) {
-    return TrackingLostReason(localizer_->last_tracking_reason());
+    const core::LostReason reason = localizer_->last_tracking_reason();
+    return reason == core::LostReason::kNone ? "tracking_lost" : LostReasonName(reason);
   }
   return core::GlobalLostCauseName(localizer_->last_loss_cause());
 }
