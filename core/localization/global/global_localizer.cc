@@ -298,17 +298,12 @@ std::vector<GlobalLocalizer::Hypothesis> GlobalLocalizer::TrackOne(const LocalMa
   // falsified by their best offspring.
   if (!may_split && offspring.size() > 1) offspring.erase(offspring.begin() + 1, offspring.end());
   if (offspring.size() > 1) ++counters_.splits;
-  // Failed: no valid pairing although there was something to pair (§5.7.1).
-  std::vector<PredictedMeasurement> visible;
-  for (const ObservationType type : {ObservationType::kLine, ObservationType::kBeacon}) {
-    for (const LocalFeature& f : local.features) {
-      if (f.observation.type != type) continue;
-      predictor_.PredictVisible(type, h.state, f.view, &visible);
-      break;
-    }
-  }
-  const bool evidence = static_cast<int>(local.features.size()) >= options_.min_evidence &&
-                        static_cast<int>(visible.size()) >= options_.min_evidence;
+  // Failed: no valid pairing although the robot observes something (§5.7.1:
+  // "no valid pairings ... yielding zero hypotheses"). Whether the hypothesis
+  // predicts anything visible does not matter: one that predicts nothing
+  // where the robot sees walls (carried off the map by odometry) is
+  // contradicted as much as one whose predictions fail the gates.
+  const bool evidence = static_cast<int>(local.features.size()) >= options_.min_evidence;
   for (Hypothesis& o : offspring) {
     o.failed_cycles = (o.pairings == 0 && evidence) ? h.failed_cycles + 1 : 0;
   }

@@ -50,8 +50,7 @@ struct GlobalLocalizerOptions {
   LocalizerOptions tracking;  // the chapter-4 EKF of the localized state, with its lost detection
   InterpretationTreeOptions tree;
   // A cycle fails for a hypothesis when it pairs nothing although the batch has
-  // at least this many observations and the hypothesis as many visible
-  // predictions; >= 1.
+  // at least this many observations; >= 1.
   int min_evidence = 3;
   int falsify_failed_cycles = 6;   // consecutive failed cycles falsify (as the EKF, 1.5 s); >= 1
   int support_window = 10;         // cycles, see the header comment; >= 1
