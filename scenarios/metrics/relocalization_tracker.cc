@@ -66,7 +66,6 @@ RelocalizationChange RelocalizationTracker::OnCycle(double now_s, nav::Localizat
                    (position_error_m > kFalsePositionM || heading_rad > kFalseHeadingRad);
   if (mode != Mode::kLocalized || !off) unnoticed_kidnap_ = false;
   if (off && change.localized && !unnoticed_kidnap_) ++false_relocalizations_;
-  off_ = off;
   if (!outcomes_.empty()) {
     KidnapOutcome& k = outcomes_.back();
     if (!k.recovered && !k.lost_declared && mode == Mode::kLost) {

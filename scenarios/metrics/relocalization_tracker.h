@@ -105,7 +105,6 @@ class RelocalizationTracker {
   // Localized through a kidnap and not yet out of kLocalized since: being off
   // is the kidnap's doing, not a false relocalization.
   bool unnoticed_kidnap_ = false;
-  bool off_ = false;  // the last cycle: declared localized while off
   std::optional<double> fbt_good_since_s_;
   int declared_losses_ = 0;
   int false_relocalizations_ = 0;

@@ -162,13 +162,13 @@ void GlobalLocalizer::Predict(double stamp_s, Hypothesis* h) {
   h->stamp_s = stamp_s;
 }
 
-PoseWithCovariance GlobalLocalizer::AtLatest(const Hypothesis& h) const {
-  PoseWithCovariance state = h.state;
+PoseWithCovariance GlobalLocalizer::AtLatest(const PoseWithCovariance& at, double stamp_s) const {
+  PoseWithCovariance state = at;
   const double b = options_.tracking.odometry.wheelbase_m;
   const WheelNoise noise = options_.tracking.odometry.noise();
   for (std::size_t k = 0; k < odometry_.size(); ++k) {
     const OdometryNode& node = odometry_.node(k);
-    if (node.stamp_s <= h.stamp_s) continue;
+    if (node.stamp_s <= stamp_s) continue;
     state = DiffDriveStepWithCovariance(state, node.travel, b, noise);
   }
   return state;
@@ -227,8 +227,7 @@ void GlobalLocalizer::Generate(const ObservationBatch& batch) {
                  f.pairings,
                  f.joint_mahalanobis,
                  0,
-                 {},
-                 0};
+                 {}};
     hypotheses_.push_back(std::move(h));
   }
   generation_limited_ = last_search_.node_limit_hit || last_search_.hypothesis_limit_hit;
@@ -327,7 +326,6 @@ void GlobalLocalizer::TrackAll(const ObservationBatch& batch) {
     h.recent.emplace_back(h.pairings, best);
     if (static_cast<int>(h.recent.size()) > options_.support_window)
       h.recent.erase(h.recent.begin());
-    ++h.age;
   }
   hypotheses_ = std::move(next);
   Prune();
@@ -429,18 +427,16 @@ std::vector<LocationHypothesisData> GlobalLocalizer::Hypotheses() const {
     return out;
   }
   for (const Hypothesis& h : hypotheses_) {
-    out.push_back(LocationHypothesisData{AtLatest(h), h.support, h.pairings, h.joint_mahalanobis});
+    out.push_back(LocationHypothesisData{AtLatest(h.state, h.stamp_s), h.support, h.pairings,
+                                         h.joint_mahalanobis});
   }
   return out;
 }
 
 PoseWithCovariance GlobalLocalizer::Estimate() const {
   if (state_ == GlobalLocalizationState::kLocalized) return tracker_.estimate();
-  if (!hypotheses_.empty()) return AtLatest(hypotheses_.front());
-  // Lost: the last estimate moved by the odometry since.
-  Hypothesis carried{
-      lost_estimate_, lost_estimate_stamp_s_, PoseMapCrossCovariance(map_), {}, 0, 0.0, 0, {}, 0};
-  return AtLatest(carried);
+  if (!hypotheses_.empty()) return AtLatest(hypotheses_.front().state, hypotheses_.front().stamp_s);
+  return AtLatest(lost_estimate_, lost_estimate_stamp_s_);  // lost: carried by odometry
 }
 
 }  // namespace pavilion::core

@@ -143,7 +143,6 @@ class GlobalLocalizer {
     std::vector<std::pair<int, int>> recent;
     int WindowPairings() const;
     int WindowBest() const;
-    int age = 0;  // tracking cycles survived since its generation
   };
   const LaserSensorOptions& LaserOptions(const std::string& sensor_id) const;
   void Predict(double stamp_s, Hypothesis* h);
@@ -155,7 +154,8 @@ class GlobalLocalizer {
   void Prune();
   void DeclareLost(GlobalLostCause cause);
   void Localize(const Hypothesis& h);
-  PoseWithCovariance AtLatest(const Hypothesis& h) const;
+  // A state at `stamp_s` carried to the latest encoder time by the odometry.
+  PoseWithCovariance AtLatest(const PoseWithCovariance& at, double stamp_s) const;
 
   RobotMap map_;
   GlobalLocalizerOptions options_;

@@ -31,6 +31,7 @@ void InterpretationTreeOptions::Validate() const {
 // A tree node: the partial interpretation h of Algorithm 1.
 struct InterpretationTree::Node {
   std::vector<Pairing> support;  // one per local feature, star until assigned
+  std::vector<int> global;       // per local feature: its pairing's index into global_, -1 star
   int pairings = 0;
   bool available = false;
   LocationEstimate estimate;
@@ -39,9 +40,8 @@ struct InterpretationTree::Node {
 struct InterpretationTree::Search {
   const LocalMap* local = nullptr;
   std::vector<int> order;
-  std::vector<std::vector<int>> candidates;  // per local feature: global indices
-  const PoseWithCovariance* predicted = nullptr;
-  const PoseMapCrossCovariance* correlations = nullptr;
+  std::vector<std::vector<int>> candidates;       // per local feature: global indices
+  const PoseWithCovariance* predicted = nullptr;  // Track only
   TreeSearchStats* stats = nullptr;
   int best_pairings = 0;
   int margin = 0;
@@ -55,6 +55,15 @@ struct InterpretationTree::Search {
     return true;
   }
 };
+
+// The root h of the search: every local feature on the star branch, no location.
+InterpretationTree::Node InterpretationTree::RootNode(const LocalMap& local) {
+  Node root;
+  root.support.resize(local.features.size());
+  root.global.assign(local.features.size(), -1);
+  for (std::size_t i = 0; i < root.support.size(); ++i) root.support[i].local = static_cast<int>(i);
+  return root;
+}
 
 InterpretationTree::InterpretationTree(const MeasurementPredictor& predictor,
                                        const InterpretationTreeOptions& options)
@@ -128,8 +137,7 @@ bool InterpretationTree::Extend(Search* search, const Node& h, int local, int gl
   } else {  // part B: binary constraints with every pairing so far
     for (const Pairing& q : h.support) {
       if (q.star) continue;
-      const auto qg = static_cast<std::size_t>(
-          std::find(global_.refs.begin(), global_.refs.end(), q.feature) - global_.refs.begin());
+      const auto qg = static_cast<std::size_t>(h.global[static_cast<std::size_t>(q.local)]);
       if (!SatisfiesBinaryConstraint(
               l.geometry, search->local->features[static_cast<std::size_t>(q.local)].geometry,
               global_.geometry[static_cast<std::size_t>(global)], global_.geometry[qg],
@@ -140,6 +148,7 @@ bool InterpretationTree::Extend(Search* search, const Node& h, int local, int gl
   }
   *child = h;
   child->support[static_cast<std::size_t>(local)] = Pairing{local, ref, false};
+  child->global[static_cast<std::size_t>(local)] = global;
   ++child->pairings;
   child->estimate = EstimateLocation(predictor_, *search->local, child->support, options_.location);
   const bool was_available = h.available;
@@ -185,9 +194,7 @@ std::vector<LocationHypothesisData> InterpretationTree::Generate(const LocalMap&
   search.stats = stats;
   search.margin = options_.pairing_margin;
   search.min_pairings = options_.min_pairings;
-  Node root;
-  root.support.resize(local.features.size());
-  for (std::size_t i = 0; i < root.support.size(); ++i) root.support[i].local = static_cast<int>(i);
+  const Node root = RootNode(local);
   GenerateNode(&search, 0, root);
   return Finish(&search);
 }
@@ -225,7 +232,6 @@ std::vector<LocationHypothesisData> InterpretationTree::Track(
   search.local = &local;
   search.order = ObservationOrder(local);
   search.predicted = &predicted;
-  search.correlations = correlations;
   search.stats = stats;
   // The location is fixed: each pairing's tests are independent of the others.
   const std::vector<std::vector<int>> unary = Candidates(local);
@@ -239,9 +245,7 @@ std::vector<LocationHypothesisData> InterpretationTree::Track(
       }
     }
   }
-  Node root;
-  root.support.resize(local.features.size());
-  for (std::size_t i = 0; i < root.support.size(); ++i) root.support[i].local = static_cast<int>(i);
+  const Node root = RootNode(local);
   TrackNode(&search, 0, root);
   std::vector<LocationHypothesisData> out;
   for (LocationHypothesisData& h : search.leaves) {

@@ -90,6 +90,7 @@ class InterpretationTree {
  private:
   struct Node;
   struct Search;
+  static Node RootNode(const LocalMap& local);
   std::vector<int> ObservationOrder(const LocalMap& local) const;
   std::vector<std::vector<int>> Candidates(const LocalMap& local) const;  // unary-compatible
   void GenerateNode(Search* search, int level, const Node& h) const;
