@@ -107,4 +107,20 @@ void GlobalPoseEstimator::OnCollision() {
       CollisionCovariance(options_.collision_sigma_m, options_.collision_sigma_rad));
 }
 
+std::vector<std::pair<std::string, long>> GlobalPoseEstimator::counters() const {
+  const core::GlobalLocalizerCounters& c = localizer_->counters();
+  return {{"generations", c.generations},
+          {"tracking_cycles", c.tracking_cycles},
+          {"tree_nodes", c.tree_nodes},
+          {"node_limit_hits", c.node_limit_hits},
+          {"hypothesis_limit_hits", c.hypothesis_limit_hits},
+          {"splits", c.splits},
+          {"falsified", c.falsified},
+          {"free_space_rejections", c.free_space_rejections},
+          {"free_space_falsified", c.free_space_falsified},
+          {"duplicates", c.duplicates},
+          {"losses", c.losses},
+          {"localizations", c.localizations}};
+}
+
 }  // namespace pavilion::nav

@@ -8,6 +8,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/odometry/diff_drive.h"
@@ -72,6 +73,9 @@ class PoseEstimator {
   // The bumpers felt a collision: the pose may have jumped by more than the
   // odometry model allows.
   virtual void OnCollision() {}
+  // The estimator's own cumulative counts (search sizes, limit hits,
+  // falsifications), by name, for the run's metrics; empty when it keeps none.
+  virtual std::vector<std::pair<std::string, long>> counters() const { return {}; }
 };
 
 }  // namespace pavilion::nav

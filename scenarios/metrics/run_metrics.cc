@@ -171,6 +171,11 @@ Json RobotJson(const RobotMetrics& r) {
               {"heading_rad", RoundForJson(r.odometry_final_heading_error_rad)}}}};
   if (r.localization) j["localization"] = LocalizationJson(*r.localization);
   if (r.relocalization) j["relocalization"] = RelocalizationJson(*r.relocalization);
+  if (!r.estimator_counters.empty()) {
+    Json counters = Json::object();
+    for (const auto& [name, count] : r.estimator_counters) counters[name] = count;
+    j["estimator_counters"] = std::move(counters);
+  }
   if (r.shadow) {
     Json shadow = {{"method", r.shadow->method},
                    {"localization", LocalizationJson(r.shadow->localization)}};

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "nav/mission/mission.h"
@@ -55,6 +56,9 @@ struct RobotMetrics {
   std::optional<Shadow> shadow;
   std::optional<RouteMetrics> route;
   std::optional<nav::NavigationFigures> navigation;  // robots with a mission
+  // The estimator's own counts (global localization: tree nodes, limit hits,
+  // falsifications), in its order; empty for estimators that keep none.
+  std::vector<std::pair<std::string, std::int64_t>> estimator_counters;
 };
 
 struct RunMetrics {

@@ -44,6 +44,16 @@ void GlobalLocalizerOptions::Validate() const {
   if (min_cycles_after_ambiguity < min_cycles_to_localize) {
     throw std::invalid_argument("min_cycles_after_ambiguity must be >= min_cycles_to_localize");
   }
+  free_space.Validate();
+  if (free_space_failed_cycles < 1) {
+    throw std::invalid_argument("free_space_failed_cycles must be >= 1");
+  }
+  if (!(min_position_sigma_m >= 0.0)) {
+    throw std::invalid_argument("min_position_sigma_m must be >= 0");
+  }
+  if (!(min_heading_sigma_rad >= 0.0)) {
+    throw std::invalid_argument("min_heading_sigma_rad must be >= 0");
+  }
   if (min_cycles_to_localize < 0)
     throw std::invalid_argument("min_cycles_to_localize must be >= 0");
   if (!(generation_window_s >= 0.0))
@@ -80,6 +90,7 @@ GlobalLocalizer::GlobalLocalizer(RobotMap map, const GlobalLocalizerOptions& opt
       predictor_(map_, PredictionOptions{options_.tracking.significance,
                                          options_.tracking.use_map_line_angle_variance}),
       tree_(predictor_, options_.tree),
+      free_space_(map_, options_.free_space),
       tracker_(map_, options_.tracking),
       odometry_(options_.tracking.odometry.wheelbase_m, options_.tracking.odometry.noise(),
                 options_.odometry_span_s) {}
@@ -140,9 +151,9 @@ void GlobalLocalizer::AddScan(const LaserScan& scan) {
     latest_batches_.push_back(batch);
   }
   if (state_ == GlobalLocalizationState::kLost) {
-    Generate(batch);
+    Generate(batch, *registered);
   } else {
-    TrackAll(batch);
+    TrackAll(batch, *registered);
   }
 }
 
@@ -206,10 +217,27 @@ LocalMap GlobalLocalizer::GenerationMap(const ObservationBatch& batch) const {
   return local;
 }
 
-void GlobalLocalizer::Generate(const ObservationBatch& batch) {
+void GlobalLocalizer::ApplyCovarianceFloor(Eigen::Matrix3d* covariance) const {
+  const double floors[3] = {options_.min_position_sigma_m * options_.min_position_sigma_m,
+                            options_.min_position_sigma_m * options_.min_position_sigma_m,
+                            options_.min_heading_sigma_rad * options_.min_heading_sigma_rad};
+  for (int k = 0; k < 3; ++k) (*covariance)(k, k) = std::max((*covariance)(k, k), floors[k]);
+}
+
+bool GlobalLocalizer::SeesThrough(const LaserScan& registered,
+                                  const PoseWithCovariance& location) const {
+  return options_.use_free_space && !free_space_.Satisfied(free_space_.Check(registered, location));
+}
+
+void GlobalLocalizer::Generate(const ObservationBatch& batch, const LaserScan& registered) {
   const LocalMap local = GenerationMap(batch);
   last_search_ = TreeSearchStats{};
   std::vector<LocationHypothesisData> found = tree_.Generate(local, &last_search_);
+  const auto contradicted = std::remove_if(found.begin(), found.end(), [&](const auto& f) {
+    return SeesThrough(registered, f.location);
+  });
+  counters_.free_space_rejections += std::distance(contradicted, found.end());
+  found.erase(contradicted, found.end());
   ++counters_.generations;
   counters_.tree_nodes += last_search_.nodes;
   counters_.node_limit_hits += last_search_.node_limit_hit ? 1 : 0;
@@ -226,6 +254,7 @@ void GlobalLocalizer::Generate(const ObservationBatch& batch) {
                  std::move(f.support),
                  f.pairings,
                  f.joint_mahalanobis,
+                 0,
                  0,
                  {}};
     hypotheses_.push_back(std::move(h));
@@ -309,15 +338,19 @@ std::vector<GlobalLocalizer::Hypothesis> GlobalLocalizer::TrackOne(const LocalMa
   return offspring;
 }
 
-void GlobalLocalizer::TrackAll(const ObservationBatch& batch) {
+void GlobalLocalizer::TrackAll(const ObservationBatch& batch, const LaserScan& registered) {
   LocalMap local;
   local.stamp_s = batch.stamp_s;
   AddToLocalMap(batch, &local);
   std::vector<Hypothesis> next;
   for (std::size_t i = 0; i < hypotheses_.size(); ++i) {
     Predict(batch.stamp_s, &hypotheses_[i]);
+    ApplyCovarianceFloor(&hypotheses_[i].state.covariance);
     std::vector<Hypothesis> offspring = TrackOne(local, hypotheses_[i], i == 0);
-    for (Hypothesis& o : offspring) next.push_back(std::move(o));
+    for (Hypothesis& o : offspring) {
+      o.see_through_cycles = SeesThrough(registered, o.state) ? o.see_through_cycles + 1 : 0;
+      next.push_back(std::move(o));
+    }
   }
   ++counters_.tracking_cycles;
   int best = 0;
@@ -353,8 +386,13 @@ void GlobalLocalizer::TrackAll(const ObservationBatch& batch) {
 // Falsification, ranking and duplicate removal (eqs. 5.70-5.71).
 void GlobalLocalizer::Prune() {
   const std::size_t before = hypotheses_.size();
+  counters_.free_space_falsified +=
+      std::count_if(hypotheses_.begin(), hypotheses_.end(), [&](const Hypothesis& h) {
+        return h.see_through_cycles >= options_.free_space_failed_cycles;
+      });
   std::erase_if(hypotheses_, [&](const Hypothesis& h) {
-    return h.failed_cycles >= options_.falsify_failed_cycles ||
+    return h.see_through_cycles >= options_.free_space_failed_cycles ||
+           h.failed_cycles >= options_.falsify_failed_cycles ||
            (h.WindowBest() >= options_.min_window_support &&
             h.WindowPairings() < options_.min_support_ratio * h.WindowBest());
   });

@@ -11,21 +11,10 @@
 #include <vector>
 
 #include "core/geometry/segment2.h"
+#include "core/map/map_geometry.h"
 #include "core/map/robot_map.h"
 
 namespace pavilion::core {
-
-// The finite geometry a RobotMap describes, in the map frame: every segment,
-// every member segment of each multi-segment line, the infinite lines clipped
-// to the bounding box of the rest (none when there is no rest), and the points
-// and beacons as discs (radius 0: a point).
-struct MapGeometry {
-  std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> segments;  // endpoints, m
-  std::vector<std::pair<Eigen::Vector2d, double>> discs;              // centre, radius (m)
-  Box2 bounds;  // of the segments (before the clipped lines) and the discs; empty when none
-};
-
-MapGeometry CollectMapGeometry(const RobotMap& map);
 
 struct LikelihoodFieldOptions {
   // Cell size, m; (0, 1]. nav2 maps are commonly 0.05 m (chosen: the raster

@@ -1,0 +1,121 @@
+#include "core/localization/global/free_space_constraint.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+namespace pavilion::core {
+namespace {
+
+using Vec2 = Eigen::Vector2d;
+
+// sqrt of the largest eigenvalue of a 2x2 covariance: the position sigma along
+// its worst direction.
+double LargestSigma(const Eigen::Matrix3d& p) {
+  const double a = p(0, 0), b = p(0, 1), c = p(1, 1);
+  const double half_difference = 0.5 * (a - c);
+  return std::sqrt(std::max(0.0, 0.5 * (a + c) + std::hypot(half_difference, b)));
+}
+
+}  // namespace
+
+void FreeSpaceOptions::Validate() const {
+  if (!(margin_m >= 0.0)) throw std::invalid_argument("FreeSpaceOptions.margin_m must be >= 0");
+  if (!(end_clearance_m >= 0.0)) {
+    throw std::invalid_argument("FreeSpaceOptions.end_clearance_m must be >= 0");
+  }
+  if (!(max_incidence_rad > 0.0 && max_incidence_rad < 0.5 * std::numbers::pi)) {
+    throw std::invalid_argument("FreeSpaceOptions.max_incidence_rad must be in (0, pi/2)");
+  }
+  if (!(sigma_factor >= 0.0)) {
+    throw std::invalid_argument("FreeSpaceOptions.sigma_factor must be >= 0");
+  }
+  if (beam_stride < 1) throw std::invalid_argument("FreeSpaceOptions.beam_stride must be >= 1");
+  if (max_see_through < 0) {
+    throw std::invalid_argument("FreeSpaceOptions.max_see_through must be >= 0");
+  }
+  if (!(max_see_through_ratio >= 0.0 && max_see_through_ratio <= 1.0)) {
+    throw std::invalid_argument("FreeSpaceOptions.max_see_through_ratio must be in [0, 1]");
+  }
+}
+
+namespace {
+const FreeSpaceOptions& Validated(const FreeSpaceOptions& options) {
+  options.Validate();
+  return options;
+}
+}  // namespace
+
+FreeSpaceConstraint::FreeSpaceConstraint(const RobotMap& map, const FreeSpaceOptions& options)
+    : options_(Validated(options)), geometry_(CollectMapGeometry(map, InfiniteLines::kOmit)) {}
+
+FreeSpaceCheck FreeSpaceConstraint::Check(const LaserScan& scan,
+                                          const PoseWithCovariance& world_from_robot) const {
+  FreeSpaceCheck check;
+  const Pose2 world_from_sensor = world_from_robot.pose * scan.robot_from_sensor;
+  const Vec2 origin = world_from_sensor.translation();
+  const double k = options_.sigma_factor;
+  // Where the sensor is: the robot's position sigma plus its heading sigma
+  // over the mounting lever arm; each beam adds its heading sigma over its length.
+  const double sigma_heading = std::sqrt(std::max(0.0, world_from_robot.covariance(2, 2)));
+  const double sigma_origin = LargestSigma(world_from_robot.covariance) +
+                              scan.robot_from_sensor.translation().norm() * sigma_heading;
+  const double cos_max_incidence = std::cos(options_.max_incidence_rad);
+
+  // The walls a beam of this scan can reach.
+  std::vector<std::size_t> near;
+  for (std::size_t i = 0; i < geometry_.segments.size(); ++i) {
+    const auto& [a, b] = geometry_.segments[i];
+    if (PointSegmentDistance(origin, a, b) <= scan.max_range_m) near.push_back(i);
+  }
+
+  for (std::size_t j = 0; j < scan.readings.size();
+       j += static_cast<std::size_t>(options_.beam_stride)) {
+    const LaserReading& reading = scan.readings[j];
+    if (!reading.valid || !(reading.range_m > 0.0)) continue;
+    ++check.beams;
+    const double heading = world_from_sensor.theta_rad + reading.bearing_rad;
+    const Vec2 u(std::cos(heading), std::sin(heading));
+    // Only the part of the beam that ends more than the margin before the
+    // reading can contradict.
+    const double reach =
+        reading.range_m - options_.margin_m - k * (sigma_origin + reading.range_m * sigma_heading);
+    if (reach <= 0.0) continue;
+    const Vec2 end = origin + reach * u;
+    bool contradicts = false;
+    for (const std::size_t i : near) {
+      const auto& [a, b] = geometry_.segments[i];
+      const double t = RaySegmentHit(origin, end, a, b);
+      if (!std::isfinite(t)) continue;
+      const Vec2 wall = b - a;
+      const double length = wall.norm();
+      if (length <= 0.0) continue;
+      const Vec2 normal(-wall.y() / length, wall.x() / length);
+      if (std::abs(u.dot(normal)) < cos_max_incidence) continue;  // grazing
+      const Vec2 crossing = origin + t * reach * u;
+      const double clearance =
+          options_.end_clearance_m + k * (sigma_origin + t * reach * sigma_heading);
+      if ((crossing - a).norm() < clearance || (crossing - b).norm() < clearance) continue;
+      contradicts = true;
+      break;
+    }
+    for (std::size_t d = 0; !contradicts && d < geometry_.discs.size(); ++d) {
+      // A beam through a column's core (its radius less the clearance).
+      const auto& [centre, radius] = geometry_.discs[d];
+      const double core = radius - options_.end_clearance_m - k * sigma_origin;
+      if (core <= 0.0) continue;
+      const std::vector<double> hits = LineCircleHits(origin, end, centre, core);
+      contradicts = hits.size() == 2 && hits[1] >= 0.0 && hits[0] <= 1.0;
+    }
+    if (contradicts) ++check.see_through;
+  }
+  return check;
+}
+
+bool FreeSpaceConstraint::Satisfied(const FreeSpaceCheck& check) const {
+  return check.see_through <= options_.max_see_through ||
+         check.see_through <= options_.max_see_through_ratio * check.beams;
+}
+
+}  // namespace pavilion::core
