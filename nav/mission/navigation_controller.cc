@@ -96,6 +96,8 @@ void NavigationControllerOptions::Validate() const {
   Require(approach_radius_m > 0.0 && approach_radius_m <= 5.0, "approach_radius_m", "in (0, 5] m");
   Require(blocked_node_cost_m >= 0.0 && blocked_node_cost_m <= 1e4, "blocked_node_cost_m",
           "in [0, 1e4] m");
+  Require(relocalization_timeout_s >= 0.0 && relocalization_timeout_s <= 3600.0,
+          "relocalization_timeout_s", "in [0, 3600] s");
   Require(bumper_hold_s >= 0.0 && bumper_hold_s <= 60.0, "bumper_hold_s", "in [0, 60] s");
   ompl.Validate();
   local.Validate();
@@ -172,6 +174,7 @@ void NavigationController::Cycle(const ControlTick& tick) {
   last_cycle_s_ = tick.now_s;
   command_ = {};
   if (tick.now_s + 1e-9 < options_.start_s) return;
+  if (state_ == State::kRelocalizing && !Relocalize(tick)) return;
   if (state_ == State::kLost) {
     if (tick.localization_lost) return;
     state_ = State::kWaiting;  // relocalized: carry on with the next mission
@@ -278,8 +281,37 @@ void NavigationController::UpdateBand(const ControlTick& tick) {
   }
 }
 
+bool NavigationController::Relocalize(const ControlTick& tick) {
+  if (tick.localization_lost) {
+    if (tick.now_s - lost_since_s_ >= options_.relocalization_timeout_s) {
+      EndMission(tick, false, AbortReason::kLost);
+      state_ = State::kLost;
+    } else if (tick.now_s - mission_start_s_ > current_.timeout_s) {
+      EndMission(tick, false, AbortReason::kTimeout);
+      state_ = State::kLost;
+    }
+    return false;
+  }
+  // Localized again, perhaps elsewhere: a new plan from where the robot is.
+  state_ = State::kDriving;
+  blocked_.Reset();
+  if (!PlanGlobal(tick, kNoNode)) {
+    EndMission(tick, false, AbortReason::kUnreachable);
+    return false;
+  }
+  PlanLocal(tick, true, "relocalized");
+  return true;
+}
+
 void NavigationController::CheckProgress(const ControlTick& tick) {
   if (tick.localization_lost) {
+    command_ = {};
+    arc_in_world_.clear();
+    if (options_.relocalization_timeout_s > 0.0) {
+      state_ = State::kRelocalizing;
+      lost_since_s_ = tick.now_s;
+      return;
+    }
     EndMission(tick, false, AbortReason::kLost);
     state_ = State::kLost;
     return;

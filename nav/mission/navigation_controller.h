@@ -51,6 +51,12 @@ struct NavigationControllerOptions {
   // A blocked replan raises the cost of the node the robot was heading for by
   // this much (m of path), so the global planner may pick another way, [0, 1e4].
   double blocked_node_cost_m = 20.0;
+  // A robot that declares itself lost during a mission holds the mission
+  // while it relocalizes (the estimator's fallback drives meanwhile) and,
+  // once localized again, replans from where it is and carries on; the
+  // mission is aborted as lost only when this long passes first. 0: aborted
+  // at once. s, [0, 3600]. Chosen: the kidnap recovery bound of 30 s.
+  double relocalization_timeout_s = 30.0;
   InitialPlanner initial_planner = InitialPlanner::kNf1;
   OmplPlannerOptions ompl;
   LocalPlannerOptions local;
@@ -91,9 +97,13 @@ class NavigationController : public Controller {
   std::optional<NavigationPicture> picture() const override;
 
  private:
-  enum class State { kWaiting, kDriving, kDwelling, kLost, kDone };
+  // kRelocalizing: the mission is held while the estimator relocalizes
+  // (relocalization_timeout_s); kLost: no mission, waiting to be localized.
+  enum class State { kWaiting, kDriving, kDwelling, kRelocalizing, kLost, kDone };
   void Cycle(const ControlTick& tick);
   void StartNextMission(const ControlTick& tick);
+  // kRelocalizing: true once localized again and replanned (driving on).
+  bool Relocalize(const ControlTick& tick);
   bool PlanGlobal(const ControlTick& tick, int avoid_node);
   void PlanLocal(const ControlTick& tick, bool replan, const char* cause);
   void UpdateBand(const ControlTick& tick);
@@ -123,6 +133,7 @@ class NavigationController : public Controller {
   Mission current_;
   int mission_index_ = -1;
   double mission_start_s_ = 0.0;
+  double lost_since_s_ = 0.0;  // kRelocalizing: when the estimator declared the loss
   double mission_start_odometer_m_ = 0.0;
   double dwell_until_s_ = 0.0;
   std::string local_target_;  // the queue node the band was planned to

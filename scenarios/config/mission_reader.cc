@@ -116,7 +116,8 @@ void ReadNavigationOptions(MapReader& m, nav::NavigationControllerOptions* o) {
                {"dwa_reach_m", &Nav::dwa_reach_m},
                {"band_lookahead_m", &Nav::band_lookahead_m},
                {"approach_radius_m", &Nav::approach_radius_m},
-               {"blocked_node_cost_m", &Nav::blocked_node_cost_m}});
+               {"blocked_node_cost_m", &Nav::blocked_node_cost_m},
+               {"relocalization_timeout_s", &Nav::relocalization_timeout_s}});
   using Dwa = nav::DynamicWindowOptions;
   ReadOptions(m, &o->dwa, {{"max_speed_mps", &Dwa::max_speed_mps}});
   using Grid = nav::LocalGridOptions;

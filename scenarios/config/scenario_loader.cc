@@ -23,6 +23,9 @@ constexpr double kMaxDurationS = 1e7;
 // Repetitions of one `every_s` event in a run, at most (chosen: bounds the timeline's memory).
 constexpr int kMaxEventRepeats = 1000000;
 constexpr double kMaxMassKg = 1e5;
+// A walker's relaxation time tau, s: Helbing & Molnar (1995) take 0.5 s.
+constexpr double kWalkerRelaxationS = 0.5;
+constexpr double kMaxRelaxationS = 100.0;
 constexpr double kMaxBodySizeM = 100.0;
 constexpr std::int64_t kMaxGroupCount = 100000;
 constexpr double kRadPerDeg = std::numbers::pi / 180.0;  // laser_max_tilt_deg is in degrees
@@ -125,6 +128,12 @@ void ReadBodyCommon(YamlDocument* doc, MapReader& r, const sim::WorldDescription
   entry->spec.upright = r.Bool("upright", true);
   entry->motion = ReadMotion(doc, r);
   entry->spec.driven = entry->motion.type != MotionSpec::Type::kNone;
+  // A walker pushes with a person's finite force (sim::BodySpec); a scripted
+  // body (a cart) holds its profile against anything.
+  entry->spec.drive_relaxation_s =
+      r.Number("drive_relaxation_s",
+               entry->motion.type == MotionSpec::Type::kRandomWalk ? kWalkerRelaxationS : 0.0, 0.0,
+               kMaxRelaxationS);
   if (r.Has("area")) {
     YAML::Node area = r.Child("area");
     if (area.IsSequence()) {  // an inline polygon

@@ -126,7 +126,17 @@ struct World::Impl {
     }
     if (!b.spec.driven || b.yielding) return;
     const btVector3 v = b.rigid->getLinearVelocity();
-    b.rigid->setLinearVelocity(btVector3(b.velocity_mps.x(), b.velocity_mps.y(), v.z()));
+    if (b.spec.drive_relaxation_s > 0.0) {
+      // The driving term of the social force model, integrated over the step
+      // (exactly, for a constant set velocity): the velocity relaxes towards
+      // the set one; contacts then take away what the body cannot push.
+      const double keep = std::exp(-dt / b.spec.drive_relaxation_s);
+      b.rigid->setLinearVelocity(btVector3(b.velocity_mps.x() + keep * (v.x() - b.velocity_mps.x()),
+                                           b.velocity_mps.y() + keep * (v.y() - b.velocity_mps.y()),
+                                           v.z()));
+    } else {
+      b.rigid->setLinearVelocity(btVector3(b.velocity_mps.x(), b.velocity_mps.y(), v.z()));
+    }
     const btVector3 w = b.rigid->getAngularVelocity();
     b.rigid->setAngularVelocity(btVector3(w.x(), w.y(), b.yaw_rate_radps));
   }
@@ -181,6 +191,9 @@ World::~World() = default;
 int World::AddBody(const BodySpec& spec) {
   if (!(spec.mass_kg > 0.0))
     throw std::invalid_argument("body '" + spec.id + "': mass_kg must be > 0");
+  if (!(spec.drive_relaxation_s >= 0.0 && std::isfinite(spec.drive_relaxation_s))) {
+    throw std::invalid_argument("body '" + spec.id + "': drive_relaxation_s must be >= 0");
+  }
   Impl& im = *impl_;
   const Material& material = im.description.MaterialNamed(spec.material);
   std::unique_ptr<btCollisionShape> shape;

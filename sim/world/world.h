@@ -49,6 +49,12 @@ struct BodySpec {
   std::string material;  // a material of the world
   bool upright = true;   // rotates about z only (visitor-like), never tips over
   bool driven = false;   // velocity is set every step (scripted motion)
+  // How a driven body holds its set velocity: 0, against any force (a
+  // motorized cart); > 0, by the driving force m (v0 - v) / tau of Helbing &
+  // Molnar (1995), tau this relaxation time in seconds: a walker's finite
+  // force, which a heavier body that resists (a robot on its braked wheels)
+  // withstands instead of being bulldozed. >= 0.
+  double drive_relaxation_s = 0.0;
 };
 
 struct BodyState {

@@ -198,6 +198,44 @@ TEST(RobotWorld, SidewaysPushSlipsUnseenByTheWheels) {
   EXPECT_LT(seen, 0.1 * moved);
 }
 
+// A 70 kg walker that keeps walking at 1.34 m/s into the side of a robot
+// standing on its motors: driven by the social force model's driving term
+// m (v0 - v) / tau (tau 0.5 s: at most ~190 N) it jolts the robot when it
+// walks into it, then cannot move it on, the wheels' lateral friction
+// holding twice that; a body that holds its velocity against any force
+// (tau = 0, a motorized cart) bulldozes it. The robot's displacement over
+// the last 2 s of 4 s of pushing.
+double RobotDisplacementByWalker(double drive_relaxation_s) {
+  World world(Hall(false), WorldOptions{});
+  const int r = pavilion::testing::AddRobot(world, Spec("r", {0, 0, 0}));
+  BodySpec walker;
+  walker.id = "walker";
+  walker.shape.type = BodyShapeType::kCylinder;
+  walker.shape.radius_m = 0.22;
+  walker.shape.height_m = 1.7;
+  walker.mass_kg = 70.0;
+  walker.pose = {0.0, -1.2, 0.5 * kPi};
+  walker.material = "plastic";
+  walker.driven = true;
+  walker.drive_relaxation_s = drive_relaxation_s;
+  const int w = world.AddBody(walker);
+  Advance(&world, r, 0.5, nullptr);
+  world.SetPlanarVelocity(w, {0.0, 1.34}, 0.0);  // towards the robot's side, and on
+  Advance(&world, r, 2.0, nullptr);
+  const core::Pose2 before = world.robot_state(r).pose;
+  Advance(&world, r, 2.0, nullptr);
+  return (world.robot_state(r).pose.translation() - before.translation()).norm();
+}
+
+TEST(RobotWorld, AWalkerWithAPersonsForceDoesNotBulldozeARobot) {
+  const double walker_m = RobotDisplacementByWalker(0.5);
+  const double cart_m = RobotDisplacementByWalker(0.0);
+  RecordProperty("walker_displacement_m", std::to_string(walker_m));
+  RecordProperty("cart_displacement_m", std::to_string(cart_m));
+  EXPECT_LT(walker_m, 0.01);
+  EXPECT_GT(cart_m, 1.0);  // 2 s at 1.34 m/s: the cart carries the robot along
+}
+
 TEST(RobotWorld, ChassisContactsAreReportedInTheBaseFrame) {
   World world(Hall(true), WorldOptions{});
   const int r = pavilion::testing::AddRobot(world, Spec("r", {4.0, 0, 0}));
