@@ -305,11 +305,10 @@ bool NavigationController::Relocalize(const ControlTick& tick) {
 
 void NavigationController::CheckProgress(const ControlTick& tick) {
   if (tick.localization_lost) {
-    command_ = {};
-    arc_in_world_.clear();
-    if (options_.relocalization_timeout_s > 0.0) {
+    if (options_.relocalization_timeout_s > 0.0) {  // hold the mission, stand
       state_ = State::kRelocalizing;
       lost_since_s_ = tick.now_s;
+      arc_in_world_.clear();
       return;
     }
     EndMission(tick, false, AbortReason::kLost);

@@ -107,7 +107,7 @@ void GlobalPoseEstimator::OnCollision() {
       CollisionCovariance(options_.collision_sigma_m, options_.collision_sigma_rad));
 }
 
-std::vector<std::pair<std::string, long>> GlobalPoseEstimator::counters() const {
+std::vector<std::pair<std::string, std::int64_t>> GlobalPoseEstimator::counters() const {
   const core::GlobalLocalizerCounters& c = localizer_->counters();
   return {{"generations", c.generations},
           {"tracking_cycles", c.tracking_cycles},

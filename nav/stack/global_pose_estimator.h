@@ -42,7 +42,7 @@ class GlobalPoseEstimator : public PoseEstimator {
   std::vector<LocationHypothesis> hypotheses() const override;
   void SetPaused(bool paused, double now_s) override;
   void OnCollision() override;
-  std::vector<std::pair<std::string, long>> counters() const override;
+  std::vector<std::pair<std::string, std::int64_t>> counters() const override;
   const core::GlobalLocalizer& localizer() const { return *localizer_; }
 
  private:

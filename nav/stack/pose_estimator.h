@@ -5,6 +5,7 @@
 // thesis §4.4 (EkfPoseEstimator), or global localization with the framework of
 // chapter 5, Fig. 5.17 (GlobalPoseEstimator).
 
+#include <cstdint>
 #include <optional>
 #include <span>
 #include <string>
@@ -75,7 +76,7 @@ class PoseEstimator {
   virtual void OnCollision() {}
   // The estimator's own cumulative counts (search sizes, limit hits,
   // falsifications), by name, for the run's metrics; empty when it keeps none.
-  virtual std::vector<std::pair<std::string, long>> counters() const { return {}; }
+  virtual std::vector<std::pair<std::string, std::int64_t>> counters() const { return {}; }
 };
 
 }  // namespace pavilion::nav

@@ -705,9 +705,7 @@ RunMetrics ScenarioRun::CollectMetrics(double sim_s) const {
         std::abs(core::NormalizeAngle(odo.theta_rad - truth.theta_rad));
     if (r.tracker) robot.localization = r.tracker->Figures();
     if (const nav::PoseEstimator* estimator = r.navigator->estimator()) {
-      for (const auto& [name, count] : estimator->counters()) {
-        robot.estimator_counters.emplace_back(name, count);
-      }
+      robot.estimator_counters = estimator->counters();
     }
     if (r.relocalization && r.relocalization->active()) {
       robot.relocalization = r.relocalization->Figures();

@@ -126,17 +126,15 @@ struct World::Impl {
     }
     if (!b.spec.driven || b.yielding) return;
     const btVector3 v = b.rigid->getLinearVelocity();
-    if (b.spec.drive_relaxation_s > 0.0) {
-      // The driving term of the social force model, integrated over the step
-      // (exactly, for a constant set velocity): the velocity relaxes towards
-      // the set one; contacts then take away what the body cannot push.
-      const double keep = std::exp(-dt / b.spec.drive_relaxation_s);
-      b.rigid->setLinearVelocity(btVector3(b.velocity_mps.x() + keep * (v.x() - b.velocity_mps.x()),
-                                           b.velocity_mps.y() + keep * (v.y() - b.velocity_mps.y()),
-                                           v.z()));
-    } else {
-      b.rigid->setLinearVelocity(btVector3(b.velocity_mps.x(), b.velocity_mps.y(), v.z()));
-    }
+    // The driving term of the social force model, integrated over the step
+    // (exactly, for a constant set velocity): the velocity relaxes towards the
+    // set one, and contacts then take away what the body cannot push. Without
+    // a relaxation time the set velocity is simply held.
+    const double keep =
+        b.spec.drive_relaxation_s > 0.0 ? std::exp(-dt / b.spec.drive_relaxation_s) : 0.0;
+    b.rigid->setLinearVelocity(btVector3(b.velocity_mps.x() + keep * (v.x() - b.velocity_mps.x()),
+                                         b.velocity_mps.y() + keep * (v.y() - b.velocity_mps.y()),
+                                         v.z()));
     const btVector3 w = b.rigid->getAngularVelocity();
     b.rigid->setAngularVelocity(btVector3(w.x(), w.y(), b.yaw_rate_radps));
   }

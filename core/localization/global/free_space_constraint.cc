@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
+#include <utility>
 
 namespace pavilion::core {
 namespace {
@@ -63,11 +64,19 @@ FreeSpaceCheck FreeSpaceConstraint::Check(const LaserScan& scan,
                               scan.robot_from_sensor.translation().norm() * sigma_heading;
   const double cos_max_incidence = std::cos(options_.max_incidence_rad);
 
-  // The walls a beam of this scan can reach.
+  // The walls a beam of this scan can reach, and the columns' cores (their
+  // radius less the clearance) in reach.
   std::vector<std::size_t> near;
   for (std::size_t i = 0; i < geometry_.segments.size(); ++i) {
     const auto& [a, b] = geometry_.segments[i];
     if (PointSegmentDistance(origin, a, b) <= scan.max_range_m) near.push_back(i);
+  }
+  std::vector<std::pair<Vec2, double>> cores;
+  for (const auto& [centre, radius] : geometry_.discs) {
+    const double core = radius - options_.end_clearance_m - k * sigma_origin;
+    if (core > 0.0 && (centre - origin).norm() - core <= scan.max_range_m) {
+      cores.emplace_back(centre, core);
+    }
   }
 
   for (std::size_t j = 0; j < scan.readings.size();
@@ -100,12 +109,8 @@ FreeSpaceCheck FreeSpaceConstraint::Check(const LaserScan& scan,
       contradicts = true;
       break;
     }
-    for (std::size_t d = 0; !contradicts && d < geometry_.discs.size(); ++d) {
-      // A beam through a column's core (its radius less the clearance).
-      const auto& [centre, radius] = geometry_.discs[d];
-      const double core = radius - options_.end_clearance_m - k * sigma_origin;
-      if (core <= 0.0) continue;
-      const std::vector<double> hits = LineCircleHits(origin, end, centre, core);
+    for (std::size_t d = 0; !contradicts && d < cores.size(); ++d) {
+      const std::vector<double> hits = LineCircleHits(origin, end, cores[d].first, cores[d].second);
       contradicts = hits.size() == 2 && hits[1] >= 0.0 && hits[0] <= 1.0;
     }
     if (contradicts) ++check.see_through;

@@ -386,13 +386,12 @@ void GlobalLocalizer::TrackAll(const ObservationBatch& batch, const LaserScan& r
 // Falsification, ranking and duplicate removal (eqs. 5.70-5.71).
 void GlobalLocalizer::Prune() {
   const std::size_t before = hypotheses_.size();
-  counters_.free_space_falsified +=
-      std::count_if(hypotheses_.begin(), hypotheses_.end(), [&](const Hypothesis& h) {
-        return h.see_through_cycles >= options_.free_space_failed_cycles;
-      });
   std::erase_if(hypotheses_, [&](const Hypothesis& h) {
-    return h.see_through_cycles >= options_.free_space_failed_cycles ||
-           h.failed_cycles >= options_.falsify_failed_cycles ||
+    if (h.see_through_cycles >= options_.free_space_failed_cycles) {
+      ++counters_.free_space_falsified;
+      return true;
+    }
+    return h.failed_cycles >= options_.falsify_failed_cycles ||
            (h.WindowBest() >= options_.min_window_support &&
             h.WindowPairings() < options_.min_support_ratio * h.WindowBest());
   });

@@ -47,6 +47,7 @@
 //   search may be the wrong one.
 
 #include <memory>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -82,7 +83,7 @@ struct GlobalLocalizerOptions {
   // 0.3 deg is near the real Pygmalion's accuracy (Table 4.2: 2 sigma 13 mm
   // frontal), so the floor only bites on an overconfident track.
   double min_position_sigma_m = 0.01;
-  double min_heading_sigma_rad = 0.3 * 3.14159265358979323846 / 180.0;
+  double min_heading_sigma_rad = 0.3 * std::numbers::pi / 180.0;
   // Batches of the robot's other lasers join the local map of a generation
   // when at most this much older, compounded with the robot's motion, s; >= 0.
   double generation_window_s = 0.6;

@@ -96,25 +96,25 @@ TEST(NavigationController, HoldsTheMissionWhileRelocalizingAndReplans) {
   EXPECT_NEAR(run.pose.x_m, 8.0, 0.1);
 }
 
-TEST(NavigationController, AbortsAsLostWhenRelocalizationTakesTooLong) {
-  const MissionRun run = DriveToB(30.0, 3.0, 1e9, 40.0);
+// The run's one mission was aborted as lost at `at_s`.
+void ExpectAbortedAsLostAt(const MissionRun& run, double at_s) {
   ASSERT_EQ(Count(run, NavigationEvent::Type::kMissionAborted), 1);
   for (const NavigationEvent& e : run.events) {
     if (e.type != NavigationEvent::Type::kMissionAborted) continue;
     EXPECT_EQ(e.reason, AbortReason::kLost);
-    EXPECT_NEAR(e.at_s, 33.0, 0.01);
+    EXPECT_NEAR(e.at_s, at_s, 0.01);
   }
+}
+
+TEST(NavigationController, AbortsAsLostWhenRelocalizationTakesTooLong) {
+  const MissionRun run = DriveToB(30.0, 3.0, 1e9, 40.0);
+  ExpectAbortedAsLostAt(run, 33.0);
   EXPECT_EQ(run.figures.missions_completed, 0);
 }
 
 TEST(NavigationController, AbortsAtOnceWithoutARelocalizationTimeout) {
   const MissionRun run = DriveToB(0.0, 3.0, 5.0, 60.0);
-  ASSERT_EQ(Count(run, NavigationEvent::Type::kMissionAborted), 1);
-  for (const NavigationEvent& e : run.events) {
-    if (e.type != NavigationEvent::Type::kMissionAborted) continue;
-    EXPECT_EQ(e.reason, AbortReason::kLost);
-    EXPECT_NEAR(e.at_s, 3.0, 0.01);
-  }
+  ExpectAbortedAsLostAt(run, 3.0);
   // The one mission of the list is gone; nothing more is started.
   EXPECT_EQ(run.figures.missions_started, 1);
   EXPECT_EQ(run.figures.missions_completed, 0);
