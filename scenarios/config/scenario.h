@@ -126,6 +126,9 @@ struct OutputOptions {
   double section_height_m = 0.5;     // height of the top-down picture's cut, m, [0, 100]
   int image_width_px = 900;          // top-down picture width, px, [100, 8000]
   bool scan_log = true;              // write scans.bin (every robot's scans with ground truth)
+  // Rows of trajectories.csv per present crowd visitor per s (people are many:
+  // a lower rate than the robots'), Hz, [0, 1e4]; 0 leaves people out.
+  double people_rate_hz = 2.0;
 
   void Validate() const;  // throws std::invalid_argument naming the field
 };
@@ -153,6 +156,9 @@ struct Scenario {
   sim::WorldDescription world;
   std::vector<BodyEntry> bodies;
   std::vector<RobotEntry> robots;
+  // The scenario's `crowd:` block: visitors of sim/crowd/, with the world's
+  // places resolved (entrance, exit, roam area, attractions).
+  std::optional<sim::CrowdSpec> crowd;
   std::vector<TimedEvent> events;  // sorted by time, stable
   OutputOptions outputs;
 };

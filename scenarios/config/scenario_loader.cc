@@ -6,6 +6,7 @@
 #include <set>
 
 #include "nav/reactive/swept_polygon.h"
+#include "scenarios/config/crowd_reader.h"
 #include "scenarios/config/data_paths.h"
 #include "scenarios/config/mission_reader.h"
 #include "scenarios/config/options_reader.h"
@@ -28,6 +29,7 @@ constexpr double kWalkerRelaxationS = 0.5;
 constexpr double kMaxRelaxationS = 100.0;
 constexpr double kMaxBodySizeM = 100.0;
 constexpr std::int64_t kMaxGroupCount = 100000;
+constexpr double kMaxPeopleRateHz = 1e4;                 // OutputOptions::people_rate_hz's range
 constexpr double kRadPerDeg = std::numbers::pi / 180.0;  // laser_max_tilt_deg is in degrees
 
 // Reads a `wheel_model` key: one of the sim::WheelModel names.
@@ -193,7 +195,8 @@ void ReadBodies(YamlDocument* doc, MapReader& top, const sim::WorldDescription& 
       s->bodies.push_back(entry);
     }
   }
-  list = top.Child("groups");
+  // reset(), not operator=, which would write the groups into the bodies' node.
+  list.reset(top.Child("groups"));
   if (list.IsDefined() && !list.IsNull()) {
     if (!list.IsSequence()) doc->Error(list, "groups", "expected a list");
     for (std::size_t i = 0; list.IsSequence() && i < list.size(); ++i) {
@@ -598,7 +601,7 @@ MapReader OptionalSection(YamlDocument* doc, MapReader& top, const std::string& 
 }
 
 // physics: {rate_hz, solver_iterations, gravity_mps2, wheel_model} and
-// outputs: {trajectory_rate_hz, section_height_m, image_width_px, scan_log}.
+// outputs: {trajectory_rate_hz, section_height_m, image_width_px, scan_log, people_rate_hz}.
 void ReadPhysicsAndOutputs(YamlDocument* doc, MapReader& top, Scenario* s) {
   MapReader physics = OptionalSection(doc, top, "physics");
   using Physics = sim::WorldOptions;
@@ -613,7 +616,14 @@ void ReadPhysicsAndOutputs(YamlDocument* doc, MapReader& top, Scenario* s) {
               {{"trajectory_rate_hz", &OutputOptions::trajectory_rate_hz},
                {"section_height_m", &OutputOptions::section_height_m},
                {"image_width_px", &OutputOptions::image_width_px},
-               {"scan_log", &OutputOptions::scan_log}});
+               {"scan_log", &OutputOptions::scan_log},
+               {"people_rate_hz", &OutputOptions::people_rate_hz}});
+  // OutputOptions::Validate() does not bound people_rate_hz (yet): its header's range.
+  if (!(s->outputs.people_rate_hz >= 0.0 && s->outputs.people_rate_hz <= kMaxPeopleRateHz)) {
+    doc->Error(outputs.Child("people_rate_hz"), "outputs.people_rate_hz",
+               "OutputOptions.people_rate_hz must be in [0, 1e4] Hz");
+    s->outputs.people_rate_hz = OutputOptions{}.people_rate_hz;
+  }
   outputs.Finish();
 }
 
@@ -673,6 +683,7 @@ Scenario LoadScenarioFile(const std::string& path, const ScenarioOverrides& over
   ReadWorldAndAdditions(&doc, top, base, &s);
   ReadBodies(&doc, top, s.world, &s);
   ReadRobots(&doc, top, base, &s);
+  ReadCrowd(&doc, top, &s);
   ReadEvents(&doc, top, file_duration_s, &s);
   top.Finish();
   doc.ThrowIfErrors();

@@ -274,6 +274,11 @@ void ReadDoor(YamlDocument* doc, MapReader& r, ElementContext& ctx, sim::WorldDe
   w->doors.push_back(d);
 }
 
+// A station: flagged so or named station_* or dock_* (as map derivation decides).
+bool IsStation(const std::string& name, const sim::Place& place) {
+  return place.station || name.starts_with("station_") || name.starts_with("dock_");
+}
+
 void ReadPlaces(YamlDocument* doc, MapReader& top, sim::WorldDescription* w) {
   YAML::Node n = top.Child("places");
   if (!n.IsDefined() || n.IsNull()) return;
@@ -294,6 +299,22 @@ void ReadPlaces(YamlDocument* doc, MapReader& top, sim::WorldDescription* w) {
     place.station = r.Bool("station", false);
     if (place.station && !place.pose) {
       doc->Error(r.Child("station"), r.PathOf("station"), "a station needs a pose");
+    }
+    if (r.Has("attraction")) {
+      // A relative weight: any finite number >= 0 (0: never visited).
+      const YAML::Node node = r.Child("attraction");
+      if (auto a = ReadNumber(doc, node, r.PathOf("attraction"))) {
+        if (*a >= 0.0) {
+          place.attraction = *a;
+        } else {
+          doc->Error(node, r.PathOf("attraction"),
+                     "must be >= 0 (a relative weight; 0: never visited)");
+        }
+      }
+      if (!IsStation(name, place)) {
+        doc->Error(r.Child("attraction"), r.PathOf("attraction"),
+                   "only a station draws visitors (station: true, or a name station_* or dock_*)");
+      }
     }
     r.Finish();
     w->places[name] = place;

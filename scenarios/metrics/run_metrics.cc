@@ -130,6 +130,31 @@ Json NavigationJson(const nav::NavigationFigures& f, const CollisionCounts& coll
   return j;
 }
 
+// Hall's zones surface to surface (social_navigation.h); times in s, gaps in m.
+Json SocialJson(const SocialNavigationFigures& f) {
+  const auto n = [](double v) { return RoundForJson(v, 4); };
+  return {{"intimate_time_s", n(f.intimate_time_s)},
+          {"personal_time_s", n(f.personal_time_s)},
+          {"social_time_s", n(f.social_time_s)},
+          {"intimate_intrusions", f.intimate_intrusions},
+          {"personal_intrusions", f.personal_intrusions},
+          {"social_intrusions", f.social_intrusions},
+          {"min_visitor_gap_m", n(f.min_visitor_gap_m)},
+          {"closer_than_0_2_m_s", n(f.closer_than_0_2_m_time_s)}};
+}
+
+Json CrowdJson(const CrowdFigures& f) {
+  const auto n = [](double v) { return RoundForJson(v, 4); };
+  return {{"pool", f.pool},
+          {"arrivals", f.arrivals},
+          {"departures", f.departures},
+          {"mean_present", n(f.mean_present)},
+          {"max_present", f.max_present},
+          {"max_overlap_m", n(f.max_overlap_m)},
+          {"visitor_blocked_by_robot_s", n(f.visitor_blocked_by_robot_s)},
+          {"pushes", f.pushes}};
+}
+
 Json FleetJson(const RunMetrics& m) {
   int started = 0;
   int completed = 0;
@@ -192,6 +217,7 @@ Json RobotJson(const RobotMetrics& r) {
         {"done_at_s", r.route->done ? RoundForJson(r.route->done_at_s, 3) : r.route->done_at_s}};
   }
   if (r.navigation) j["navigation"] = NavigationJson(*r.navigation, r.collisions_by_class);
+  if (r.social) j["social"] = SocialJson(*r.social);
   return j;
 }
 
@@ -277,6 +303,7 @@ nlohmann::ordered_json MetricsToJson(const RunMetrics& m) {
   }
   if (m.any_navigation()) j["fleet"] = FleetJson(m);
   if (m.any_relocalization()) j["fleet"]["relocalization"] = FleetRelocalizationJson(m);
+  if (m.crowd) j["crowd"] = CrowdJson(*m.crowd);
   j["events"] = m.event_counts;
   return j;
 }

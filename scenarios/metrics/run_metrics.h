@@ -16,6 +16,7 @@
 #include "scenarios/metrics/collision_classes.h"
 #include "scenarios/metrics/localization_tracker.h"
 #include "scenarios/metrics/relocalization_tracker.h"
+#include "scenarios/metrics/social_navigation.h"
 
 namespace pavilion::scenarios {
 
@@ -56,6 +57,8 @@ struct RobotMetrics {
   std::optional<Shadow> shadow;
   std::optional<RouteMetrics> route;
   std::optional<nav::NavigationFigures> navigation;  // robots with a mission
+  // Runs with a crowd, once a visitor was on the floor (social_navigation.h).
+  std::optional<SocialNavigationFigures> social;
   // The estimator's own counts (global localization: tree nodes, limit hits,
   // falsifications), in its order; empty for estimators that keep none.
   std::vector<std::pair<std::string, std::int64_t>> estimator_counters;
@@ -74,6 +77,7 @@ struct RunMetrics {
   std::vector<RobotMetrics> robots;  // in scenario order
   std::string laser_backend;
   std::map<std::string, std::int64_t> event_counts;  // by type
+  std::optional<CrowdFigures> crowd;                 // runs with a crowd
 
   double bodies_distance_m() const;
   std::int64_t bodies_collisions() const;

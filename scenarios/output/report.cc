@@ -1,12 +1,16 @@
 #include "scenarios/output/report.h"
 
 #include <algorithm>
+#include <cmath>
 #include <sstream>
 
 #include "scenarios/output/png.h"
 
 namespace pavilion::scenarios {
 namespace {
+
+// Crowd frame captions give whole seconds within this of one, else tenths.
+constexpr double kWholeSecondS = 0.05;
 
 std::string Escape(const std::string& s) {
   std::string out;
@@ -163,10 +167,34 @@ void NavigationTable(std::ostringstream& html, const RunMetrics& m) {
           "collisions in 5 km.</p>\n";
 }
 
-void Pictures(std::ostringstream& html, const Scenario& scenario,
+// The crowd frames in one row, each with its time below; they shrink to share
+// the page's width.
+void CrowdStripSection(std::ostringstream& html, const RunMetrics& m,
+                       const std::vector<CrowdFrame>& frames) {
+  if (frames.empty()) return;
+  const std::string around =
+      m.robots.empty() ? std::string("the floor's centre") : Escape(m.robots.front().id);
+  html << "<h2>The crowd around " << around << "</h2>\n"
+       << "<p class=\"note\">The top-down view cropped to " << Num(frames.front().size_m, 2)
+       << " m &times; " << Num(frames.front().size_m, 2) << " m around " << around
+       << " at evenly spaced times of the run (snapshots/crowd_NN.png): visitors as their "
+          "shoulder disc with a heading tick and their two legs cut at the section's height.</p>\n"
+       << "<div style=\"display:flex;gap:6px\">\n";
+  for (const CrowdFrame& f : frames) {
+    const std::string caption = CrowdFrameCaption(f.time_s);
+    html << "<figure style=\"flex:1 1 0;min-width:0;margin:0;text-align:center\">"
+         << "<img style=\"width:100%\" alt=\"crowd at " << caption << "\" title=\""
+         << Escape(f.path) << "\" src=\"data:image/png;base64," << Base64(f.png) << "\">"
+         << "<figcaption>" << caption << "</figcaption></figure>\n";
+  }
+  html << "</div>\n";
+}
+
+void Pictures(std::ostringstream& html, const Scenario& scenario, const RunMetrics& metrics,
               const std::vector<std::uint8_t>& topdown_png,
               const std::vector<LocalizationPlot>& localization_plots,
-              const std::vector<HypothesisFigure>& hypothesis_figures) {
+              const std::vector<HypothesisFigure>& hypothesis_figures,
+              const std::vector<CrowdFrame>& crowd_frames) {
   html << "<h2>Top-down view at the end of the run</h2>\n"
        << "<p class=\"note\">Footprints in material colours; black outline: the world cut at "
        << scenario.outputs.section_height_m
@@ -176,6 +204,7 @@ void Pictures(std::ostringstream& html, const Scenario& scenario,
           "the elastic band and its bubbles, thick green: the dynamic window's chosen arc.</p>\n"
        << "<img alt=\"top-down view\" src=\"data:image/png;base64," << Base64(topdown_png)
        << "\">\n";
+  CrowdStripSection(html, metrics, crowd_frames);
   for (const LocalizationPlot& plot : localization_plots) {
     html << "<h2>Localization of " << Escape(plot.robot_id) << ": 2 sigma over time</h2>\n"
          << "<p class=\"note\">Two standard deviations of the estimate in the robot's frontal "
@@ -198,10 +227,20 @@ void Pictures(std::ostringstream& html, const Scenario& scenario,
 
 }  // namespace
 
+std::string CrowdFrameCaption(double time_s) {
+  const double whole = std::round(time_s);
+  std::ostringstream text;
+  text.setf(std::ios::fixed);
+  text.precision(std::abs(time_s - whole) < kWholeSecondS ? 0 : 1);
+  text << "t = " << (std::abs(time_s - whole) < kWholeSecondS ? whole : time_s) << " s";
+  return text.str();
+}
+
 std::string RenderReportHtml(const Scenario& scenario, const RunMetrics& metrics,
                              const std::vector<std::uint8_t>& topdown_png,
                              const std::vector<LocalizationPlot>& localization_plots,
-                             const std::vector<HypothesisFigure>& hypothesis_figures) {
+                             const std::vector<HypothesisFigure>& hypothesis_figures,
+                             const std::vector<CrowdFrame>& crowd_frames) {
   std::ostringstream html;
   html
       << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n"
@@ -227,7 +266,8 @@ std::string RenderReportHtml(const Scenario& scenario, const RunMetrics& metrics
     html << "<tr><td>" << Escape(type) << "</td><td>" << n << "</td></tr>\n";
   }
   html << "</table>\n";
-  Pictures(html, scenario, topdown_png, localization_plots, hypothesis_figures);
+  Pictures(html, scenario, metrics, topdown_png, localization_plots, hypothesis_figures,
+           crowd_frames);
   html << "<p class=\"note\">Files: metrics.json, performance.json (wall-clock figures), "
           "events.jsonl, trajectories.csv, localization.csv, scans.bin (robots' laser scans with "
           "ground truth), "

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <numbers>
 
+#include "scenarios/output/crowd_strip.h"
 #include "scenarios/output/localization_plot.h"
 #include "scenarios/output/output_files.h"
 #include "scenarios/output/png.h"
@@ -66,6 +67,15 @@ void AddPoseShape(const core::Pose2& pose, const Eigen::Matrix2d& covariance,
   out->push_back({ring, rgb, 1.0, 1.5});
 }
 
+// The scenario's top-down picture of the whole floor.
+sim::TopDownOptions TopDownView(const Scenario& scenario) {
+  sim::TopDownOptions view;
+  view.width_px = scenario.outputs.image_width_px;
+  view.section_height_m = scenario.outputs.section_height_m;
+  if (scenario.crowd) view.people_material = scenario.crowd->material;
+  return view;
+}
+
 // snapshots/hypotheses_<robot>.png: the world from above with the hypotheses.
 HypothesisFigure DrawHypotheses(const std::filesystem::path& out, const Scenario& scenario,
                                 const sim::World& world, const std::string& robot_id,
@@ -79,9 +89,7 @@ HypothesisFigure DrawHypotheses(const std::filesystem::path& out, const Scenario
                  &shapes);
   }
   AddPoseShape(snapshot.truth, Eigen::Matrix2d::Zero(), {20, 60, 220}, &shapes);
-  sim::TopDownOptions view;
-  view.width_px = scenario.outputs.image_width_px;
-  view.section_height_m = scenario.outputs.section_height_m;
+  const sim::TopDownOptions view = TopDownView(scenario);
   HypothesisFigure figure{robot_id, snapshot.time_s, static_cast<int>(snapshot.hypotheses.size()),
                           EncodePng(sim::RenderTopDown(world, shapes, view))};
   WriteFileAtomically((out / "snapshots" / ("hypotheses_" + robot_id + ".png")).string(),
@@ -96,7 +104,7 @@ void WriteSnapshotsAndReport(const std::filesystem::path& out, const Scenario& s
                              const std::vector<std::vector<Eigen::Vector2d>>& body_tracks,
                              const std::vector<RobotTracks>& robot_tracks,
                              const std::vector<RobotLocalization>& localizations,
-                             const RunMetrics& metrics) {
+                             const RunMetrics& metrics, const CrowdStrip* crowd_strip) {
   std::vector<sim::TopDownTrack> top_tracks;
   for (const auto& t : body_tracks) top_tracks.push_back({t, {200, 40, 40}, 0.4});
   for (const RobotTracks& r : robot_tracks) {
@@ -107,9 +115,7 @@ void WriteSnapshotsAndReport(const std::filesystem::path& out, const Scenario& s
     }
     if (r.navigation) AddNavigationTracks(*r.navigation, &top_tracks);
   }
-  sim::TopDownOptions view;
-  view.width_px = scenario.outputs.image_width_px;
-  view.section_height_m = scenario.outputs.section_height_m;
+  const sim::TopDownOptions view = TopDownView(scenario);
   const std::vector<std::uint8_t> png = EncodePng(sim::RenderTopDown(world, top_tracks, view));
   WriteFileAtomically((out / "snapshots" / "topdown_final.png").string(),
                       std::string(png.begin(), png.end()));
@@ -126,8 +132,10 @@ void WriteSnapshotsAndReport(const std::filesystem::path& out, const Scenario& s
     figures.push_back(
         DrawHypotheses(out, scenario, world, scenario.robots[k].id, *robot_tracks[k].hypotheses));
   }
+  const std::vector<CrowdFrame> crowd_frames =
+      crowd_strip ? crowd_strip->Write(out) : std::vector<CrowdFrame>{};
   WriteFileAtomically((out / "report.html").string(),
-                      RenderReportHtml(scenario, metrics, png, plots, figures));
+                      RenderReportHtml(scenario, metrics, png, plots, figures, crowd_frames));
 }
 
 void WritePerformanceJson(const std::filesystem::path& out, const RunSummary& s, int threads,

@@ -1,8 +1,9 @@
 #pragma once
 
 // The files a run writes at its end: snapshots/topdown_final.png, one
-// snapshots/two_sigma_<robot>.png per robot that localizes, report.html and
-// performance.json (the one file with wall-clock figures).
+// snapshots/two_sigma_<robot>.png per robot that localizes, the crowd strip's
+// snapshots/crowd_NN.png, report.html and performance.json (the one file with
+// wall-clock figures).
 
 #include <Eigen/Core>
 #include <filesystem>
@@ -19,6 +20,8 @@
 #include "sim/world/world.h"
 
 namespace pavilion::scenarios {
+
+class CrowdStrip;
 
 // A robot's location hypotheses at one moment after a kidnap (issue 18): the
 // largest set its global localization held, with the truth.
@@ -44,12 +47,15 @@ struct RobotLocalization {
   const LocalizationTracker* tracker = nullptr;
 };
 
+// Pictures the world at the end of the run, writes the figures under
+// snapshots/ (with the frames `crowd_strip` captured, when given) and
+// report.html showing them.
 void WriteSnapshotsAndReport(const std::filesystem::path& out, const Scenario& scenario,
                              const sim::World& world,
                              const std::vector<std::vector<Eigen::Vector2d>>& body_tracks,
                              const std::vector<RobotTracks>& robot_tracks,
                              const std::vector<RobotLocalization>& localizations,
-                             const RunMetrics& metrics);
+                             const RunMetrics& metrics, const CrowdStrip* crowd_strip = nullptr);
 
 // performance.json from the run's summary.
 void WritePerformanceJson(const std::filesystem::path& out, const RunSummary& summary, int threads,

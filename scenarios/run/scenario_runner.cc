@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
-#include <ctime>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -21,10 +19,13 @@
 #include "scenarios/metrics/collision_classes.h"
 #include "scenarios/metrics/localization_tracker.h"
 #include "scenarios/metrics/relocalization_tracker.h"
+#include "scenarios/metrics/social_navigation.h"
+#include "scenarios/output/crowd_strip.h"
 #include "scenarios/output/run_logs.h"
 #include "scenarios/output/run_outputs.h"
 #include "scenarios/output/scan_log.h"
 #include "scenarios/run/body_spawner.h"
+#include "scenarios/run/progress_line.h"
 #include "scenarios/run/robot_stack.h"
 #include "scenarios/version.h"
 #include "sim/raycast/planar_caster.h"
@@ -36,8 +37,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// Wall seconds between progress line updates.
-constexpr double kProgressPeriodS = 0.25;
 // Events are due when their time is reached up to this rounding of tick times (s).
 constexpr double kDueToleranceS = 1e-9;
 constexpr double kDegPerRad = 180.0 / std::numbers::pi;
@@ -55,37 +54,6 @@ constexpr double kApproachTieMps = 0.01;
 
 double Seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
 
-// CPU seconds this process has used: beside wall time, a figure that holds on a
-// machine shared with other work.
-double ProcessCpuSeconds() {
-  timespec t{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
-}
-
-// Shows "sim 12.3/60.0 s  RTF 41.2x  ETA 1.2 s" on one updating line.
-class ProgressLine {
- public:
-  ProgressLine(bool enabled, double total_s) : enabled_(enabled), total_s_(total_s) {}
-  void Update(double sim_s, double wall_s) {
-    if (!enabled_ || wall_s - last_wall_s_ < kProgressPeriodS) return;
-    last_wall_s_ = wall_s;
-    const double rtf = wall_s > 0 ? sim_s / wall_s : 0.0;
-    const double eta = rtf > 0 ? (total_s_ - sim_s) / rtf : 0.0;
-    std::fprintf(stderr, "\r  sim %.1f/%.1f s  RTF %.1fx  ETA %.1f s   ", sim_s, total_s_, rtf,
-                 eta);
-    std::fflush(stderr);
-  }
-  void Done() {
-    if (enabled_ && last_wall_s_ > 0.0) std::fprintf(stderr, "\r%60s\r", "");
-  }
-
- private:
-  bool enabled_;
-  double total_s_;
-  double last_wall_s_ = 0.0;
-};
-
 // One robot of a run: its simulated body and sensors, its software, and what
 // the run counts and draws of it.
 struct RobotRun {
@@ -97,6 +65,7 @@ struct RobotRun {
   // The shadow estimator's (Navigator::shadow_estimator), judged the same way.
   std::optional<LocalizationTracker> shadow_tracker;
   std::optional<RelocalizationTracker> shadow_relocalization;
+  std::optional<SocialNavigationTracker> social;  // runs with a crowd
   RobotMetrics tally;
   RobotTracks tracks;
   bool mission_done_reported = false;
@@ -137,6 +106,8 @@ class ScenarioRun {
   void RecordCycle(RobotRun& r, const nav::EstimatorCycle& cycle, const core::Pose2& truth,
                    double t_after);
   void RecordTrajectories(double t);
+  // Rows of the crowd's present visitors (their own, lower rate).
+  void RecordPeople(double t);
   bool RoutesDone() const;
   void BuildCollisionClasses();
   RunMetrics CollectMetrics(double sim_s) const;
@@ -158,6 +129,7 @@ class ScenarioRun {
   // Body (robot) index of each world element, -1 for others.
   std::vector<int> body_of_element_;
   std::vector<int> robot_of_element_;
+  std::vector<int> person_of_element_;  // the crowd's people, -1 for other elements
   std::vector<BodyMetrics> body_tally_;
   std::unique_ptr<CollisionClassifier> collision_classes_;
   std::vector<bool> visitor_body_;                // random walkers: the crowd's stand-ins
@@ -166,6 +138,8 @@ class ScenarioRun {
   std::vector<double> robot_radius_m_;            // by robot: its footprint\'s bounding circle
   std::vector<nav::NavigationEvent> nav_events_;  // scratch
   std::vector<std::vector<Eigen::Vector2d>> body_tracks_;
+  std::optional<CrowdTracker> crowd_tracker_;  // runs with a crowd
+  std::optional<CrowdStrip> crowd_strip_;      // frames of the crowd around the first robot
   std::unique_ptr<EventLog> events_;
   std::unique_ptr<EventStreams> event_streams_;
   std::vector<const ScenarioEvent*> ongoing_events_;  // processes started, in timeline order
@@ -211,6 +185,18 @@ ScenarioRun::ScenarioRun(const Scenario& scenario, const RunOptions& options,
   }
   for (int b = 0; b < world_->body_count(); ++b) body_index_[world_->body_spec(b).id] = b;
   BuildRobots(std::move(configs), maps);
+  // The crowd after the robots: its people start off their footprints, and
+  // their elements follow the robots'.
+  if (scenario.crowd) {
+    try {
+      world_->AddCrowd(*scenario.crowd, scenario.seed);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(Diagnostic{scenario_.source_file, 0, "crowd", e.what()});
+    }
+    crowd_tracker_.emplace();
+    for (RobotRun& r : robots_) r.social.emplace(r.entry->config.description.footprint_m);
+    crowd_strip_.emplace(CrowdStripOptionsFor(scenario_));
+  }
   OpenLogs();
   pool_ = std::make_unique<sim::WorkerPool>(
       options.threads > 0 ? options.threads : sim::WorkerPool::HardwareThreads());
@@ -296,6 +282,13 @@ void ScenarioRun::BuildCollisionClasses() {
     visitor_body_[b] = walker[world_->body_spec(b).id];
     visitor_element[world_->body_element(b)] = visitor_body_[b];
   }
+  person_of_element_.assign(elements.size(), -1);
+  if (const sim::crowd::Crowd* crowd = world_->crowd()) {
+    for (int i = 0; i < crowd->size(); ++i) {
+      visitor_element[world_->person_element(i)] = true;
+      person_of_element_[world_->person_element(i)] = i;
+    }
+  }
   std::set<double> heights;
   for (const RobotRun& r : robots_) {
     for (const sim::LaserMount& l : r.entry->config.lasers) heights.insert(l.z_m);
@@ -314,11 +307,15 @@ void ScenarioRun::Run() {
                             {"bodies", world_->body_count()},
                             {"robots", static_cast<int>(robots_.size())}});
   RecordTrajectories(0.0);
+  if (world_->crowd() && scenario_.outputs.people_rate_hz > 0.0) RecordPeople(0.0);
   const double dt = world_->step_s();
   const auto total_ticks = static_cast<std::int64_t>(std::llround(scenario_.duration_s / dt));
   sim::PeriodicSchedule schedule(scenario_.physics.physics_rate_hz);
   const int trajectory_task =
       schedule.Add("outputs.trajectory_rate_hz", scenario_.outputs.trajectory_rate_hz);
+  const bool people_rows = world_->crowd() && scenario_.outputs.people_rate_hz > 0.0;
+  const int people_task =
+      people_rows ? schedule.Add("outputs.people_rate_hz", scenario_.outputs.people_rate_hz) : -1;
   ProgressLine progress(options_.progress, scenario_.duration_s);
   const auto t_loop = Clock::now();
   const double cpu_start_s = ProcessCpuSeconds();
@@ -332,6 +329,7 @@ void ScenarioRun::Run() {
     const double t_after = world_->time_s();
     RecordContacts(t_after);
     sim::TickSnapshot next = world_->Snapshot();
+    if (crowd_tracker_) crowd_tracker_->Update(dt, *world_->crowd());
     for (int b = 0; b < world_->body_count(); ++b) {
       body_tally_[b].distance_m +=
           (next.bodies[b].pose.translation() - snapshot_.bodies[b].pose.translation()).norm();
@@ -341,7 +339,11 @@ void ScenarioRun::Run() {
     for (std::size_t k = 0; k < robots_.size(); ++k) MergeRobot(k, next, t_after);
     summary_.sensors_s += Seconds(Clock::now() - t_sensors);
     snapshot_ = std::move(next);
+    if (crowd_strip_ && crowd_strip_->Due(t_after)) {
+      crowd_strip_->Capture(*world_, CrowdStripCentre(*world_), t_after);
+    }
     if (schedule.IsDue(trajectory_task, tick + 1)) RecordTrajectories(t_after);
+    if (people_rows && schedule.IsDue(people_task, tick + 1)) RecordPeople(t_after);
     if ((tick & 255) == 0) progress.Update(t_after, Seconds(Clock::now() - t_loop));
     ticks_run_ = tick + 1;
     if (scenario_.end_when_routes_done && RoutesDone()) break;
@@ -506,6 +508,10 @@ void ScenarioRun::ClassifyContact(const sim::ContactChange& c, double t_after) {
       const sim::BodyState& s = snapshot_.bodies[body_of_element_[element]];
       position = s.pose.translation();
       velocity = s.velocity_mps;
+    } else if (person_of_element_[element] >= 0) {
+      const sim::crowd::PersonState& s = snapshot_.people[person_of_element_[element]];
+      position = s.position_m;
+      velocity = s.velocity_mps;
     } else {
       return 0.0;
     }
@@ -566,6 +572,7 @@ void ScenarioRun::MergeRobot(std::size_t k, const sim::TickSnapshot& next, doubl
   const double step_m =
       (next.robots[k].pose.translation() - snapshot_.robots[k].pose.translation()).norm();
   r.tally.distance_m += step_m;
+  if (r.social) r.social->Update(world_->step_s(), next.robots[k].pose, next.people);
   robot_step_m_[r.robot->index()] = step_m;
   if (r.relocalization) r.relocalization->OnStep(world_->step_s(), step_m);
   if (r.shadow_relocalization) r.shadow_relocalization->OnStep(world_->step_s(), step_m);
@@ -669,6 +676,16 @@ void ScenarioRun::RecordTrajectories(double t) {
   }
 }
 
+void ScenarioRun::RecordPeople(double t) {
+  const auto& elements = world_->elements();
+  for (std::size_t i = 0; i < snapshot_.people.size(); ++i) {
+    const sim::crowd::PersonState& p = snapshot_.people[i];
+    if (!p.present) continue;
+    trajectories_->AddBody(t, elements[world_->person_element(static_cast<int>(i))].id,
+                           core::Pose2{p.position_m.x(), p.position_m.y(), p.heading_rad});
+  }
+}
+
 bool ScenarioRun::RoutesDone() const {
   bool any = false;
   for (const RobotRun& r : robots_) {
@@ -710,6 +727,7 @@ RunMetrics ScenarioRun::CollectMetrics(double sim_s) const {
     if (r.relocalization && r.relocalization->active()) {
       robot.relocalization = r.relocalization->Figures();
     }
+    if (r.social && r.social->active()) robot.social = r.social->Figures();
     if (r.shadow_tracker) {
       robot.shadow = RobotMetrics::Shadow{"mcl", r.shadow_tracker->Figures(), std::nullopt};
       if (r.shadow_relocalization->active()) {
@@ -725,6 +743,7 @@ RunMetrics ScenarioRun::CollectMetrics(double sim_s) const {
     }
     m.robots.push_back(std::move(robot));
   }
+  if (crowd_tracker_) m.crowd = crowd_tracker_->Figures();
   return m;
 }
 
@@ -748,7 +767,7 @@ RunSummary ScenarioRun::Finish() {
     if (r.tracker) localizations.push_back({r.entry->id, &*r.tracker});
   }
   WriteSnapshotsAndReport(out_, scenario_, *world_, body_tracks_, tracks, localizations,
-                          summary_.metrics);
+                          summary_.metrics, crowd_strip_ ? &*crowd_strip_ : nullptr);
   summary_.sim_duration_s = sim_s;
   summary_.robot_sim_s = sim_s * static_cast<double>(robots_.size());
   summary_.ticks = ticks_run_;

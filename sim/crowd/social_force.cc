@@ -180,6 +180,18 @@ void SocialForceModel::RefreshSocial() {
   const double period = 1.0 / o.social_rate_hz;
   const double skin = kSkinMarginM + 2.0 * fastest * period;
 
+  BinAgents();
+  for (std::size_t k = 0; k < n; ++k) {
+    const int i = static_cast<int>(k);
+    if (!agents_[i].active) continue;
+    social_force_n_[i] = PeopleForce(i, skin) + WallForce(i, skin) + RobotForce(i, skin, period);
+  }
+  since_social_s_ = 0.0;
+}
+
+void SocialForceModel::BinAgents() {
+  const std::size_t n = agents_.size();
+  const bool periodic = periodic_length_m_ > 0.0;
   // Bin the active agents (counting sort by cell).
   Eigen::Vector2d lo(std::numeric_limits<double>::infinity(),
                      std::numeric_limits<double>::infinity());
@@ -190,7 +202,6 @@ void SocialForceModel::RefreshSocial() {
     hi = hi.cwiseMax(a.position_m);
   }
   const bool any = lo.x() <= hi.x();
-  const bool periodic = periodic_length_m_ > 0.0;
   // A periodic domain is binned whole, in at least three columns that wrap.
   double cell_w = kCellM;
   if (periodic) {
@@ -220,100 +231,117 @@ void SocialForceModel::RefreshSocial() {
     }
   }
 
-  for (std::size_t i = 0; i < n; ++i) {
-    const Agent& a = agents_[i];
-    if (!a.active) continue;
-    Eigen::Vector2d f = Eigen::Vector2d::Zero();
-    // The walker's heading, for the anisotropy: where it wants to go.
-    Eigen::Vector2d heading = a.desired_velocity_mps;
-    if (heading.squaredNorm() < 1e-12) heading = a.velocity_mps;
-    const double heading_norm = heading.norm();
-    const bool has_heading = heading_norm > 1e-6;
-    if (has_heading) heading /= heading_norm;
-    // People (HFV00 with the HMFB01 field of view).
-    const int col = agent_cell_[i] % cols;
-    const int row = agent_cell_[i] / cols;
-    for (int dr = -1; dr <= 1; ++dr) {
-      for (int dc = -1; dc <= 1; ++dc) {
-        const int r = row + dr;
-        int c = col + dc;
-        if (periodic) c = (c + cols) % cols;
-        if (r < 0 || c < 0 || r >= rows || c >= cols) continue;
-        const int cell = r * cols + c;
-        for (int k = cell_start_[cell]; k < cell_start_[cell + 1]; ++k) {
-          const int j = cell_agents_[k];
-          if (j == static_cast<int>(i)) continue;
-          const Agent& b = agents_[j];
-          const Eigen::Vector2d diff = Separation(a.position_m, b.position_m);
-          const double d = diff.norm();
-          const double gap = d - (a.radius_m + b.radius_m);
-          if (gap < skin && static_cast<int>(i) < j)
-            near_pairs_.emplace_back(static_cast<int>(i), j);
-          if (gap > o.social_cutoff_m || d <= 0.0) continue;
-          const Eigen::Vector2d normal = diff / d;
-          const double cos_phi = has_heading ? -normal.dot(heading) : 1.0;
-          const double w = o.anisotropy + (1.0 - o.anisotropy) * 0.5 * (1.0 + cos_phi);
-          f += o.person_strength_n * w * std::exp(-gap / o.person_range_m) * normal;
-        }
-      }
-    }
-    // Walls: the nearest segment of each obstacle, and circles.
-    const int wc = static_cast<int>(std::floor((a.position_m.x() - wall_grid_min_m_.x()) / kCellM));
-    const int wr = static_cast<int>(std::floor((a.position_m.y() - wall_grid_min_m_.y()) / kCellM));
-    if (wc >= 0 && wr >= 0 && wc < wall_grid_cols_ && wr < wall_grid_rows_) {
-      const std::size_t cell = static_cast<std::size_t>(wr) * wall_grid_cols_ + wc;
-      const std::vector<int>& segs = cell_segments_[cell];
-      for (std::size_t s = 0; s < segs.size();) {
-        const int group = segments_[segs[s]].group;
-        double best = std::numeric_limits<double>::infinity();
-        Eigen::Vector2d best_point{0, 0};
-        for (; s < segs.size() && segments_[segs[s]].group == group; ++s) {
-          const WallSegment& w = segments_[segs[s]];
-          const Eigen::Vector2d c = ClosestPointOnSegment(a.position_m, w.a_m, w.b_m);
-          const double d = (a.position_m - c).norm();
-          if (d - a.radius_m < skin) near_segments_[i].push_back(segs[s]);
-          if (d < best) {
-            best = d;
-            best_point = c;
-          }
-        }
-        const double gap = best - a.radius_m;
-        if (gap <= o.social_cutoff_m && best > 0.0) {
-          f += o.wall_strength_n * std::exp(-gap / o.wall_range_m) * (a.position_m - best_point) /
-               best;
-        }
-      }
-      for (int ci : cell_circles_[cell]) {
-        const WallCircle& w = circles_[ci];
-        const Eigen::Vector2d diff = a.position_m - w.center_m;
+  bin_cols_ = cols;
+  bin_rows_ = rows;
+}
+
+Eigen::Vector2d SocialForceModel::PeopleForce(int i, double skin) {
+  const SocialForceOptions& o = options_;
+  const Agent& a = agents_[i];
+  const bool periodic = periodic_length_m_ > 0.0;
+  const int cols = bin_cols_, rows = bin_rows_;
+  Eigen::Vector2d f = Eigen::Vector2d::Zero();
+  // The walker's heading, for the anisotropy: where it wants to go.
+  Eigen::Vector2d heading = a.desired_velocity_mps;
+  if (heading.squaredNorm() < 1e-12) heading = a.velocity_mps;
+  const double heading_norm = heading.norm();
+  const bool has_heading = heading_norm > 1e-6;
+  if (has_heading) heading /= heading_norm;
+  // People (HFV00 with the HMFB01 field of view).
+  const int col = agent_cell_[i] % cols;
+  const int row = agent_cell_[i] / cols;
+  for (int dr = -1; dr <= 1; ++dr) {
+    for (int dc = -1; dc <= 1; ++dc) {
+      const int r = row + dr;
+      int c = col + dc;
+      if (periodic) c = (c + cols) % cols;
+      if (r < 0 || c < 0 || r >= rows || c >= cols) continue;
+      const int cell = r * cols + c;
+      for (int k = cell_start_[cell]; k < cell_start_[cell + 1]; ++k) {
+        const int j = cell_agents_[k];
+        if (j == i) continue;
+        const Agent& b = agents_[j];
+        const Eigen::Vector2d diff = Separation(a.position_m, b.position_m);
         const double d = diff.norm();
-        const double gap = d - w.radius_m - a.radius_m;
-        if (gap < skin) near_circles_[i].push_back(ci);
-        if (gap <= o.social_cutoff_m && d > 0.0) {
-          f += o.wall_strength_n * std::exp(-gap / o.wall_range_m) * diff / d;
+        const double gap = d - (a.radius_m + b.radius_m);
+        if (gap < skin && i < j) near_pairs_.emplace_back(i, j);
+        if (gap > o.social_cutoff_m || d <= 0.0) continue;
+        const Eigen::Vector2d normal = diff / d;
+        const double cos_phi = has_heading ? -normal.dot(heading) : 1.0;
+        const double w = o.anisotropy + (1.0 - o.anisotropy) * 0.5 * (1.0 + cos_phi);
+        f += o.person_strength_n * w * std::exp(-gap / o.person_range_m) * normal;
+      }
+    }
+  }
+  return f;
+}
+
+Eigen::Vector2d SocialForceModel::WallForce(int i, double skin) {
+  const SocialForceOptions& o = options_;
+  const Agent& a = agents_[i];
+  Eigen::Vector2d f = Eigen::Vector2d::Zero();
+  // Walls: the nearest segment of each obstacle, and circles.
+  const int wc = static_cast<int>(std::floor((a.position_m.x() - wall_grid_min_m_.x()) / kCellM));
+  const int wr = static_cast<int>(std::floor((a.position_m.y() - wall_grid_min_m_.y()) / kCellM));
+  if (wc >= 0 && wr >= 0 && wc < wall_grid_cols_ && wr < wall_grid_rows_) {
+    const std::size_t cell = static_cast<std::size_t>(wr) * wall_grid_cols_ + wc;
+    const std::vector<int>& segs = cell_segments_[cell];
+    for (std::size_t s = 0; s < segs.size();) {
+      const int group = segments_[segs[s]].group;
+      double best = std::numeric_limits<double>::infinity();
+      Eigen::Vector2d best_point{0, 0};
+      for (; s < segs.size() && segments_[segs[s]].group == group; ++s) {
+        const WallSegment& w = segments_[segs[s]];
+        const Eigen::Vector2d c = ClosestPointOnSegment(a.position_m, w.a_m, w.b_m);
+        const double d = (a.position_m - c).norm();
+        if (d - a.radius_m < skin) near_segments_[i].push_back(segs[s]);
+        if (d < best) {
+          best = d;
+          best_point = c;
         }
       }
-    }
-    // Robots, seen all around.
-    for (std::size_t r = 0; r < robots_.size(); ++r) {
-      const RobotObstacle& robot = robots_[r];
-      Eigen::Vector2d normal, closest;
-      const double d = SignedDistanceToConvex(robot.hull_m, a.position_m, &normal, &closest);
-      const double gap = d - a.radius_m;
-      // The hull's farthest point from the reference sweeps at most this fast.
-      double reach = 0.0;
-      for (const Eigen::Vector2d& v : robot.hull_m)
-        reach = std::max(reach, (v - robot.center_m).norm());
-      const double robot_speed = robot.velocity_mps.norm() + std::abs(robot.yaw_rate_radps) * reach;
-      if (gap < skin + 2.0 * robot_speed * period)
-        near_robots_.emplace_back(static_cast<int>(r), static_cast<int>(i));
-      if (gap <= o.social_cutoff_m + o.robot_range_m * 4) {
-        f += o.robot_strength_n * std::exp(-std::max(gap, 0.0) / o.robot_range_m) * normal;
+      const double gap = best - a.radius_m;
+      if (gap <= o.social_cutoff_m && best > 0.0) {
+        f += o.wall_strength_n * std::exp(-gap / o.wall_range_m) * (a.position_m - best_point) /
+             best;
       }
     }
-    social_force_n_[i] = f;
+    for (int ci : cell_circles_[cell]) {
+      const WallCircle& w = circles_[ci];
+      const Eigen::Vector2d diff = a.position_m - w.center_m;
+      const double d = diff.norm();
+      const double gap = d - w.radius_m - a.radius_m;
+      if (gap < skin) near_circles_[i].push_back(ci);
+      if (gap <= o.social_cutoff_m && d > 0.0) {
+        f += o.wall_strength_n * std::exp(-gap / o.wall_range_m) * diff / d;
+      }
+    }
   }
-  since_social_s_ = 0.0;
+  return f;
+}
+
+Eigen::Vector2d SocialForceModel::RobotForce(int i, double skin, double period) {
+  const SocialForceOptions& o = options_;
+  const Agent& a = agents_[i];
+  Eigen::Vector2d f = Eigen::Vector2d::Zero();
+  // Robots, seen all around.
+  for (std::size_t r = 0; r < robots_.size(); ++r) {
+    const RobotObstacle& robot = robots_[r];
+    Eigen::Vector2d normal, closest;
+    const double d = SignedDistanceToConvex(robot.hull_m, a.position_m, &normal, &closest);
+    const double gap = d - a.radius_m;
+    // The hull's farthest point from the reference sweeps at most this fast.
+    double reach = 0.0;
+    for (const Eigen::Vector2d& v : robot.hull_m)
+      reach = std::max(reach, (v - robot.center_m).norm());
+    const double robot_speed = robot.velocity_mps.norm() + std::abs(robot.yaw_rate_radps) * reach;
+    if (gap < skin + 2.0 * robot_speed * period) near_robots_.emplace_back(static_cast<int>(r), i);
+    if (gap <= o.social_cutoff_m + o.robot_range_m * 4 &&
+        a.approached_robot != static_cast<int>(r)) {
+      f += o.robot_strength_n * std::exp(-std::max(gap, 0.0) / o.robot_range_m) * normal;
+    }
+  }
+  return f;
 }
 
 Eigen::Vector2d SocialForceModel::Separation(const Eigen::Vector2d& from,
@@ -341,15 +369,24 @@ void SocialForceModel::Substep(double dt, std::vector<RobotContactForce>* robot_
                                double weight) {
   const SocialForceOptions& o = options_;
   const std::size_t n = agents_.size();
-  std::vector<Eigen::Vector2d> force(n, Eigen::Vector2d::Zero());
-  std::vector<char> touched(n, 0);  // in body contact this substep
-  double max_overlap = 0.0;
+  force_.assign(n, Eigen::Vector2d::Zero());
+  touched_.assign(n, 0);
+  substep_overlap_m_ = 0.0;
   for (std::size_t i = 0; i < n; ++i) {
     const Agent& a = agents_[i];
     if (!a.active) continue;
-    force[i] =
+    force_[i] =
         social_force_n_[i] + a.mass_kg * (a.desired_velocity_mps - a.velocity_mps) / o.relaxation_s;
   }
+  PeopleContacts(dt);
+  WallContacts(dt);
+  RobotContacts(dt, weight, robot_forces);
+  Integrate(dt);
+  max_overlap_m_ = std::max(max_overlap_m_, substep_overlap_m_);
+}
+
+void SocialForceModel::PeopleContacts(double dt) {
+  const SocialForceOptions& o = options_;
   // Body force and sliding friction between people (HFV00), equal and opposite.
   for (const auto& [i, j] : near_pairs_) {
     Agent& a = agents_[i];
@@ -359,17 +396,21 @@ void SocialForceModel::Substep(double dt, std::vector<RobotContactForce>* robot_
     const double d = diff.norm();
     const double overlap = a.radius_m + b.radius_m - d;
     if (overlap <= 0.0 || d <= 0.0) continue;
-    max_overlap = std::max(max_overlap, overlap);
+    substep_overlap_m_ = std::max(substep_overlap_m_, overlap);
     const Eigen::Vector2d normal = diff / d;
     const Eigen::Vector2d tangent = Perp(normal);
     const double reduced_mass = a.mass_kg * b.mass_kg / (a.mass_kg + b.mass_kg);
     const double c = std::min(o.sliding_friction_nspm2 * overlap, reduced_mass / dt);
     const Eigen::Vector2d f = o.body_stiffness_npm * overlap * normal +
                               c * (b.velocity_mps - a.velocity_mps).dot(tangent) * tangent;
-    force[i] += f;
-    force[j] -= f;
-    touched[i] = touched[j] = 1;
+    force_[i] += f;
+    force_[j] -= f;
+    touched_[i] = touched_[j] = 1;
   }
+}
+
+void SocialForceModel::WallContacts(double dt) {
+  const std::size_t n = agents_.size();
   // Walls: per obstacle, the deepest contact.
   for (std::size_t i = 0; i < n; ++i) {
     const Agent& a = agents_[i];
@@ -390,9 +431,9 @@ void SocialForceModel::Substep(double dt, std::vector<RobotContactForce>* robot_
       }
       const double overlap = a.radius_m - best;
       if (overlap > 0.0 && best > 0.0) {
-        max_overlap = std::max(max_overlap, overlap);
-        touched[i] = 1;
-        force[i] += ContactForce(a, (a.position_m - best_point) / best, overlap, {0, 0}, dt);
+        substep_overlap_m_ = std::max(substep_overlap_m_, overlap);
+        touched_[i] = 1;
+        force_[i] += ContactForce(a, (a.position_m - best_point) / best, overlap, {0, 0}, dt);
       }
     }
     for (int ci : near_circles_[i]) {
@@ -401,12 +442,17 @@ void SocialForceModel::Substep(double dt, std::vector<RobotContactForce>* robot_
       const double d = diff.norm();
       const double overlap = w.radius_m + a.radius_m - d;
       if (overlap > 0.0 && d > 0.0) {
-        max_overlap = std::max(max_overlap, overlap);
-        touched[i] = 1;
-        force[i] += ContactForce(a, diff / d, overlap, {0, 0}, dt);
+        substep_overlap_m_ = std::max(substep_overlap_m_, overlap);
+        touched_[i] = 1;
+        force_[i] += ContactForce(a, diff / d, overlap, {0, 0}, dt);
       }
     }
   }
+}
+
+void SocialForceModel::RobotContacts(double dt, double weight,
+                                     std::vector<RobotContactForce>* robot_forces) {
+  const SocialForceOptions& o = options_;
   // Robots: the person feels the full body force of the machine; the machine
   // feels the person's push, bounded by what a person can exert.
   robot_contacts_.clear();
@@ -420,13 +466,13 @@ void SocialForceModel::Substep(double dt, std::vector<RobotContactForce>* robot_
       const double d = SignedDistanceToConvex(robot.hull_m, a.position_m, &normal, &closest);
       const double overlap = a.radius_m - d;
       if (overlap <= 0.0) continue;
-      max_overlap = std::max(max_overlap, overlap);
+      substep_overlap_m_ = std::max(substep_overlap_m_, overlap);
       const Eigen::Vector2d arm = closest - robot.center_m;
       const Eigen::Vector2d surface_velocity =
           robot.velocity_mps + robot.yaw_rate_radps * Perp(arm);
       const Eigen::Vector2d f = ContactForce(a, normal, overlap, surface_velocity, dt);
-      force[i] += f;
-      touched[i] = 1;
+      force_[i] += f;
+      touched_[i] = 1;
       robot_contacts_.emplace_back(i, r);
       if (robot_forces) {
         Eigen::Vector2d on_robot = -f;
@@ -436,17 +482,22 @@ void SocialForceModel::Substep(double dt, std::vector<RobotContactForce>* robot_
       }
     }
   }
+}
+
+void SocialForceModel::Integrate(double dt) {
+  const SocialForceOptions& o = options_;
+  const std::size_t n = agents_.size();
   // Semi-implicit Euler with HM95's speed cap.
   for (std::size_t i = 0; i < n; ++i) {
     Agent& a = agents_[i];
     if (!a.active) continue;
-    a.velocity_mps += force[i] * (dt / a.mass_kg);
+    a.velocity_mps += force_[i] * (dt / a.mass_kg);
     // Walkers stop for what lies ahead but do not back away from it: the
     // anisotropic repulsion is not reciprocal, and in a jam its sum would
     // otherwise push the whole crowd backwards (Lakoba, Kaup & Finkelstein
     // 2005 discuss this defect of the model). Body contact still can.
     const double wish = a.desired_velocity_mps.norm();
-    if (wish > 0.0 && !touched[i]) {
+    if (wish > 0.0 && !touched_[i]) {
       const Eigen::Vector2d e0 = a.desired_velocity_mps / wish;
       const double along = a.velocity_mps.dot(e0);
       if (along < 0.0) a.velocity_mps -= along * e0;
@@ -463,7 +514,6 @@ void SocialForceModel::Substep(double dt, std::vector<RobotContactForce>* robot_
                     periodic_length_m_);
     }
   }
-  max_overlap_m_ = std::max(max_overlap_m_, max_overlap);
 }
 
 void SocialForceModel::Step(double dt, std::vector<RobotContactForce>* robot_forces) {

@@ -105,6 +105,9 @@ struct Agent {
   double radius_m = 0.22;
   double mass_kg = 80.0;
   bool active = false;  // inactive agents are parked: they neither move nor push
+  // A robot this agent walks up to on purpose (a curious visitor, a pusher):
+  // it feels no long-range repulsion from it, only its body. -1: none.
+  int approached_robot = -1;
 };
 
 // Integrates a set of agents among static walls and moving robots. Each call
@@ -146,8 +149,18 @@ class SocialForceModel {
  private:
   static constexpr double kNever = 1e300;
 
+  // The long-range forces and the contact candidates, at the social rate.
   void RefreshSocial();
+  void BinAgents();
+  Eigen::Vector2d PeopleForce(int i, double skin);
+  Eigen::Vector2d WallForce(int i, double skin);
+  Eigen::Vector2d RobotForce(int i, double skin, double period);
+  // One integration step: contact forces, then semi-implicit Euler.
   void Substep(double dt, std::vector<RobotContactForce>* robot_forces, double weight);
+  void PeopleContacts(double dt);
+  void WallContacts(double dt);
+  void RobotContacts(double dt, double weight, std::vector<RobotContactForce>* robot_forces);
+  void Integrate(double dt);
   // Contact force on agent i from a surface point at `normal` (pointing to i)
   // with overlap g and the surface's velocity there.
   Eigen::Vector2d ContactForce(const Agent& a, const Eigen::Vector2d& normal, double overlap,
@@ -178,6 +191,11 @@ class SocialForceModel {
   double periodic_length_m_ = 0.0;
   // Agent grid scratch.
   std::vector<int> cell_start_, cell_agents_, agent_cell_;
+  int bin_cols_ = 0, bin_rows_ = 0;
+  // Substep scratch: forces, who is in body contact, the deepest overlap.
+  std::vector<Eigen::Vector2d> force_;
+  std::vector<char> touched_;
+  double substep_overlap_m_ = 0.0;
   std::vector<std::pair<int, int>> robot_contacts_;
   double max_overlap_m_ = 0.0;
 };

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
 
 #include "sim/world/wall_geometry.h"
 
@@ -212,6 +213,25 @@ void DrawRobots(const World& world, Canvas* canvas) {
   }
 }
 
+// A person's heading tick runs along the heading from this fraction of the
+// shoulder radius (inside the disc) to the next (beyond its edge); chosen.
+constexpr double kTickFromRadii = 0.5;
+constexpr double kTickToRadii = 1.45;
+constexpr double kTickWidthPx = 1.5;
+constexpr double kOutlineWidthPx = 1.0;
+// PersonColours: the disc is the base this far towards white, the outline
+// the base scaled by kOutlineShade (chosen for contrast on a light floor).
+constexpr double kBodyLighten = 0.6;
+constexpr double kOutlineShade = 0.5;
+
+// A person's colour: the material's, or kPersonRgb.
+Rgb PeopleRgb(const WorldDescription& d, const TopDownOptions& options) {
+  if (options.people_material.empty() || !d.materials.contains(options.people_material)) {
+    return kPersonRgb;
+  }
+  return MaterialRgb(d, options.people_material);
+}
+
 // The places' poses as dots with a direction tick.
 void DrawPlacePoses(const WorldDescription& d, const TopDownOptions& options, double scale,
                     Canvas* canvas) {
@@ -226,11 +246,59 @@ void DrawPlacePoses(const WorldDescription& d, const TopDownOptions& options, do
 
 }  // namespace
 
+PersonColours PersonColours::From(const std::array<std::uint8_t, 3>& base) {
+  PersonColours c{base, base, base};
+  for (int k = 0; k < 3; ++k) {
+    c.body[k] = static_cast<std::uint8_t>(std::lround(base[k] + kBodyLighten * (255 - base[k])));
+    c.outline[k] = static_cast<std::uint8_t>(std::lround(kOutlineShade * base[k]));
+  }
+  return c;
+}
+
+void DrawPeople(const std::vector<crowd::PersonState>& people, double section_height_m,
+                const PersonColours& colours, const TopDownFrame& frame, core::RgbImage* image) {
+  if (!(frame.px_per_m > 0.0) || !std::isfinite(frame.px_per_m)) {
+    throw std::invalid_argument("TopDownFrame.px_per_m must be finite and > 0");
+  }
+  Canvas canvas(image, frame.top_left_m, frame.px_per_m);
+  for (const crowd::PersonState& p : people) {
+    if (!p.present) continue;
+    const double r = p.shape.radius_m;
+    const Eigen::Vector2d c = canvas.ToPx(p.position_m);
+    // Beyond every part: the tick, and the legs at their widest stride.
+    const double reach_m =
+        std::max(kTickToRadii * r,
+                 p.shape.hip_half_width_m + std::abs(p.gait.swing_m) + p.shape.leg_radius_m);
+    const double reach_px = reach_m * frame.px_per_m + kTickWidthPx;
+    if (c.x() + reach_px < 0 || c.y() + reach_px < 0 || c.x() - reach_px > image->width ||
+        c.y() - reach_px > image->height) {
+      continue;  // wholly outside the picture
+    }
+    canvas.FillCircle(p.position_m, r, colours.body);
+    canvas.Circle(p.position_m, r, colours.outline, kOutlineWidthPx);
+    const double cut_m =
+        section_height_m < p.shape.hip_height_m ? section_height_m : kPeopleLegCutM;
+    for (const Eigen::Vector2d& leg : p.LegCentres(cut_m)) {
+      canvas.FillCircle(leg, p.shape.leg_radius_m, colours.legs);
+    }
+    const Eigen::Vector2d forward(std::cos(p.heading_rad), std::sin(p.heading_rad));
+    canvas.Line(p.position_m + kTickFromRadii * r * forward,
+                p.position_m + kTickToRadii * r * forward, colours.outline, kTickWidthPx);
+  }
+}
+
 core::RgbImage RenderTopDown(const World& world, const std::vector<TopDownTrack>& tracks,
                              const TopDownOptions& options) {
   const WorldDescription& d = world.description();
-  const Eigen::Vector2d lo = d.floor.min_m.array() - options.margin_m;
-  const Eigen::Vector2d hi = d.floor.max_m.array() + options.margin_m;
+  Eigen::Vector2d lo = d.floor.min_m.array() - options.margin_m;
+  Eigen::Vector2d hi = d.floor.max_m.array() + options.margin_m;
+  if (options.window) {
+    lo = options.window->min_m;
+    hi = options.window->max_m;
+    if (!lo.allFinite() || !hi.allFinite() || !(hi.x() > lo.x()) || !(hi.y() > lo.y())) {
+      throw std::invalid_argument("TopDownOptions.window: max_m must exceed min_m in x and y");
+    }
+  }
   const int width = std::clamp(options.width_px, 50, 8000);
   const double scale = width / (hi.x() - lo.x());
   const int height = std::max(1, static_cast<int>(std::lround((hi.y() - lo.y()) * scale)));
@@ -244,6 +312,10 @@ core::RgbImage RenderTopDown(const World& world, const std::vector<TopDownTrack>
     }
   }
   DrawBodies(world, &canvas);
+  if (const crowd::Crowd* crowd = world.crowd()) {
+    DrawPeople(crowd->people(), options.section_height_m,
+               PersonColours::From(PeopleRgb(d, options)), {{lo.x(), hi.y()}, scale}, &image);
+  }
   DrawRobots(world, &canvas);
   DrawPlacePoses(d, options, scale, &canvas);
   return image;

@@ -452,6 +452,30 @@ std::vector<Eigen::Vector2d> RobotBody::ContactPoints(
   return TouchPoints(dispatcher, chassis(), WorldFromBase().inverse());
 }
 
+std::array<double, 2> RobotBody::DriveWheelLoads(const btCollisionDispatcher& dispatcher) const {
+  std::array<double, 2> load{0.0, 0.0};
+  if (last_step_s_ <= 0.0) return load;
+  for (int side = 0; side < 2; ++side) {
+    if (raycast()) {
+      load[side] = drive_->normal_impulse_ns(side) / last_step_s_;
+      continue;
+    }
+    const btRigidBody* w = wheel(side);
+    for (int m = 0; m < dispatcher.getNumManifolds(); ++m) {
+      const btPersistentManifold* manifold =
+          const_cast<btCollisionDispatcher&>(dispatcher).getManifoldByIndexInternal(m);
+      if (manifold->getBody0() != w && manifold->getBody1() != w) continue;
+      const btCollisionObject* other =
+          manifold->getBody0() == w ? manifold->getBody1() : manifold->getBody0();
+      if (other->getUserIndex() != 0) continue;  // the floor is element 0
+      for (int c = 0; c < manifold->getNumContacts(); ++c) {
+        load[side] += manifold->getContactPoint(c).getAppliedImpulse() / last_step_s_;
+      }
+    }
+  }
+  return load;
+}
+
 void RobotBody::ApplyImpulse(const Eigen::Vector2d& impulse_ns) {
   const btVector3 impulse(impulse_ns.x(), impulse_ns.y(), 0.0);
   if (push_height_m_ == 0.0) {
@@ -460,6 +484,16 @@ void RobotBody::ApplyImpulse(const Eigen::Vector2d& impulse_ns) {
     const btVector3 up = chassis()->getWorldTransform().getBasis().getColumn(2);
     chassis()->applyImpulse(impulse, push_height_m_ * up);
   }
+}
+
+void RobotBody::ApplyImpulseAt(const Eigen::Vector2d& impulse_ns, const Eigen::Vector2d& point_m) {
+  btRigidBody* body = chassis();
+  body->activate(true);
+  const btVector3 com = body->getCenterOfMassPosition();
+  const btVector3 up = body->getWorldTransform().getBasis().getColumn(2);
+  const btVector3 arm =
+      btVector3(point_m.x() - com.x(), point_m.y() - com.y(), 0.0) + push_height_m_ * up;
+  body->applyImpulse(btVector3(impulse_ns.x(), impulse_ns.y(), 0.0), arm);
 }
 
 void RobotBody::Teleport(const core::Pose2& pose) {
@@ -472,6 +506,7 @@ void RobotBody::Teleport(const core::Pose2& pose) {
 }
 
 void RobotBody::BeforeStep(double dt) {
+  last_step_s_ = dt;
   const RobotDescription& m = model_;
   for (int side = 0; side < 2; ++side) {
     // Acceleration ramp towards the commanded speed; the motor delivers at

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 #include <memory>
 #include <vector>
 
@@ -59,8 +60,14 @@ class RobotBody {
   void SetWheelSpeeds(double left_radps, double right_radps);
   // See World::RobotContactPoints.
   std::vector<Eigen::Vector2d> ContactPoints(const btCollisionDispatcher& dispatcher) const;
+  // The floor's normal force on each drive wheel (left, right) over the
+  // last step, N: what their friction can hold against a push.
+  std::array<double, 2> DriveWheelLoads(const btCollisionDispatcher& dispatcher) const;
   // A horizontal impulse where pushes act on the chassis.
   void ApplyImpulse(const Eigen::Vector2d& impulse_ns);
+  // A horizontal impulse at a point of the chassis' outline (world x, y), at
+  // the height pushes act at: it also turns the robot.
+  void ApplyImpulseAt(const Eigen::Vector2d& impulse_ns, const Eigen::Vector2d& point_m);
   // Puts the robot at `pose` at rest, its motor commands zeroed.
   void Teleport(const core::Pose2& pose);
 
@@ -131,6 +138,7 @@ class RobotBody {
   double target_radps_[2] = {0, 0};
   double command_radps_[2] = {0, 0};
   double wheel_rad_[2] = {0, 0};  // unwrapped, positive forward
+  double last_step_s_ = 0.0;
   double last_hinge_rad_[2] = {0, 0};
   // WheelModel::kRaycast: the contact solver (left, right wheel, then
   // casters) and its per-wheel commands; parts_ then holds the chassis alone.

@@ -5,6 +5,8 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <map>
 #include <mutex>
 #include <numbers>
 #include <stdexcept>
@@ -15,6 +17,7 @@
 #include "sim/robot/robot_body.h"
 #include "sim/world/bullet_conversions.h"
 #include "sim/world/contact_tracker.h"
+#include "sim/world/crowd_coupling.h"
 #include "sim/world/element_table.h"
 #include "sim/world/physics_world.h"
 #include "sim/world/prism_registry.h"
@@ -96,7 +99,11 @@ struct World::Impl {
 
   std::vector<Body> bodies;
   std::vector<RobotBody> robots;
-  std::vector<btRigidBody*> doors;  // parallel to description.doors
+  std::unique_ptr<CrowdCoupling> crowd;
+  std::int64_t crowd_walls_revision = 0;        // static_revision the crowd's walls are from
+  std::vector<crowd::CrowdRobot> crowd_robots;  // scratch
+  crowd::CrowdStepResult crowd_result;          // scratch
+  std::vector<btRigidBody*> doors;              // parallel to description.doors
   ContactTracker contacts;
   std::vector<ContactChange> pending_changes;
 
@@ -279,6 +286,10 @@ std::vector<Eigen::Vector2d> World::RobotContactPoints(int robot) const {
   return impl_->robots.at(robot).ContactPoints(impl_->physics.dispatcher());
 }
 
+std::array<double, 2> World::DriveWheelLoads(int robot) const {
+  return impl_->robots.at(robot).DriveWheelLoads(impl_->physics.dispatcher());
+}
+
 void World::ApplyRobotImpulse(int robot, const Eigen::Vector2d& impulse_ns) {
   impl_->robots.at(robot).ApplyImpulse(impulse_ns);
 }
@@ -356,11 +367,100 @@ void World::Step() {
   const double dt = step_s();
   for (Impl::Body& b : im.bodies) Impl::ApplyPlanarMotion(&b, dt);
   for (RobotBody& r : im.robots) r.BeforeStep(dt);
+  if (im.crowd) StepCrowd(dt);
   im.physics.dynamics().stepSimulation(dt, 0, dt);
   for (RobotBody& r : im.robots) r.AfterStep(dt);
   ++im.tick;
   im.contacts.Update(im.physics.dispatcher(), &im.pending_changes);
 }
+
+void World::StepCrowd(double dt) {
+  Impl& im = *impl_;
+  if (im.crowd_walls_revision != im.static_revision) {  // a door moved
+    std::vector<crowd::WallSegment> walls;
+    std::vector<crowd::WallCircle> pillars;
+    CrowdCoupling::CollectWalls(StaticSectionAt(CrowdCoupling::kLowCutM),
+                                StaticSectionAt(CrowdCoupling::kBodyCutM), &walls, &pillars);
+    im.crowd->crowd().SetObstacles(std::move(walls), std::move(pillars));
+    im.crowd_walls_revision = im.static_revision;
+  }
+  im.crowd_robots.resize(im.robots.size());
+  for (std::size_t r = 0; r < im.robots.size(); ++r) {
+    const RobotState state = im.robots[r].State();
+    crowd::CrowdRobot& robot = im.crowd_robots[r];
+    robot.pose = state.pose;
+    robot.velocity_mps = state.velocity_mps;
+    robot.yaw_rate_radps = state.yaw_rate_radps;
+    robot.footprint_in_robot_m = im.robots[r].model().footprint_m;
+  }
+  im.crowd_result.contacts.clear();
+  im.crowd_result.pushes.clear();
+  im.crowd->crowd().Step(dt, im.crowd_robots, &im.crowd_result);
+  // The people's forces on the robots over the step, as impulses at the
+  // contact points: a person's body and deliberate push together bounded by
+  // what one person can exert.
+  const double limit_n = im.crowd->crowd().options().social.max_push_force_n;
+  std::map<std::pair<int, int>, std::pair<Eigen::Vector2d, Eigen::Vector2d>> by_person;
+  for (const crowd::RobotContactForce& f : im.crowd_result.contacts) {
+    auto& [force, point] = by_person[{f.robot, f.agent}];
+    force += f.force_n;
+    point = f.point_m;
+  }
+  for (const crowd::RobotPush& p : im.crowd_result.pushes) {
+    auto& [force, point] = by_person[{p.robot, p.person}];
+    force += p.force_n;
+    point = p.point_m;
+  }
+  std::map<std::pair<int, int>, ContactChange> touching;
+  for (auto& [key, entry] : by_person) {
+    auto& [force, point] = entry;
+    if (force.norm() > limit_n) force *= limit_n / force.norm();
+    const auto [robot, person] = key;
+    im.robots[robot].ApplyImpulseAt(force * dt, point);
+    const int a = im.robots[robot].element(), b = im.crowd->person_element(person);
+    ContactChange& c = touching[{std::min(a, b), std::max(a, b)}];
+    c.a = std::min(a, b);
+    c.b = std::max(a, b);
+    c.point_m = Eigen::Vector3d(point.x(), point.y(), 0.5);
+    c.impulse_ns = std::max(c.impulse_ns, force.norm() * dt);
+  }
+  im.crowd->UpdateContacts(touching, &im.pending_changes);
+}
+
+void World::AddCrowd(const CrowdSpec& spec, std::uint64_t seed) {
+  Impl& im = *impl_;
+  if (im.crowd) throw std::invalid_argument("crowd: a world holds at most one crowd");
+  im.description.MaterialNamed(spec.material);  // throws for an unknown material
+  crowd::CrowdSite site;
+  site.floor_min_m = im.description.floor.min_m;
+  site.floor_max_m = im.description.floor.max_m;
+  site.entrance = spec.entrance;
+  site.exit = spec.exit;
+  site.roam_area = spec.roam_area;
+  site.attractions = spec.attractions;
+  for (const RobotBody& robot : im.robots) {
+    const core::Pose2 pose = robot.State().pose;
+    std::vector<Eigen::Vector2d> hull;
+    for (const Eigen::Vector2d& v : robot.model().footprint_m) hull.push_back(pose * v);
+    site.keep_clear.push_back(std::move(hull));
+  }
+  CrowdCoupling::CollectWalls(StaticSectionAt(CrowdCoupling::kLowCutM),
+                              StaticSectionAt(CrowdCoupling::kBodyCutM), &site.walls,
+                              &site.pillars);
+  auto model = std::make_unique<crowd::Crowd>(std::move(site), spec.options, seed);
+  std::vector<int> elements;
+  for (int i = 0; i < model->size(); ++i) {
+    char number[16];
+    std::snprintf(number, sizeof number, "%03d", i + 1);
+    elements.push_back(im.elements.Add(spec.id_prefix + number, spec.material, true));
+  }
+  im.crowd = std::make_unique<CrowdCoupling>(std::move(model), std::move(elements));
+  im.crowd_walls_revision = im.static_revision;
+}
+
+const crowd::Crowd* World::crowd() const { return impl_->crowd ? &impl_->crowd->crowd() : nullptr; }
+crowd::Crowd* World::mutable_crowd() { return impl_->crowd ? &impl_->crowd->crowd() : nullptr; }
+int World::person_element(int person) const { return impl_->crowd->person_element(person); }
 
 TickSnapshot World::Snapshot() const {
   TickSnapshot snapshot;
@@ -370,6 +470,7 @@ TickSnapshot World::Snapshot() const {
   for (int b = 0; b < body_count(); ++b) snapshot.bodies.push_back(body_state(b));
   snapshot.robots.reserve(impl_->robots.size());
   for (int r = 0; r < robot_count(); ++r) snapshot.robots.push_back(robot_state(r));
+  if (impl_->crowd) snapshot.people = impl_->crowd->crowd().people();
   return snapshot;
 }
 
@@ -382,6 +483,7 @@ core::PlanarSection World::SectionAt(double height_m) const {
   // Tilted bodies as well as the plane allows (see AppendBodySection).
   impl_->AppendBodySection(height_m, std::numbers::pi / 2, &section, nullptr);
   impl_->AppendRobotSection(height_m, std::numbers::pi / 2, &section, nullptr);
+  if (impl_->crowd) impl_->crowd->AppendSection(height_m, &section);
   return section;
 }
 
@@ -397,6 +499,7 @@ void World::AppendDynamicSection(double height_m, double max_cylinder_tilt_rad,
                                  core::PlanarSection* out, std::vector<UncutElement>* uncut) const {
   impl_->AppendBodySection(height_m, max_cylinder_tilt_rad, out, uncut);
   impl_->AppendRobotSection(height_m, max_cylinder_tilt_rad, out, uncut);
+  if (impl_->crowd) impl_->crowd->AppendSection(height_m, out);
 }
 
 std::int64_t World::static_revision() const { return impl_->static_revision; }
@@ -406,12 +509,13 @@ RayHit World::CastRay(const Eigen::Vector3d& from_m, const Eigen::Vector3d& to_m
   const Impl& im = *impl_;
   const std::lock_guard<std::mutex> lock(im.ray_mutex);
   ++im.rays_cast;
-  if (im.options.baked_static_rays && !hit_transparent) {
-    return im.baked_rays->Cast(from_m, to_m, ignore_group, im.elements.all(), im.prisms,
-                               im.physics.broadphase());
-  }
-  return CastPhysicsRay(im.physics.dynamics(), im.elements.all(), from_m, to_m, ignore_group,
-                        hit_transparent);
+  RayHit hit = im.options.baked_static_rays && !hit_transparent
+                   ? im.baked_rays->Cast(from_m, to_m, ignore_group, im.elements.all(), im.prisms,
+                                         im.physics.broadphase())
+                   : CastPhysicsRay(im.physics.dynamics(), im.elements.all(), from_m, to_m,
+                                    ignore_group, hit_transparent);
+  if (im.crowd) im.crowd->CastRay(from_m, to_m, &hit);  // people are not Bullet bodies
+  return hit;
 }
 
 const std::vector<core::SectionElement>& World::elements() const { return impl_->elements.all(); }

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -8,6 +9,7 @@
 
 #include "core/geometry/planar_section.h"
 #include "core/types/pose2.h"
+#include "sim/crowd/crowd.h"
 #include "sim/robot/robot_description.h"
 #include "sim/sensors/robot_sensors.h"
 #include "sim/world/world_description.h"
@@ -115,8 +117,24 @@ struct RobotState {
 struct TickSnapshot {
   std::int64_t tick = 0;
   double time_s = 0.0;
-  std::vector<BodyState> bodies;   // indexed by body index
-  std::vector<RobotState> robots;  // indexed by robot index
+  std::vector<BodyState> bodies;           // indexed by body index
+  std::vector<RobotState> robots;          // indexed by robot index
+  std::vector<crowd::PersonState> people;  // the crowd's pool, by person index
+};
+
+// A crowd of visitors (sim/crowd/): people who walk by the social force
+// model among the world's static geometry and its robots, seen by lasers as
+// legs and a torso, pushing robots with bounded contact forces. The world
+// supplies the walls (its static geometry cut near the floor and at body
+// height); the rest comes from the scenario.
+struct CrowdSpec {
+  crowd::CrowdOptions options;
+  core::Polygon2 entrance;   // where arrivals appear
+  core::Polygon2 exit;       // where visitors leave
+  core::Polygon2 roam_area;  // where watch spots and initial visitors go; empty: the floor
+  std::vector<crowd::Attraction> attractions;  // exhibits' stations with their weights
+  std::string material;                        // a material of the world, for every person
+  std::string id_prefix = "visitor_";  // people's element ids: prefix + 3-digit number from 001
 };
 
 // The first surface a ray meets.
@@ -193,6 +211,9 @@ class World {
   // Points (base frame, x and y) where the chassis touches anything but the
   // floor and the robot's own parts now: what tactile bumpers feel.
   std::vector<Eigen::Vector2d> RobotContactPoints(int robot) const;
+  // The floor's normal force on the drive wheels (left, right) in the last
+  // step, N (what their friction holds a push with).
+  std::array<double, 2> DriveWheelLoads(int robot) const;
   // A horizontal impulse at the chassis' centre of mass (a push or a collision).
   void ApplyRobotImpulse(int robot, const Eigen::Vector2d& impulse_ns);
   // Moves a robot to a new pose at rest (a kidnap).
@@ -209,6 +230,16 @@ class World {
   void ApplyImpulse(int body, const Eigen::Vector2d& impulse_ns);
   // Moves a body to a new pose at rest (a kidnap).
   void Teleport(int body, const core::Pose2& pose);
+
+  // Adds the crowd (at most one); its pool of people become elements after
+  // the bodies and robots added so far. Throws std::invalid_argument for bad
+  // options or an unknown material.
+  void AddCrowd(const CrowdSpec& spec, std::uint64_t seed);
+  // The crowd, or null.
+  const crowd::Crowd* crowd() const;
+  crowd::Crowd* mutable_crowd();
+  // The element of person i of the crowd's pool.
+  int person_element(int person) const;
 
   // Swings a door of the description open or closed; throws std::out_of_range
   // for an unknown door id.
@@ -255,12 +286,17 @@ class World {
   // Element ids and flags, indexed by element index.
   const std::vector<core::SectionElement>& elements() const;
 
-  // Contact begins and ends since the last call, in a deterministic order.
+  // Contact begins and ends since the last call, in a deterministic order:
+  // Bullet's contacts, then people touching robots (not people touching
+  // walls or each other, which the crowd model handles alone).
   std::vector<ContactChange> TakeContactChanges();
 
   const WorldDescription& description() const;
 
  private:
+  // The crowd's step: people move, and their contact forces act on the robots.
+  void StepCrowd(double dt);
+
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

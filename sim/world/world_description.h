@@ -90,6 +90,9 @@ struct Place {
   // A goal with a meaning (§6.3.1 station node: an office, a showcase); places
   // named station_* and dock_* are stations anyway. Needs a pose.
   bool station = false;
+  // How strongly a station draws visitors of a crowd: its relative chance of
+  // being chosen for a visit, >= 0 (0: never visited). Stations only.
+  double attraction = 1.0;
 };
 
 struct WorldDescription {
