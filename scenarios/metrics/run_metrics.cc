@@ -145,14 +145,21 @@ Json SocialJson(const SocialNavigationFigures& f) {
 
 Json CrowdJson(const CrowdFigures& f) {
   const auto n = [](double v) { return RoundForJson(v, 4); };
+  Json episodes = Json::object();
+  for (const auto& [behaviour, count] : f.episodes) episodes[behaviour] = count;
   return {{"pool", f.pool},
           {"arrivals", f.arrivals},
           {"departures", f.departures},
           {"mean_present", n(f.mean_present)},
           {"max_present", f.max_present},
           {"max_overlap_m", n(f.max_overlap_m)},
+          {"max_overlap_by",
+           {{"people_m", n(f.max_overlap_people_m)},
+            {"walls_m", n(f.max_overlap_walls_m)},
+            {"robots_m", n(f.max_overlap_robots_m)}}},
           {"visitor_blocked_by_robot_s", n(f.visitor_blocked_by_robot_s)},
-          {"pushes", f.pushes}};
+          {"pushes", f.pushes},
+          {"episodes", episodes}};
 }
 
 Json FleetJson(const RunMetrics& m) {

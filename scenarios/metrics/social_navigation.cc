@@ -123,6 +123,15 @@ void CrowdTracker::Update(double dt_s, const sim::crowd::Crowd& crowd) {
   time_s_ += dt_s;
   present_s_ += present * dt_s;
   f.max_overlap_m = std::max(f.max_overlap_m, crowd.max_overlap_m());
+  const std::array<double, 3> by_kind = crowd.max_overlaps_m();
+  f.max_overlap_people_m = std::max(f.max_overlap_people_m, by_kind[0]);
+  f.max_overlap_walls_m = std::max(f.max_overlap_walls_m, by_kind[1]);
+  f.max_overlap_robots_m = std::max(f.max_overlap_robots_m, by_kind[2]);
+  f.episodes.clear();
+  for (std::size_t b = 1; b < crowd.episodes().size(); ++b) {  // 0: ordinary visitors have none
+    f.episodes.emplace_back(sim::crowd::ToString(static_cast<sim::crowd::Behaviour>(b)),
+                            crowd.episodes()[b]);
+  }
   int blocked = 0;
   for (int i = 0; i < crowd.size(); ++i) blocked += crowd.blocked_by_robot(i) ? 1 : 0;
   f.visitor_blocked_by_robot_s += blocked * dt_s;

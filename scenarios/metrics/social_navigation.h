@@ -91,12 +91,18 @@ struct CrowdFigures {
   std::int64_t departures = 0;  // visitors that left
   double mean_present = 0.0;    // visitors on the floor, time-averaged over the ticks
   std::int64_t max_present = 0;
-  // Worst interpenetration of bodies with each other, walls or robots, m.
+  // Worst interpenetration of bodies with each other, walls or robots, m, and
+  // by what was overlapped.
   double max_overlap_m = 0.0;
+  double max_overlap_people_m = 0.0;
+  double max_overlap_walls_m = 0.0;
+  double max_overlap_robots_m = 0.0;
   // Person-seconds a visitor wanted to walk but a robot stood in the way
   // (Crowd::blocked_by_robot), s.
   double visitor_blocked_by_robot_s = 0.0;
-  std::int64_t pushes = 0;  // push and kick pulses begun on robots (counted by the runner)
+  std::int64_t pushes = 0;  // push and kick pulses begun on robots
+  // Episodes near robots begun (§6.5 behaviours), by behaviour name.
+  std::vector<std::pair<std::string, std::int64_t>> episodes;
 };
 
 // Accumulates the crowd's figures, one Update() per physics tick after the

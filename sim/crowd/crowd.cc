@@ -33,6 +33,14 @@ constexpr double kRobotPredictionS = 2.0;
 // person is standing.
 constexpr double kHeadingTimeConstantS = 0.25;
 constexpr double kStandingSpeedMps = 0.2;
+// A walking visitor slower than this (m/s) for this long (s) within this
+// walking distance of the goal (m) stops there: the goal is crowded (chosen).
+constexpr double kStuckSpeedMps = 0.15;
+constexpr double kStuckS = 2.0;
+constexpr double kStuckNearGoalM = 4.0;
+// Visitors who behave towards robots pick, with this chance, the watch spot
+// nearest a robot as their next stop: they came to see the robots (§6.5).
+constexpr double kSeekRobotChance = 0.5;
 // Spawning: tries per visitor to find a free spot, and the gap kept to others (m).
 constexpr int kSpawnTries = 40;
 constexpr double kSpawnGapM = 0.1;
@@ -95,6 +103,7 @@ struct Visitor {
   double push_until_s = -1.0;  // a push pulse lasts until then
   bool pushed = false;
   bool blocked_by_robot = false;
+  double moving_since_s = 0.0;  // last time the visitor walked faster than kStuckSpeedMps
 };
 
 struct Crowd::Impl {
@@ -121,6 +130,7 @@ struct Crowd::Impl {
   std::int64_t arrivals = 0;
   std::int64_t departures = 0;
   std::int64_t pushes = 0;
+  std::array<std::int64_t, 6> episodes{};  // by Behaviour
   int next_group = 0;
 
   Impl(const CrowdOptions& options, std::vector<PersonState>& pool, CrowdSite s, std::uint64_t seed)
@@ -319,6 +329,7 @@ struct Crowd::Impl {
   // visit lasts, or the exit. Party members follow their leader's choice.
   void NextGoal(int i, double now) {
     Visitor& v = visitors[i];
+    v.moving_since_s = now;
     const int leader = v.leader;
     if (leader != i && people[leader].present && visitors[leader].activity != Activity::kParked) {
       const Visitor& l = visitors[leader];
@@ -341,6 +352,17 @@ struct Crowd::Impl {
       return;
     }
     const int spots = static_cast<int>(watch_spots.size());
+    if (now < v.visit_end_s && spots > 0 && v.behaviour != Behaviour::kOrdinary &&
+        !robots.empty() && now >= v.cooldown_until_s &&
+        visitor_random.Uniform() < kSeekRobotChance) {
+      const int w = WatchSpotNearestARobot(i);
+      if (w >= 0) {
+        v.activity = Activity::kWalking;
+        v.goal_field = first_watch_field + w;
+        v.goal_attraction = -1;
+        return;
+      }
+    }
     if (now < v.visit_end_s && spots > 0) {
       const int w = static_cast<int>(visitor_random.UniformInt(0, spots - 1));
       if (fields[first_watch_field + w].Reachable(people[i].position_m)) {
@@ -353,6 +375,23 @@ struct Crowd::Impl {
     v.activity = Activity::kLeaving;
     v.goal_field = exit_field;
     v.goal_attraction = -1;
+  }
+
+  // The reachable watch spot closest to any robot, or -1.
+  int WatchSpotNearestARobot(int i) const {
+    int best = -1;
+    double best_d = std::numeric_limits<double>::infinity();
+    for (std::size_t w = 0; w < watch_spots.size(); ++w) {
+      if (!fields[first_watch_field + w].Reachable(people[i].position_m)) continue;
+      for (const CrowdRobot& r : robots) {
+        const double d = (r.pose.translation() - watch_spots[w]).norm();
+        if (d < best_d) {
+          best_d = d;
+          best = static_cast<int>(w);
+        }
+      }
+    }
+    return best;
   }
 
   // The party's centre and size as the member sees them.
@@ -447,6 +486,7 @@ struct Crowd::Impl {
     if (nearest < 0) return;
     v.resume = v.activity;
     v.activity = Activity::kEpisode;
+    ++episodes[static_cast<std::size_t>(v.behaviour)];
     v.robot = nearest;
     const double mean = o.behaviours.episode_mean_s;
     v.episode_until_s = now + std::max(5.0, visitor_random.Normal(mean, mean / 3.0));
@@ -500,8 +540,15 @@ struct Crowd::Impl {
             continue;
           }
           Eigen::Vector2d e = field.Direction(people[i].position_m);
-          if (e.squaredNorm() == 0.0 && v.activity == Activity::kWalking) {
-            // Arrived (inside the goal) or cut off: stand there for a while.
+          // Near a goal that others crowd (the visitor has made no way for a
+          // while), a visitor looks from where they are instead of pressing on.
+          const bool slow = people[i].velocity_mps.norm() < kStuckSpeedMps;
+          if (!slow) v.moving_since_s = now;
+          const bool stuck_near = v.activity == Activity::kWalking && distance < kStuckNearGoalM &&
+                                  now - v.moving_since_s > kStuckS;
+          if ((e.squaredNorm() == 0.0 || stuck_near) && v.activity == Activity::kWalking) {
+            // Arrived (inside the goal), as close as the crowd lets them, or
+            // cut off: stand there for a while.
             const bool attraction = v.goal_attraction >= 0;
             v.activity = attraction ? Activity::kDwelling : Activity::kWatching;
             v.until_s = now + DrawDwell();
@@ -749,6 +796,11 @@ std::int64_t Crowd::arrivals() const { return impl_->arrivals; }
 std::int64_t Crowd::departures() const { return impl_->departures; }
 std::int64_t Crowd::pushes() const { return impl_->pushes; }
 double Crowd::max_overlap_m() const { return impl_->model.max_overlap_m(); }
+std::array<double, 3> Crowd::max_overlaps_m() const {
+  const SocialForceModel& m = impl_->model;
+  return {m.max_overlap_people_m(), m.max_overlap_walls_m(), m.max_overlap_robots_m()};
+}
+const std::array<std::int64_t, 6>& Crowd::episodes() const { return impl_->episodes; }
 
 int Crowd::SpawnGroup(const Eigen::Vector2d& position_m, int count) {
   Impl& im = *impl_;

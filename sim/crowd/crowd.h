@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -164,6 +165,10 @@ class Crowd {
   std::int64_t pushes() const;
   // Largest overlap of bodies with each other, walls or robots in the last step (m).
   double max_overlap_m() const;
+  // The same by what was overlapped: another person, a wall or exhibit, a robot.
+  std::array<double, 3> max_overlaps_m() const;
+  // Episodes near robots begun so far, by behaviour (index: Behaviour).
+  const std::array<std::int64_t, 6>& episodes() const;
 
   // Puts a group of `count` visitors at `position` now (a burst of arrivals:
   // the scenario timeline's spawn_group). Returns how many found a body and room.

@@ -371,7 +371,6 @@ void SocialForceModel::Substep(double dt, std::vector<RobotContactForce>* robot_
   const std::size_t n = agents_.size();
   force_.assign(n, Eigen::Vector2d::Zero());
   touched_.assign(n, 0);
-  substep_overlap_m_ = 0.0;
   for (std::size_t i = 0; i < n; ++i) {
     const Agent& a = agents_[i];
     if (!a.active) continue;
@@ -382,7 +381,6 @@ void SocialForceModel::Substep(double dt, std::vector<RobotContactForce>* robot_
   WallContacts(dt);
   RobotContacts(dt, weight, robot_forces);
   Integrate(dt);
-  max_overlap_m_ = std::max(max_overlap_m_, substep_overlap_m_);
 }
 
 void SocialForceModel::PeopleContacts(double dt) {
@@ -396,7 +394,7 @@ void SocialForceModel::PeopleContacts(double dt) {
     const double d = diff.norm();
     const double overlap = a.radius_m + b.radius_m - d;
     if (overlap <= 0.0 || d <= 0.0) continue;
-    substep_overlap_m_ = std::max(substep_overlap_m_, overlap);
+    Overlap(0, overlap);
     const Eigen::Vector2d normal = diff / d;
     const Eigen::Vector2d tangent = Perp(normal);
     const double reduced_mass = a.mass_kg * b.mass_kg / (a.mass_kg + b.mass_kg);
@@ -431,7 +429,7 @@ void SocialForceModel::WallContacts(double dt) {
       }
       const double overlap = a.radius_m - best;
       if (overlap > 0.0 && best > 0.0) {
-        substep_overlap_m_ = std::max(substep_overlap_m_, overlap);
+        Overlap(1, overlap);
         touched_[i] = 1;
         force_[i] += ContactForce(a, (a.position_m - best_point) / best, overlap, {0, 0}, dt);
       }
@@ -442,7 +440,7 @@ void SocialForceModel::WallContacts(double dt) {
       const double d = diff.norm();
       const double overlap = w.radius_m + a.radius_m - d;
       if (overlap > 0.0 && d > 0.0) {
-        substep_overlap_m_ = std::max(substep_overlap_m_, overlap);
+        Overlap(1, overlap);
         touched_[i] = 1;
         force_[i] += ContactForce(a, diff / d, overlap, {0, 0}, dt);
       }
@@ -454,7 +452,10 @@ void SocialForceModel::RobotContacts(double dt, double weight,
                                      std::vector<RobotContactForce>* robot_forces) {
   const SocialForceOptions& o = options_;
   // Robots: the person feels the full body force of the machine; the machine
-  // feels the person's push, bounded by what a person can exert.
+  // feels the person's push, bounded by what a person can exert, unless the
+  // person is pinned against a wall or other people: then the machine meets
+  // what holds the person, through the person (Newton's third law), and
+  // cannot squeeze them flat.
   robot_contacts_.clear();
   for (const auto& [r, i] : near_robots_) {
     if (static_cast<std::size_t>(r) >= robots_.size()) continue;
@@ -466,19 +467,20 @@ void SocialForceModel::RobotContacts(double dt, double weight,
       const double d = SignedDistanceToConvex(robot.hull_m, a.position_m, &normal, &closest);
       const double overlap = a.radius_m - d;
       if (overlap <= 0.0) continue;
-      substep_overlap_m_ = std::max(substep_overlap_m_, overlap);
+      Overlap(2, overlap);
       const Eigen::Vector2d arm = closest - robot.center_m;
       const Eigen::Vector2d surface_velocity =
           robot.velocity_mps + robot.yaw_rate_radps * Perp(arm);
       const Eigen::Vector2d f = ContactForce(a, normal, overlap, surface_velocity, dt);
+      const bool pinned = touched_[i] != 0;
       force_[i] += f;
       touched_[i] = 1;
       robot_contacts_.emplace_back(i, r);
       if (robot_forces) {
         Eigen::Vector2d on_robot = -f;
         const double magnitude = on_robot.norm();
-        if (magnitude > o.max_push_force_n) on_robot *= o.max_push_force_n / magnitude;
-        robot_forces->push_back({r, i, weight * on_robot, closest});
+        if (!pinned && magnitude > o.max_push_force_n) on_robot *= o.max_push_force_n / magnitude;
+        robot_forces->push_back({r, i, weight * on_robot, closest, pinned});
       }
     }
   }
@@ -520,7 +522,7 @@ void SocialForceModel::Step(double dt, std::vector<RobotContactForce>* robot_for
   if (!(dt > 0.0)) return;
   const int substeps = std::max(1, static_cast<int>(std::ceil(dt / options_.max_substep_s - 1e-9)));
   const double h = dt / substeps;
-  max_overlap_m_ = 0.0;
+  max_overlap_m_ = {0.0, 0.0, 0.0};
   const std::size_t first_force = robot_forces ? robot_forces->size() : 0;
   for (int s = 0; s < substeps; ++s) {
     if (since_social_s_ >= 1.0 / options_.social_rate_hz - 1e-9) RefreshSocial();
@@ -536,6 +538,7 @@ void SocialForceModel::Step(double dt, std::vector<RobotContactForce>* robot_for
     if (!fresh) {
       it->second.force_n += f.force_n;
       it->second.point_m = f.point_m;
+      it->second.pinned = it->second.pinned || f.pinned;
     }
   }
   robot_forces->resize(first_force);

@@ -1,6 +1,8 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <algorithm>
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -94,6 +96,7 @@ struct RobotContactForce {
   int agent = -1;
   Eigen::Vector2d force_n{0, 0};
   Eigen::Vector2d point_m{0, 0};
+  bool pinned = false;  // the person was held by a wall or others: the force is not bounded
 };
 
 // One walker of the model: a disc with a mass and a wish.
@@ -142,9 +145,14 @@ class SocialForceModel {
 
   // (agent, robot) pairs in contact during the last substep.
   const std::vector<std::pair<int, int>>& robot_contacts() const { return robot_contacts_; }
-  // Largest overlap of an agent with another agent, a wall or a robot after
-  // the last step (m): the interpenetration figure.
-  double max_overlap_m() const { return max_overlap_m_; }
+  // Largest overlap of an agent with another agent, a wall or a robot during
+  // the last step (m): the interpenetration figure, and by what was overlapped.
+  double max_overlap_m() const {
+    return std::max({max_overlap_m_[0], max_overlap_m_[1], max_overlap_m_[2]});
+  }
+  double max_overlap_people_m() const { return max_overlap_m_[0]; }
+  double max_overlap_walls_m() const { return max_overlap_m_[1]; }
+  double max_overlap_robots_m() const { return max_overlap_m_[2]; }
 
  private:
   static constexpr double kNever = 1e300;
@@ -195,9 +203,11 @@ class SocialForceModel {
   // Substep scratch: forces, who is in body contact, the deepest overlap.
   std::vector<Eigen::Vector2d> force_;
   std::vector<char> touched_;
-  double substep_overlap_m_ = 0.0;
   std::vector<std::pair<int, int>> robot_contacts_;
-  double max_overlap_m_ = 0.0;
+  std::array<double, 3> max_overlap_m_{0.0, 0.0, 0.0};  // people, walls, robots
+  void Overlap(int kind, double overlap_m) {
+    max_overlap_m_[kind] = std::max(max_overlap_m_[kind], overlap_m);
+  }
 };
 
 // Closest point of the segment [a, b] to p.

@@ -400,21 +400,28 @@ void World::StepCrowd(double dt) {
   // contact points: a person's body and deliberate push together bounded by
   // what one person can exert.
   const double limit_n = im.crowd->crowd().options().social.max_push_force_n;
-  std::map<std::pair<int, int>, std::pair<Eigen::Vector2d, Eigen::Vector2d>> by_person;
+  struct PersonForce {
+    Eigen::Vector2d force_n{0, 0};
+    Eigen::Vector2d point_m{0, 0};
+    bool pinned = false;  // held by a wall or others: not bounded
+  };
+  std::map<std::pair<int, int>, PersonForce> by_person;
   for (const crowd::RobotContactForce& f : im.crowd_result.contacts) {
-    auto& [force, point] = by_person[{f.robot, f.agent}];
-    force += f.force_n;
-    point = f.point_m;
+    PersonForce& p = by_person[{f.robot, f.agent}];
+    p.force_n += f.force_n;
+    p.point_m = f.point_m;
+    p.pinned = p.pinned || f.pinned;
   }
-  for (const crowd::RobotPush& p : im.crowd_result.pushes) {
-    auto& [force, point] = by_person[{p.robot, p.person}];
-    force += p.force_n;
-    point = p.point_m;
+  for (const crowd::RobotPush& push : im.crowd_result.pushes) {
+    PersonForce& p = by_person[{push.robot, push.person}];
+    p.force_n += push.force_n;
+    p.point_m = push.point_m;
   }
   std::map<std::pair<int, int>, ContactChange> touching;
   for (auto& [key, entry] : by_person) {
-    auto& [force, point] = entry;
-    if (force.norm() > limit_n) force *= limit_n / force.norm();
+    Eigen::Vector2d& force = entry.force_n;
+    const Eigen::Vector2d& point = entry.point_m;
+    if (!entry.pinned && force.norm() > limit_n) force *= limit_n / force.norm();
     const auto [robot, person] = key;
     im.robots[robot].ApplyImpulseAt(force * dt, point);
     const int a = im.robots[robot].element(), b = im.crowd->person_element(person);
