@@ -9,6 +9,7 @@
 
 #include "core/types/pose2.h"
 #include "sim/crowd/floor_field.h"
+#include "sim/crowd/robot_avoidance.h"
 
 namespace pavilion::sim::crowd {
 namespace {
@@ -21,13 +22,6 @@ constexpr double kStationDiscM = 1.2;
 constexpr double kWatchDiscM = 0.8;
 // A visitor slows down over this distance before a target, m (chosen).
 constexpr double kArrivalSlowdownM = 0.6;
-// Robots ahead within this distance make a walker steer around them, and the
-// walker keeps this margin beyond both bodies, m (chosen; people pass a
-// machine a little wider than each other).
-constexpr double kRobotLookaheadM = 4.0;
-constexpr double kRobotPassMarginM = 0.35;
-// The furthest ahead (s) a walker extrapolates a robot's motion.
-constexpr double kRobotPredictionS = 2.0;
 // Body headings turn towards the walking direction (or what a standing
 // person looks at) with this time constant, s; below this speed (m/s) a
 // person is standing.
@@ -67,15 +61,6 @@ constexpr double kGroupPull = 1.0;
 
 void Require(bool ok, const std::string& field, const char* what) {
   if (!ok) throw std::invalid_argument(field + " " + what);
-}
-
-Eigen::Vector2d Rotate(const Eigen::Vector2d& v, double angle) {
-  const double c = std::cos(angle), s = std::sin(angle);
-  return {c * v.x() - s * v.y(), s * v.x() + c * v.y()};
-}
-
-double Cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-  return a.x() * b.y() - a.y() * b.x();
 }
 
 }  // namespace
@@ -414,32 +399,11 @@ struct Crowd::Impl {
                        : Eigen::Vector2d::Zero();
   }
 
-  // Turns a walking direction `e` so that the walker passes robots ahead
-  // instead of walking into them: the smallest turn that makes its line
-  // clear each robot's circle by the margin; ties pass on the right.
-  Eigen::Vector2d AvoidRobots(int i, Eigen::Vector2d e, double goal_distance_m, int ignore) const {
-    const PersonState& s = people[i];
-    double turn = 0.0;
-    for (std::size_t r = 0; r < robots.size(); ++r) {
-      if (static_cast<int>(r) == ignore) continue;
-      const double speed = visitors[i].desired_speed_mps;
-      const Eigen::Vector2d now = robots[r].pose.translation() - s.position_m;
-      const double lead = std::min(kRobotPredictionS, now.norm() / std::max(speed, 0.3));
-      const Eigen::Vector2d p = now + robots[r].velocity_mps * lead;
-      const double along = p.dot(e);
-      const double dist = p.norm();
-      const double clearance = s.shape.radius_m + robot_reach_m[r] + kRobotPassMarginM;
-      if (along <= 0.0 || along > kRobotLookaheadM || dist <= 0.0) continue;
-      if (goal_distance_m < along - robot_reach_m[r]) continue;  // the goal comes first
-      const double lateral = Cross(e, p);                        // > 0: the robot is on the left
-      if (std::abs(lateral) >= clearance) continue;
-      const double needed = dist > clearance
-                                ? std::asin(clearance / dist) - std::asin(std::abs(lateral) / dist)
-                                : kPi / 2;
-      const double side = lateral > 0.0 ? -1.0 : (lateral < 0.0 ? 1.0 : -1.0);
-      if (needed > std::abs(turn)) turn = side * needed;
-    }
-    return turn == 0.0 ? e : Rotate(e, turn);
+  Eigen::Vector2d AvoidRobots(int i, const Eigen::Vector2d& e, double goal_distance_m,
+                              int ignore) const {
+    return SteerAroundRobots(people[i].position_m, people[i].shape.radius_m,
+                             visitors[i].desired_speed_mps, e, goal_distance_m, robots,
+                             robot_reach_m, ignore);
   }
 
   // An episode's target near robot r, or nothing for a pusher in contact.
@@ -512,6 +476,33 @@ struct Crowd::Impl {
     return v.desired_speed_mps * std::clamp(distance / kArrivalSlowdownM, 0.0, 1.0);
   }
 
+  // The velocity of an episode near a robot: towards the behaviour's place,
+  // or a pusher's push once in reach.
+  Eigen::Vector2d EpisodeVelocity(int i, double now) {
+    Visitor& v = visitors[i];
+    const Eigen::Vector2d to = EpisodeTarget(i, v) - people[i].position_m;
+    const double d = to.norm();
+    if (v.behaviour == Behaviour::kPushing) {
+      Eigen::Vector2d n, c;
+      const double gap =
+          SignedDistanceToConvex(obstacles[v.robot].hull_m, people[i].position_m, &n, &c) -
+          people[i].shape.radius_m;
+      if (!v.pushed && gap <= kPushReachM) {
+        v.pushed = true;
+        ++pushes;
+        v.push_until_s =
+            now + (v.kick ? o.behaviours.kick_duration_s : o.behaviours.push_duration_s);
+      }
+      return v.pushed ? Eigen::Vector2d::Zero()
+                      : Eigen::Vector2d(v.desired_speed_mps * to / std::max(d, 1e-9));
+    } else if (d > 0.15) {
+      Eigen::Vector2d e = to / d;
+      e = AvoidRobots(i, e, d, v.robot);
+      return Approach(v, d) * e;
+    }
+    return Eigen::Vector2d::Zero();
+  }
+
   // Decides every present visitor's desired velocity for the coming period.
   void Decide(double now) {
     for (std::size_t k = 0; k < people.size(); ++k) {
@@ -563,29 +554,9 @@ struct Crowd::Impl {
           desired = v.desired_speed_mps * e;
           break;
         }
-        case Activity::kEpisode: {
-          const Eigen::Vector2d to = EpisodeTarget(i, v) - people[i].position_m;
-          const double d = to.norm();
-          if (v.behaviour == Behaviour::kPushing) {
-            Eigen::Vector2d n, c;
-            const double gap =
-                SignedDistanceToConvex(obstacles[v.robot].hull_m, people[i].position_m, &n, &c) -
-                people[i].shape.radius_m;
-            if (!v.pushed && gap <= kPushReachM) {
-              v.pushed = true;
-              ++pushes;
-              v.push_until_s =
-                  now + (v.kick ? o.behaviours.kick_duration_s : o.behaviours.push_duration_s);
-            }
-            desired = v.pushed ? Eigen::Vector2d::Zero()
-                               : Eigen::Vector2d(v.desired_speed_mps * to / std::max(d, 1e-9));
-          } else if (d > 0.15) {
-            Eigen::Vector2d e = to / d;
-            e = AvoidRobots(i, e, d, v.robot);
-            desired = Approach(v, d) * e;
-          }
+        case Activity::kEpisode:
+          desired = EpisodeVelocity(i, now);
           break;
-        }
         case Activity::kDwelling:
         case Activity::kWatching:
         case Activity::kParked:

@@ -291,8 +291,10 @@ TEST(SocialNavigationJsonTest, SectionsOnlyWhenSet) {
                                                "mean_present",
                                                "max_present",
                                                "max_overlap_m",
+                                               "max_overlap_by",
                                                "visitor_blocked_by_robot_s",
-                                               "pushes"};
+                                               "pushes",
+                                               "episodes"};
   keys.clear();
   for (const auto& [key, value] : j["crowd"].items()) keys.push_back(key);
   EXPECT_EQ(keys, crowd_keys);

@@ -16,9 +16,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Six robots of both models in the expo hall among 40 walkers, four of them
-// localizing; a push tilts one robot (fallback scans) while a teleport moves
-// another.
+// Six robots of both models in the expo hall among 10 walkers and a crowd of
+// 40 visitors (every behaviour towards robots on), four robots localizing; a
+// push tilts one robot (fallback scans) while a teleport moves another.
 const char* const kScenario =
     "kind: scenario\n"
     "name: parallel_robots\n"
@@ -28,14 +28,21 @@ const char* const kScenario =
     "materials:\n"
     "  visitor: {friction: 0.6, color: [0.85, 0.55, 0.35]}\n"
     "groups:\n"
-    "  - id: visitor\n"
-    "    count: 40\n"
+    "  - id: walker\n"
+    "    count: 10\n"
     "    area: [[-12.4, -1.9], [-3.9, -2.0], [11.9, -1.0], [17.3, -0.8], [17.3, 8.0],\n"
     "           [14.3, 9.0], [-1.9, 8.6], [-9.8, 8.5], [-12.9, 5.8], [-13.4, 0.5]]\n"
     "    shape: {type: cylinder, radius: 0.22, height: 1.7}\n"
     "    mass_kg: 70\n"
     "    material: visitor\n"
     "    motion: {type: random_walk, speed_mps: 0.8, mean_leg_s: 5}\n"
+    "crowd:\n"
+    "  present: 40\n"
+    "  arrivals_per_hour: 400\n"
+    "  max_present: 45\n"
+    "  roam_area: [[-12.4, -1.9], [-3.9, -2.0], [11.9, -1.0], [17.3, -0.8], [17.3, 8.0],\n"
+    "              [14.3, 9.0], [-1.9, 8.6], [-9.8, 8.5], [-12.9, 5.8], [-13.4, 0.5]]\n"
+    "  behaviours: {curious: 0.2, crowding: 0.2, blocking: 0.1, following: 0.1, pushing: 0.2}\n"
     "robots:\n"
     "  - {id: r1, model: robox, pose: [16.3, -0.5, 1.5708], localization: {},\n"
     "     drive: [{at_s: 0, speed_mps: 0.4, turn_radps: 0.0}]}\n"
@@ -81,6 +88,7 @@ void ExpectSameOutputs(const std::string& backend) {
   const nlohmann::json metrics =
       nlohmann::json::parse(pavilion::testing::ReadTextFile(one / "metrics.json"));
   EXPECT_GT(metrics.at("robots").at("r1").at("localization").at("cycles").get<int>(), 10);
+  EXPECT_GT(metrics.at("crowd").at("mean_present").get<double>(), 30.0);
   if (backend == "planar") {
     // The push tilts r5: its scans fall back to Bullet while others cast planar.
     EXPECT_GT(metrics.at("laser").at("fallback_scans").get<int>(), 0);

@@ -1,0 +1,24 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "sim/crowd/crowd.h"
+
+namespace pavilion::sim::crowd {
+
+// Turns a walker's direction `direction` (unit) so that it passes the robots
+// ahead instead of walking into them: the smallest turn that makes its line
+// clear each robot's bounding circle (radius `robot_reach_m[r]`, at the
+// robot's position extrapolated to when the walker gets there) by a margin;
+// a robot straight ahead is passed on the right. Robots beyond the goal
+// (`goal_distance_m` away), behind the walker or farther than the look-ahead,
+// and robot `ignore` (one the walker means to approach), are left alone. The
+// social force model alone decelerates a walker in front of an obstacle it
+// meets head-on but hardly turns it; this is the walker's anticipation.
+Eigen::Vector2d SteerAroundRobots(const Eigen::Vector2d& position_m, double radius_m,
+                                  double speed_mps, const Eigen::Vector2d& direction,
+                                  double goal_distance_m, const std::vector<CrowdRobot>& robots,
+                                  const std::vector<double>& robot_reach_m, int ignore);
+
+}  // namespace pavilion::sim::crowd
