@@ -47,6 +47,7 @@ asan-test: deps
 bench: build
 	./$(BUILD)/tests/bench/physics_bench --benchmark_counters_tabular=true
 	./$(BUILD)/tests/bench/laser_bench --benchmark_counters_tabular=true
+	./$(BUILD)/tests/bench/crowd_bench --benchmark_counters_tabular=true
 
 clean:
 	rm -rf $(BUILD) $(ASAN_BUILD) out

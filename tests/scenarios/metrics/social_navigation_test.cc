@@ -285,16 +285,10 @@ TEST(SocialNavigationJsonTest, SectionsOnlyWhenSet) {
   EXPECT_DOUBLE_EQ(social["intimate_time_s"].get<double>(), 1.2346);
   EXPECT_DOUBLE_EQ(social["min_visitor_gap_m"].get<double>(), -0.0123);
   EXPECT_EQ(social["social_intrusions"], 3);
-  const std::vector<std::string> crowd_keys = {"pool",
-                                               "arrivals",
-                                               "departures",
-                                               "mean_present",
-                                               "max_present",
-                                               "max_overlap_m",
-                                               "max_overlap_by",
-                                               "visitor_blocked_by_robot_s",
-                                               "pushes",
-                                               "episodes"};
+  const std::vector<std::string> crowd_keys = {
+      "pool",        "arrivals",      "departures",     "mean_present",
+      "max_present", "max_overlap_m", "max_overlap_by", "visitor_blocked_by_robot_s",
+      "pushes",      "episodes"};
   keys.clear();
   for (const auto& [key, value] : j["crowd"].items()) keys.push_back(key);
   EXPECT_EQ(keys, crowd_keys);
