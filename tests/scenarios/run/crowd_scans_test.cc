@@ -156,10 +156,10 @@ void ExpectLegs(const LegStats& s) {
   // person's leg in front of it (rare).
   EXPECT_GE(s.people_with_one_or_two_arcs, 0.95 * s.people_seen);
   // These vantage points look into the thick of the crowd (some 40 % of the
-  // readings on legs): there, legs of people standing in a row line up by
-  // chance often enough to fuse (measured: 16-18 % of the scans). The
-  // criterion proper is on the robot's own scans below.
-  EXPECT_LE(s.scans_with_leg_lines, s.scans_with_legs * 20 / 100);
+  // readings on legs): there, legs of people standing in a row still line up
+  // now and then (measured: 3-4 % of the scans). The criterion proper is on
+  // the robot's own scans below.
+  EXPECT_LE(s.scans_with_leg_lines, s.scans_with_legs * 5 / 100);
 }
 
 TEST(CrowdScans, PlanarLaserSeesPeopleAsLegs) { ExpectLegs(ScanTheCrowd(true)); }
@@ -218,13 +218,12 @@ TEST(CrowdScans, RobotScansAmongVisitorsHaveNoLegLines) {
 }
 
 // In expo_crowd the robot is crowded in a U, followed and blocked (some 70
-// leg readings per scan): legs of people standing side by side fuse into
-// lines in about 4 % of its scans (measured), above the 1 %. Bounded
-// here so that it does not grow; see docs/crowd.md.
-TEST(CrowdScans, RobotScansInExpoCrowdRarelyHaveLegLines) {
+// leg readings per scan), and still >= 99 % of its scans that see legs have
+// no leg line (measured: 16 of 2004).
+TEST(CrowdScans, RobotScansInExpoCrowdHaveNoLegLines) {
   const RobotScanLegs r = RobotScans("expo_crowd", 120.0);
   EXPECT_GT(r.with_legs, 100);
-  EXPECT_LE(r.with_leg_lines, r.with_legs * 5 / 100);
+  EXPECT_LE(r.with_leg_lines, r.with_legs / 100);
 }
 
 }  // namespace
