@@ -287,18 +287,13 @@ Eigen::Vector2d SocialForceModel::WallForce(int i, double skin) {
     const std::size_t cell = static_cast<std::size_t>(wr) * wall_grid_cols_ + wc;
     const std::vector<int>& segs = cell_segments_[cell];
     for (std::size_t s = 0; s < segs.size();) {
-      const int group = segments_[segs[s]].group;
-      double best = std::numeric_limits<double>::infinity();
+      const std::size_t first = s;
       Eigen::Vector2d best_point{0, 0};
-      for (; s < segs.size() && segments_[segs[s]].group == group; ++s) {
-        const WallSegment& w = segments_[segs[s]];
-        const Eigen::Vector2d c = ClosestPointOnSegment(a.position_m, w.a_m, w.b_m);
-        const double d = (a.position_m - c).norm();
-        if (d - a.radius_m < skin) near_segments_[i].push_back(segs[s]);
-        if (d < best) {
-          best = d;
-          best_point = c;
-        }
+      const double best = NearestOfObstacle(a.position_m, segs, &s, &best_point);
+      for (std::size_t k = first; k < s; ++k) {
+        const WallSegment& w = segments_[segs[k]];
+        const double d = (a.position_m - ClosestPointOnSegment(a.position_m, w.a_m, w.b_m)).norm();
+        if (d - a.radius_m < skin) near_segments_[i].push_back(segs[k]);
       }
       const double gap = best - a.radius_m;
       if (gap <= o.social_cutoff_m && best > 0.0) {
@@ -342,6 +337,22 @@ Eigen::Vector2d SocialForceModel::RobotForce(int i, double skin, double period) 
     }
   }
   return f;
+}
+
+double SocialForceModel::NearestOfObstacle(const Eigen::Vector2d& p, const std::vector<int>& segs,
+                                           std::size_t* s, Eigen::Vector2d* nearest) const {
+  const int group = segments_[segs[*s]].group;
+  double best = std::numeric_limits<double>::infinity();
+  for (; *s < segs.size() && segments_[segs[*s]].group == group; ++*s) {
+    const WallSegment& w = segments_[segs[*s]];
+    const Eigen::Vector2d c = ClosestPointOnSegment(p, w.a_m, w.b_m);
+    const double d = (p - c).norm();
+    if (d < best) {
+      best = d;
+      *nearest = c;
+    }
+  }
+  return best;
 }
 
 Eigen::Vector2d SocialForceModel::Separation(const Eigen::Vector2d& from,
@@ -415,18 +426,8 @@ void SocialForceModel::WallContacts(double dt) {
     if (!a.active) continue;
     const std::vector<int>& segs = near_segments_[i];
     for (std::size_t s = 0; s < segs.size();) {
-      const int group = segments_[segs[s]].group;
-      double best = std::numeric_limits<double>::infinity();
       Eigen::Vector2d best_point{0, 0};
-      for (; s < segs.size() && segments_[segs[s]].group == group; ++s) {
-        const WallSegment& w = segments_[segs[s]];
-        const Eigen::Vector2d c = ClosestPointOnSegment(a.position_m, w.a_m, w.b_m);
-        const double d = (a.position_m - c).norm();
-        if (d < best) {
-          best = d;
-          best_point = c;
-        }
-      }
+      const double best = NearestOfObstacle(a.position_m, segs, &s, &best_point);
       const double overlap = a.radius_m - best;
       if (overlap > 0.0 && best > 0.0) {
         Overlap(1, overlap);

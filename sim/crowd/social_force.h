@@ -174,6 +174,11 @@ class SocialForceModel {
   Eigen::Vector2d ContactForce(const Agent& a, const Eigen::Vector2d& normal, double overlap,
                                const Eigen::Vector2d& surface_velocity, double dt) const;
   void BuildWallGrid();
+  // The nearest point to p of the obstacle whose segments start at segs[*s]
+  // (segments of one group are consecutive); advances *s past them and
+  // returns the distance.
+  double NearestOfObstacle(const Eigen::Vector2d& p, const std::vector<int>& segs, std::size_t* s,
+                           Eigen::Vector2d* nearest) const;
   // from - to, across the periodic seam when that is shorter.
   Eigen::Vector2d Separation(const Eigen::Vector2d& from, const Eigen::Vector2d& to) const;
 
