@@ -525,6 +525,7 @@ EventTargets ReadEventTargets(const Scenario& s) {
   }
   for (const auto& d : s.world.doors) targets.doors.insert(d.id);
   targets.world = &s.world;
+  if (s.crowd) targets.crowd_pool = s.crowd->options.pool_size;
   return targets;
 }
 

@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "scenarios/events/crowd_events.h"
 #include "scenarios/events/scripted_events.h"
 
 namespace pavilion::scenarios {
@@ -20,6 +21,7 @@ EventRegistry& EventRegistry::Global() {
   static EventRegistry* registry = [] {
     auto* r = new EventRegistry;
     RegisterScriptedEvents(r);
+    RegisterCrowdEvents(r);
     return r;
   }();
   return *registry;

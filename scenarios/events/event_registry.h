@@ -1,7 +1,8 @@
 #pragma once
 
 // Event types by name: the scenario loader reads each `events:` entry with the
-// reader registered for its `type`. Built in: push, teleport, door.
+// reader registered for its `type`. Built in: push, teleport, door, kidnap,
+// spawn_group.
 
 #include <functional>
 #include <map>
@@ -31,6 +32,7 @@ struct EventTargets {
   std::set<std::string> doors;
   std::map<std::string, RobotFootprint> footprints;  // by robot id
   const sim::WorldDescription* world = nullptr;      // the static geometry at the start
+  int crowd_pool = 0;                                // the crowd's bodies; 0: no crowd
 };
 
 // Reads one entry's type-specific keys (`at_s` and `type` are read already);
