@@ -12,18 +12,39 @@
 
 namespace pavilion::scenarios {
 
+// A push: an impulse at once, or a force held for a while (a pull). On a
+// robot, optionally with its motors disengaged from the push until the force
+// ends (or 2 s after an impulse): its wheels then roll freely and its
+// encoders see the rolling (staff at Expo.02 pushed robots switched off, §6.5).
 class PushEvent : public ScenarioEvent {
  public:
+  struct Options {
+    Eigen::Vector2d impulse_ns{0, 0};  // N s, at once
+    Eigen::Vector2d force_n{0, 0};     // N, for duration_s
+    double duration_s = 0.0;           // > 0 with a force
+    bool motors_disengaged = false;    // robots only
+  };
   PushEvent(std::string target, const Eigen::Vector2d& impulse_ns)
-      : target_(std::move(target)), impulse_ns_(impulse_ns) {}
+      : target_(std::move(target)), options_{impulse_ns, {0, 0}, 0.0, false} {}
+  PushEvent(std::string target, const Options& options)
+      : target_(std::move(target)), options_(options) {}
   std::string type() const override { return "push"; }
   EventFields Apply(const EventContext& context) const override;
+  bool ongoing() const override { return options_.duration_s > 0.0 || options_.motors_disengaged; }
+  EventFields Continue(const EventContext& context) const override;
   const std::string& target() const { return target_; }
-  const Eigen::Vector2d& impulse_ns() const { return impulse_ns_; }
+  const Eigen::Vector2d& impulse_ns() const { return options_.impulse_ns; }
+
+  // How long motors stay disengaged after an impulse, s.
+  static constexpr double kDisengagedAfterImpulseS = 2.0;
 
  private:
+  void Impulse(const EventContext& c, const Eigen::Vector2d& impulse_ns) const;
+
   std::string target_;
-  Eigen::Vector2d impulse_ns_;
+  Options options_;
+  // When the push's force (or disengagement) ends, s; -1 when none is running.
+  mutable double until_s_ = -1.0;
 };
 
 class TeleportEvent : public ScenarioEvent {

@@ -166,7 +166,8 @@ struct RaycastDrive::Step {
       if (!spec.driven || !step.level_enough) continue;
       WheelState& s = state_[contact_wheel_[c]];
       const double grip = spec.friction * s.normal_ns;
-      const double drive = std::min(grip, spec.max_torque_nm / spec.radius_m * dt_s);
+      const double drive =
+          engaged_ ? std::min(grip, spec.max_torque_nm / spec.radius_m * dt_s) : 0.0;
       step.SolveRow(traction_rows_[c], -drive, drive, &s.traction_ns);
       step.SolveRow(lateral_rows_[c], -grip, grip, &s.lateral_ns);
     }
@@ -192,7 +193,7 @@ struct RaycastDrive::Step {
     const double torque_bound = spec.max_torque_nm / spec.radius_m * dt_s;
     const bool torque_limited =
         torque_bound < spec.friction * s.normal_ns && std::abs(s.traction_ns) >= torque_bound;
-    if (torque_limited) {
+    if (torque_limited || !engaged_) {
       const Row& row = traction_rows_[c];
       state_[i].rate_radps = (row.linear.dot(step.v) + row.angular.dot(step.w)) / spec.radius_m;
     }

@@ -63,6 +63,12 @@ class RaycastDrive {
   void Integrate(double dt_s);
   // The robot is put down at rest (a kidnap): no impulses to warm-start from.
   void Reset();
+  // Motors engaged (default) turn the drive wheels at their commands; with
+  // the motors disengaged the wheels roll freely with the ground (no traction:
+  // staff pushing a robot switched off, thesis §6.5), and their encoders see
+  // the rolling.
+  void SetEngaged(bool engaged) { engaged_ = engaged; }
+  bool engaged() const { return engaged_; }
 
   int wheel_count() const { return static_cast<int>(wheels_.size()); }
   const RaycastWheelSpec& wheel(int i) const { return wheels_[i]; }
@@ -74,6 +80,7 @@ class RaycastDrive {
   double normal_impulse_ns(int i) const { return state_[i].normal_ns; }
 
  private:
+  bool engaged_ = true;
   struct WheelState {
     double angle_rad = 0.0;
     double rate_radps = 0.0;

@@ -496,6 +496,19 @@ void RobotBody::ApplyImpulseAt(const Eigen::Vector2d& impulse_ns, const Eigen::V
   body->applyImpulse(btVector3(impulse_ns.x(), impulse_ns.y(), 0.0), arm);
 }
 
+void RobotBody::SetMotorsEngaged(bool engaged) {
+  if (engaged && !motors_engaged_) {
+    // The motor controller picks the wheels up at the rate they roll and
+    // ramps them to the command at the acceleration limit (no locked wheels).
+    const RobotState state = State();
+    command_radps_[0] = state.left_wheel_radps;
+    command_radps_[1] = state.right_wheel_radps;
+  }
+  motors_engaged_ = engaged;
+  if (raycast()) drive_->SetEngaged(engaged);
+  chassis()->activate(true);
+}
+
 void RobotBody::Teleport(const core::Pose2& pose) {
   Place(pose);
   for (int side = 0; side < 2; ++side) {
@@ -514,7 +527,8 @@ void RobotBody::BeforeStep(double dt) {
     const double step = m.max_wheel_accel_radps2 * dt;
     command_radps_[side] += std::clamp(target_radps_[side] - command_radps_[side], -step, step);
     if (!raycast()) {
-      hinge_[side]->enableAngularMotor(true, kHingeSign * command_radps_[side],
+      // Disengaged, the hinge turns freely: the wheel rolls with the floor.
+      hinge_[side]->enableAngularMotor(motors_engaged_, kHingeSign * command_radps_[side],
                                        m.max_wheel_torque_nm * dt);
     }
   }

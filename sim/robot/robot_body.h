@@ -68,6 +68,9 @@ class RobotBody {
   // A horizontal impulse at a point of the chassis' outline (world x, y), at
   // the height pushes act at: it also turns the robot.
   void ApplyImpulseAt(const Eigen::Vector2d& impulse_ns, const Eigen::Vector2d& point_m);
+  // Engages or disengages the drive motors (see World::SetMotorsEngaged).
+  void SetMotorsEngaged(bool engaged);
+  bool motors_engaged() const { return motors_engaged_; }
   // Puts the robot at `pose` at rest, its motor commands zeroed.
   void Teleport(const core::Pose2& pose);
 
@@ -139,6 +142,7 @@ class RobotBody {
   double command_radps_[2] = {0, 0};
   double wheel_rad_[2] = {0, 0};  // unwrapped, positive forward
   double last_step_s_ = 0.0;
+  bool motors_engaged_ = true;
   double last_hinge_rad_[2] = {0, 0};
   // WheelModel::kRaycast: the contact solver (left, right wheel, then
   // casters) and its per-wheel commands; parts_ then holds the chassis alone.

@@ -290,6 +290,12 @@ std::array<double, 2> World::DriveWheelLoads(int robot) const {
   return impl_->robots.at(robot).DriveWheelLoads(impl_->physics.dispatcher());
 }
 
+void World::SetMotorsEngaged(int robot, bool engaged) {
+  impl_->robots.at(robot).SetMotorsEngaged(engaged);
+}
+
+bool World::motors_engaged(int robot) const { return impl_->robots.at(robot).motors_engaged(); }
+
 void World::ApplyRobotImpulse(int robot, const Eigen::Vector2d& impulse_ns) {
   impl_->robots.at(robot).ApplyImpulse(impulse_ns);
 }

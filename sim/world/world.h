@@ -214,6 +214,12 @@ class World {
   // The floor's normal force on the drive wheels (left, right) in the last
   // step, N (what their friction holds a push with).
   std::array<double, 2> DriveWheelLoads(int robot) const;
+  // Switches a robot's drive motors on or off. Off, its wheels roll freely
+  // with the floor whatever it commands (staff at Expo.02 pushed robots with
+  // the motors disengaged, §6.5): a push rolls it away, and its encoders see
+  // the rolling part of the motion.
+  void SetMotorsEngaged(int robot, bool engaged);
+  bool motors_engaged(int robot) const;
   // A horizontal impulse at the chassis' centre of mass (a push or a collision).
   void ApplyRobotImpulse(int robot, const Eigen::Vector2d& impulse_ns);
   // Moves a robot to a new pose at rest (a kidnap).

@@ -1,0 +1,119 @@
+// The push event (issue 17's timeline): an impulse, or a force held for a
+// while; on a robot, with its motors disengaged (thesis §6.5: staff pushed
+// the robots switched off, the wheels rolling freely, the encoders seeing the
+// rolling). Bad input is one line at its key.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "scenarios/config/input_error.h"
+#include "scenarios/config/scenario.h"
+#include "scenarios/run/scenario_runner.h"
+#include "tests/support/csv_column.h"
+#include "tests/support/test_files.h"
+
+namespace pavilion::scenarios {
+namespace {
+
+using pavilion::testing::Contains;
+using pavilion::testing::TestDir;
+using pavilion::testing::WriteFile;
+
+const char* const kWorld =
+    "kind: world\n"
+    "name: push_room\n"
+    "materials:\n"
+    "  concrete: {friction: 0.8}\n"
+    "floor: {min: [-10, -10], max: [10, 10], material: concrete}\n"
+    "walls:\n"
+    "  - {id: outline, points: [[-8, -8], [8, -8], [8, 8], [-8, 8]], closed: true,\n"
+    "     thickness: 0.2, height: 2.5, material: concrete}\n"
+    "boxes:\n"
+    "  - {id: crate, pose: [4, 4, 0], size: [0.5, 0.5, 0.5], material: concrete}\n";
+
+std::string Write(const std::string& events) {
+  const auto dir = TestDir();
+  WriteFile(dir, "world.yaml", kWorld);
+  return WriteFile(dir, "scenario.yaml",
+                   "kind: scenario\n"
+                   "name: push_test\n"
+                   "seed: 2\n"
+                   "duration_s: 6\n"
+                   "world: world.yaml\n"
+                   "physics: {wheel_model: raycast}\n"
+                   "bodies:\n"
+                   "  - {id: box, pose: [-4, 4, 0], shape: {type: box, size: [0.4, 0.4, 0.4]},\n"
+                   "     mass_kg: 10, material: concrete}\n"
+                   "robots:\n"
+                   "  - {id: r1, model: robox, pose: [-4, -4, 0],\n"
+                   "     drive: [{at_s: 0, speed_mps: 0.0, turn_radps: 0.0}]}\n"
+                   "events:\n" +
+                       events);
+}
+
+std::vector<nlohmann::json> Records(const std::filesystem::path& out, const std::string& type) {
+  std::vector<nlohmann::json> records;
+  std::ifstream in(out / "events.jsonl");
+  for (std::string line; std::getline(in, line);) {
+    nlohmann::json e = nlohmann::json::parse(line);
+    if (e.at("type") == type) records.push_back(std::move(e));
+  }
+  return records;
+}
+
+// A pull of 150 N for 1.5 s with the motors disengaged: the robot rolls
+// forward, its motors come back when the pull ends, and its odometry (the
+// encoders) saw the roll: its final error is a small part of the distance.
+TEST(PushEventTest, PullWithTheMotorsDisengagedRollsTheRobot) {
+  const Scenario s = LoadScenarioFile(
+      Write("  - {at_s: 1, type: push, body: r1, force: [150, 0], duration_s: 1.5, motors: "
+            "disengaged}\n"));
+  const auto out = TestDir() / "out";
+  const RunMetrics m = RunScenario(s, RunOptions{out.string(), false, 1}).metrics;
+  const std::vector<nlohmann::json> pushes = Records(out, "push");
+  ASSERT_EQ(pushes.size(), 2u);
+  EXPECT_EQ(pushes[0].at("motors"), "disengaged");
+  EXPECT_DOUBLE_EQ(pushes[0].at("duration_s").get<double>(), 1.5);
+  EXPECT_EQ(pushes[1].at("motors"), "engaged");
+  EXPECT_NEAR(pushes[1].at("time_s").get<double>(), 2.5, 0.01);
+  ASSERT_EQ(m.robots.size(), 1u);
+  EXPECT_GT(m.robots[0].distance_m, 0.5);
+  EXPECT_LT(m.robots[0].odometry_final_position_error_m, 0.1 * m.robots[0].distance_m);
+}
+
+// The same pull with the motors engaged: the braked wheels hold the robot.
+TEST(PushEventTest, PullWithTheMotorsEngagedIsHeld) {
+  const Scenario s = LoadScenarioFile(
+      Write("  - {at_s: 1, type: push, body: r1, force: [150, 0], duration_s: 1.5}\n"));
+  const auto out = TestDir() / "out";
+  const RunMetrics m = RunScenario(s, RunOptions{out.string(), false, 1}).metrics;
+  EXPECT_LT(m.robots[0].distance_m, 0.02);
+  EXPECT_EQ(Records(out, "push").size(), 1u);
+}
+
+// Motors belong to robots; impulse and force exclude each other.
+TEST(PushEventTest, BadInputIsAnErrorAtItsKey) {
+  const auto expect_error = [](const std::string& events, const std::string& key_path,
+                               const std::string& says) {
+    try {
+      LoadScenarioFile(Write(events));
+      ADD_FAILURE() << events;
+    } catch (const InputError& e) {
+      ASSERT_EQ(e.diagnostics().size(), 1u) << e.what();
+      EXPECT_EQ(e.diagnostics()[0].key_path, key_path);
+      EXPECT_TRUE(Contains(e.diagnostics()[0].message, says)) << e.what();
+    }
+  };
+  expect_error("  - {at_s: 1, type: push, body: box, impulse: [5, 0], motors: disengaged}\n",
+               "events[0].motors", "'box' is not a robot");
+  expect_error("  - {at_s: 1, type: push, body: r1, impulse: [5, 0], force: [5, 0]}\n",
+               "events[0].impulse", "not both");
+  expect_error("  - {at_s: 1, type: push, body: r1, force: [5, 0], duration_s: 0}\n",
+               "events[0].duration_s", "");
+}
+
+}  // namespace
+}  // namespace pavilion::scenarios
