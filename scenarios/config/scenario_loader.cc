@@ -516,6 +516,7 @@ EventTargets ReadEventTargets(const Scenario& s) {
   for (const auto& r : s.robots) {
     targets.bodies.insert(r.id);
     targets.robots.insert(r.id);
+    for (const sim::LaserMount& l : r.config.lasers) targets.lasers[r.id].push_back(l.id);
     const sim::RobotDescription& model = r.config.description;
     if (model.footprint_m.size() >= 3) {
       targets.footprints[r.id] =

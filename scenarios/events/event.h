@@ -6,6 +6,7 @@
 // needs no change to the runner.
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -13,6 +14,7 @@
 #include <vector>
 
 #include "core/random/random_stream.h"
+#include "sim/sensors/laser_scanner.h"
 #include "sim/world/world.h"
 
 namespace pavilion::scenarios {
@@ -52,6 +54,10 @@ struct EventContext {
   // By world robot index: the true distance each robot moved in the last step (m).
   const std::vector<double>* robot_step_m = nullptr;
   std::vector<KidnapNote>* kidnaps = nullptr;  // appended by events that move a robot
+  // Faults a robot's laser (every laser for an empty sensor id); false when
+  // the robot or laser is unknown.
+  std::function<bool(const std::string& robot, const std::string& sensor, const sim::LaserFault&)>
+      set_laser_fault;
 };
 
 class ScenarioEvent {

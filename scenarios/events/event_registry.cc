@@ -4,6 +4,7 @@
 
 #include "scenarios/events/crowd_events.h"
 #include "scenarios/events/scripted_events.h"
+#include "scenarios/events/sensor_fault_event.h"
 
 namespace pavilion::scenarios {
 
@@ -22,6 +23,7 @@ EventRegistry& EventRegistry::Global() {
     auto* r = new EventRegistry;
     RegisterScriptedEvents(r);
     RegisterCrowdEvents(r);
+    RegisterSensorFaultEvent(r);
     return r;
   }();
   return *registry;

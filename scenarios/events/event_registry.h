@@ -2,7 +2,7 @@
 
 // Event types by name: the scenario loader reads each `events:` entry with the
 // reader registered for its `type`. Built in: push, teleport, door, kidnap,
-// spawn_group.
+// spawn_group, sensor_fault.
 
 #include <functional>
 #include <map>
@@ -30,9 +30,10 @@ struct EventTargets {
   std::set<std::string> bodies;  // bodies and robots (push, teleport)
   std::set<std::string> robots;
   std::set<std::string> doors;
-  std::map<std::string, RobotFootprint> footprints;  // by robot id
-  const sim::WorldDescription* world = nullptr;      // the static geometry at the start
-  int crowd_pool = 0;                                // the crowd's bodies; 0: no crowd
+  std::map<std::string, RobotFootprint> footprints;        // by robot id
+  const sim::WorldDescription* world = nullptr;            // the static geometry at the start
+  int crowd_pool = 0;                                      // the crowd's bodies; 0: no crowd
+  std::map<std::string, std::vector<std::string>> lasers;  // laser ids by robot id
 };
 
 // Reads one entry's type-specific keys (`at_s` and `type` are read already);

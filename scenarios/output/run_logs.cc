@@ -21,6 +21,14 @@ void TrajectoryLog::AddBody(double time_s, const std::string& id, const core::Po
                      .str());
 }
 
+void TrajectoryLog::AddPeople(double time_s, const std::vector<sim::crowd::PersonState>& people,
+                              const std::vector<std::string>& ids) {
+  for (std::size_t i = 0; i < people.size(); ++i) {
+    const sim::crowd::PersonState& p = people[i];
+    if (p.present) AddBody(time_s, ids[i], {p.position_m.x(), p.position_m.y(), p.heading_rad});
+  }
+}
+
 void TrajectoryLog::AddRobot(double time_s, const std::string& id, const core::Pose2& p,
                              const core::Pose2& o, const core::PoseWithCovariance* estimate) {
   CsvRow row;

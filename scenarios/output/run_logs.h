@@ -11,6 +11,7 @@
 #include "core/odometry/diff_drive.h"
 #include "scenarios/metrics/localization_tracker.h"
 #include "scenarios/output/output_files.h"
+#include "sim/crowd/person.h"
 
 namespace pavilion::scenarios {
 
@@ -18,6 +19,10 @@ class TrajectoryLog {
  public:
   explicit TrajectoryLog(const std::string& path);
   void AddBody(double time_s, const std::string& id, const core::Pose2& truth);
+  // A row per present person of the crowd (position and heading), named by
+  // `ids` (the pool's element ids, by person index).
+  void AddPeople(double time_s, const std::vector<sim::crowd::PersonState>& people,
+                 const std::vector<std::string>& ids);
   // `estimate`: robots that localize.
   void AddRobot(double time_s, const std::string& id, const core::Pose2& truth,
                 const core::Pose2& odometry, const core::PoseWithCovariance* estimate);

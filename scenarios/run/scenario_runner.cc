@@ -106,8 +106,6 @@ class ScenarioRun {
   void RecordCycle(RobotRun& r, const nav::EstimatorCycle& cycle, const core::Pose2& truth,
                    double t_after);
   void RecordTrajectories(double t);
-  // Rows of the crowd's present visitors (their own, lower rate).
-  void RecordPeople(double t);
   bool RoutesDone() const;
   void BuildCollisionClasses();
   RunMetrics CollectMetrics(double sim_s) const;
@@ -129,7 +127,8 @@ class ScenarioRun {
   // Body (robot) index of each world element, -1 for others.
   std::vector<int> body_of_element_;
   std::vector<int> robot_of_element_;
-  std::vector<int> person_of_element_;  // the crowd's people, -1 for other elements
+  std::vector<int> person_of_element_;   // the crowd's people, -1 for other elements
+  std::vector<std::string> person_ids_;  // by person
   std::vector<BodyMetrics> body_tally_;
   std::unique_ptr<CollisionClassifier> collision_classes_;
   std::vector<bool> visitor_body_;                // random walkers: the crowd's stand-ins
@@ -287,6 +286,7 @@ void ScenarioRun::BuildCollisionClasses() {
     for (int i = 0; i < crowd->size(); ++i) {
       visitor_element[world_->person_element(i)] = true;
       person_of_element_[world_->person_element(i)] = i;
+      person_ids_.push_back(elements[world_->person_element(i)].id);
     }
   }
   std::set<double> heights;
@@ -307,7 +307,6 @@ void ScenarioRun::Run() {
                             {"bodies", world_->body_count()},
                             {"robots", static_cast<int>(robots_.size())}});
   RecordTrajectories(0.0);
-  if (world_->crowd() && scenario_.outputs.people_rate_hz > 0.0) RecordPeople(0.0);
   const double dt = world_->step_s();
   const auto total_ticks = static_cast<std::int64_t>(std::llround(scenario_.duration_s / dt));
   sim::PeriodicSchedule schedule(scenario_.physics.physics_rate_hz);
@@ -316,6 +315,7 @@ void ScenarioRun::Run() {
   const bool people_rows = world_->crowd() && scenario_.outputs.people_rate_hz > 0.0;
   const int people_task =
       people_rows ? schedule.Add("outputs.people_rate_hz", scenario_.outputs.people_rate_hz) : -1;
+  if (people_rows) trajectories_->AddPeople(0.0, snapshot_.people, person_ids_);
   ProgressLine progress(options_.progress, scenario_.duration_s);
   const auto t_loop = Clock::now();
   const double cpu_start_s = ProcessCpuSeconds();
@@ -343,7 +343,9 @@ void ScenarioRun::Run() {
       crowd_strip_->Capture(*world_, CrowdStripCentre(*world_), t_after);
     }
     if (schedule.IsDue(trajectory_task, tick + 1)) RecordTrajectories(t_after);
-    if (people_rows && schedule.IsDue(people_task, tick + 1)) RecordPeople(t_after);
+    if (people_rows && schedule.IsDue(people_task, tick + 1)) {
+      trajectories_->AddPeople(t_after, snapshot_.people, person_ids_);
+    }
     if ((tick & 255) == 0) progress.Update(t_after, Seconds(Clock::now() - t_loop));
     ticks_run_ = tick + 1;
     if (scenario_.end_when_routes_done && RoutesDone()) break;
@@ -357,8 +359,15 @@ void ScenarioRun::ApplyEvents(double t) {
   // Scripted events due by this tick happen before it is stepped; processes
   // started before (random kidnaps by distance) act first, on the last step.
   kidnaps_.clear();
-  const EventContext context{world_.get(),         &robot_index_,  &body_index_, &snapshot_,
-                             event_streams_.get(), &robot_step_m_, &kidnaps_};
+  EventContext context{world_.get(),         &robot_index_,  &body_index_, &snapshot_,
+                       event_streams_.get(), &robot_step_m_, &kidnaps_,    {}};
+  context.set_laser_fault = [this](const std::string& robot, const std::string& sensor,
+                                   const sim::LaserFault& fault) {
+    for (RobotRun& r : robots_) {
+      if (r.entry->id == robot) return r.robot->SetLaserFault(sensor, fault);
+    }
+    return false;
+  };
   for (const ScenarioEvent* e : ongoing_events_) EmitScripted(t, *e, e->Continue(context));
   while (next_event_ < scenario_.events.size() &&
          scenario_.events[next_event_].at_s <= t + kDueToleranceS) {
@@ -673,16 +682,6 @@ void ScenarioRun::RecordTrajectories(double t) {
     if (estimator) r.tracks.estimate.push_back(estimator->estimate().pose.translation());
     r.tracks.truth.push_back(p.translation());
     r.tracks.odometry.push_back(o.translation());
-  }
-}
-
-void ScenarioRun::RecordPeople(double t) {
-  const auto& elements = world_->elements();
-  for (std::size_t i = 0; i < snapshot_.people.size(); ++i) {
-    const sim::crowd::PersonState& p = snapshot_.people[i];
-    if (!p.present) continue;
-    trajectories_->AddBody(t, elements[world_->person_element(static_cast<int>(i))].id,
-                           core::Pose2{p.position_m.x(), p.position_m.y(), p.heading_rad});
   }
 }
 

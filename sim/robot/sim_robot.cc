@@ -44,6 +44,7 @@ SimRobot::SimRobot(World* world, RobotConfig config, RobotPlacement placement, s
         std::make_unique<LaserSensor>(mount.id, mount.options, mount.robot_from_sensor, mount.z_m,
                                       StreamFor(seed, id, "laser/" + mount.id), physics_hz);
     lasers_.push_back(std::cref(laser->scanner()));
+    mutable_lasers_.push_back(&laser->mutable_scanner());
     AddSensor(std::move(laser));
   }
   index_ = world->AddRobot(model, config_.systematic, placement_);
@@ -62,6 +63,16 @@ void SimRobot::AddSensor(std::unique_ptr<Sensor> sensor) {
 
 void SimRobot::SetWheelSpeeds(double left_radps, double right_radps) {
   world_->SetWheelSpeeds(index_, left_radps, right_radps);
+}
+
+bool SimRobot::SetLaserFault(const std::string& laser_id, const LaserFault& fault) {
+  bool any = false;
+  for (LaserScanner* laser : mutable_lasers_) {
+    if (!laser_id.empty() && laser->id() != laser_id) continue;
+    laser->SetFault(fault);
+    any = true;
+  }
+  return any;
 }
 
 void SimRobot::UsePlanarCaster(PlanarCaster* caster) {

@@ -39,6 +39,10 @@ class SimRobot {
   // The laser scanners of the robot file, in its order.
   const std::vector<std::reference_wrapper<const LaserScanner>>& lasers() const { return lasers_; }
 
+  // Faults the laser named `laser_id` (every laser when empty) from now on
+  // (LaserFault). Returns false when the robot has no such laser.
+  bool SetLaserFault(const std::string& laser_id, const LaserFault& fault);
+
   // Adds a sensor, sampled after those added before it (the robot's encoders,
   // bumpers and lasers come first, in that order). Throws std::invalid_argument
   // for an id already used on this robot or a rate that does not divide the
@@ -77,6 +81,7 @@ class SimRobot {
   PeriodicSchedule schedule_;  // task i samples sensors_[i]
   std::vector<std::unique_ptr<Sensor>> sensors_;
   std::vector<std::reference_wrapper<const LaserScanner>> lasers_;
+  std::vector<LaserScanner*> mutable_lasers_;  // the same, for faults
   PlanarCaster* planar_ = nullptr;
 };
 

@@ -259,6 +259,7 @@ void LaserScanner::Cast(const LaserHitFinder& finder, double t0_s,
   }
   if (SweepComplete()) {
     scan_ = Finalize(sweep_);
+    ApplyFault(&scan_);
     truth_ = std::move(sweep_.truth);
     sweep_.geometry.clear();
   }
@@ -278,6 +279,49 @@ core::LaserScan LaserScanner::ScanFrom(const LaserHitFinder& finder,
   core::LaserScan scan = Finalize(sweep);
   if (truth != nullptr) *truth = std::move(sweep.truth);
   return scan;
+}
+
+void LaserScanner::SetFault(const LaserFault& fault) {
+  fault_ = fault;
+  fault_random_.reset();
+  if (fault.mode == LaserFault::Mode::kNoise) fault_random_.emplace(fault.seed, 0);
+}
+
+void LaserScanner::ApplyFault(core::LaserScan* scan) {
+  const bool active = fault_.mode != LaserFault::Mode::kNone && scan->stamp_s >= fault_.from_s &&
+                      scan->stamp_s < fault_.until_s;
+  if (!active) {
+    last_good_ = *scan;
+    return;
+  }
+  switch (fault_.mode) {
+    case LaserFault::Mode::kBlackout:
+      for (core::LaserReading& r : scan->readings) {
+        r.range_m = scan->max_range_m;
+        r.valid = false;
+        r.reflector = false;
+      }
+      break;
+    case LaserFault::Mode::kNoise:
+      for (core::LaserReading& r : scan->readings) {
+        if (!r.valid) continue;
+        r.range_m = std::clamp(r.range_m + fault_random_->Normal(0.0, fault_.extra_sigma_m), 0.0,
+                               scan->max_range_m);
+      }
+      break;
+    case LaserFault::Mode::kStuck:
+      if (last_good_.readings.size() == scan->readings.size()) {
+        for (std::size_t i = 0; i < scan->readings.size(); ++i) {
+          core::LaserReading& r = scan->readings[i];
+          r.range_m = last_good_.readings[i].range_m;
+          r.valid = last_good_.readings[i].valid;
+          r.reflector = last_good_.readings[i].reflector;
+        }
+      }
+      break;
+    case LaserFault::Mode::kNone:
+      break;
+  }
 }
 
 LaserScanner::Sweep LaserScanner::NewSweep(double start_s) const {

@@ -3,6 +3,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -98,6 +99,18 @@ double RelativeAmplitude(double reflectivity, double range_m, double cos_inciden
 // the ends of a turn always check their outer side; when the footprint is wider
 // than the spacing of a turn, every reading checks both sides. (A gap narrower
 // than that spacing, with one surface on both sides, can go unnoticed.)
+// A fault of a laser for a while (a scenario's sensor_fault event): a
+// blackout (every reading a dropout), extra range noise, or readings stuck at
+// the last scan before the fault.
+struct LaserFault {
+  enum class Mode { kNone, kBlackout, kNoise, kStuck };
+  Mode mode = Mode::kNone;
+  double from_s = 0.0;         // scans stamped from then ...
+  double until_s = 0.0;        // ... until before then are faulty
+  double extra_sigma_m = 0.0;  // kNoise: standard deviation added to valid ranges, m
+  std::uint64_t seed = 0;      // kNoise: seeds the fault's own stream (the sensor's draws stay)
+};
+
 class LaserScanner {
  public:
   // `stream` draws every random number of this sensor. Throws
@@ -142,6 +155,8 @@ class LaserScanner {
                            int ignore_group, core::LaserScanTruth* truth);
 
   double mount_height_m() const { return mount_height_m_; }
+  // Faults the scans that finish from now until fault.until_s.
+  void SetFault(const LaserFault& fault);
   const core::Pose2& robot_from_sensor() const { return robot_from_sensor_; }
 
  private:
@@ -184,6 +199,8 @@ class LaserScanner {
                  Sweep* sweep) const;
   double Amplitude(const RaySample& sample) const;
   core::LaserScan Finalize(const Sweep& sweep);
+  // The fault, if one is active at the scan's time (after Finalize).
+  void ApplyFault(core::LaserScan* scan);
 
   std::string id_;
   LaserScannerOptions options_;
@@ -199,6 +216,9 @@ class LaserScanner {
   Sweep sweep_;
   core::LaserScan scan_;
   core::LaserScanTruth truth_;
+  LaserFault fault_;
+  std::optional<core::RandomStream> fault_random_;
+  core::LaserScan last_good_;           // the last scan before a kStuck fault
   mutable std::int64_t rays_cast_ = 0;  // counted in CastBeam (const: a geometric query)
 };
 

@@ -28,6 +28,7 @@ class LaserSensor final : public Sensor {
   void Sample(const SensorTick& tick, SensorOutputs* out) override;
 
   const LaserScanner& scanner() const { return laser_; }
+  LaserScanner& mutable_scanner() { return laser_; }
 
  private:
   std::string id_;
