@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <numbers>
+#include <span>
 #include <stdexcept>
 #include <string>
 
@@ -106,9 +108,10 @@ struct Crowd::Impl {
   std::vector<Eigen::Vector2d> watch_spots;
   std::vector<double> attraction_cdf;  // cumulative weights
   std::vector<Visitor> visitors;
-  std::vector<CrowdRobot> robots;
-  std::vector<RobotObstacle> obstacles;  // the robots in the world frame
-  std::vector<double> robot_reach_m;     // footprint circumradius about the base origin
+  std::span<const CrowdRobot> robots;                      // the caller's, during a step
+  std::map<int, std::pair<Eigen::Vector2d, int>> parties;  // SumParties
+  std::vector<RobotObstacle> obstacles;                    // the robots in the world frame
+  std::vector<double> robot_reach_m;  // footprint circumradius about the base origin
   double next_arrival_s = 0.0;
   int waiting_party = 0;  // size of a party that found no room yet
   double since_decision_s = 1e300;
@@ -379,22 +382,26 @@ struct Crowd::Impl {
     return best;
   }
 
-  // The party's centre and size as the member sees them.
-  Eigen::Vector2d PartyPull(int i) const {
-    const Visitor& v = visitors[i];
-    if (people[i].group < 0) return Eigen::Vector2d::Zero();
-    Eigen::Vector2d sum = Eigen::Vector2d::Zero();
-    int n = 0;
-    for (std::size_t j = 0; j < people.size(); ++j) {
-      if (people[j].present && people[j].group == people[i].group) {
-        sum += people[j].position_m;
-        ++n;
-      }
+  // Each present party's member positions summed and counted, by group id:
+  // once per decision, for PartyPull.
+  void SumParties() {
+    parties.clear();
+    for (const PersonState& p : people) {
+      if (!p.present || p.group < 0) continue;
+      // (An Eigen vector is not zeroed by default construction.)
+      auto [it, fresh] = parties.try_emplace(p.group, Eigen::Vector2d::Zero(), 0);
+      it->second.first += p.position_m;
+      ++it->second.second;
     }
-    if (n < 2) return Eigen::Vector2d::Zero();
+  }
+
+  // Drawn back towards the party's centre when farther than its size allows.
+  Eigen::Vector2d PartyPull(int i) const {
+    const auto it = parties.find(people[i].group);
+    if (it == parties.end() || it->second.second < 2) return Eigen::Vector2d::Zero();
+    const auto& [sum, n] = it->second;
     const Eigen::Vector2d to_centre = sum / n - people[i].position_m;
     const double slack = to_centre.norm() - (kGroupBaseRadiusM + kGroupPerMemberM * n);
-    (void)v;
     return slack > 0.0 ? Eigen::Vector2d(kGroupPull * slack * to_centre.normalized())
                        : Eigen::Vector2d::Zero();
   }
@@ -505,6 +512,7 @@ struct Crowd::Impl {
 
   // Decides every present visitor's desired velocity for the coming period.
   void Decide(double now) {
+    SumParties();
     for (std::size_t k = 0; k < people.size(); ++k) {
       const int i = static_cast<int>(k);
       if (!people[i].present) continue;

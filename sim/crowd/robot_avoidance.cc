@@ -21,7 +21,7 @@ constexpr double kSlowestMps = 0.3;
 
 Eigen::Vector2d SteerAroundRobots(const Eigen::Vector2d& position_m, double radius_m,
                                   double speed_mps, const Eigen::Vector2d& direction,
-                                  double goal_distance_m, const std::vector<CrowdRobot>& robots,
+                                  double goal_distance_m, std::span<const CrowdRobot> robots,
                                   const std::vector<double>& robot_reach_m, int ignore) {
   double turn = 0.0;
   for (std::size_t r = 0; r < robots.size(); ++r) {

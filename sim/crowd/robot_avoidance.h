@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <span>
 #include <vector>
 
 #include "sim/crowd/crowd.h"
@@ -18,7 +19,7 @@ namespace pavilion::sim::crowd {
 // meets head-on but hardly turns it; this is the walker's anticipation.
 Eigen::Vector2d SteerAroundRobots(const Eigen::Vector2d& position_m, double radius_m,
                                   double speed_mps, const Eigen::Vector2d& direction,
-                                  double goal_distance_m, const std::vector<CrowdRobot>& robots,
+                                  double goal_distance_m, std::span<const CrowdRobot> robots,
                                   const std::vector<double>& robot_reach_m, int ignore);
 
 }  // namespace pavilion::sim::crowd

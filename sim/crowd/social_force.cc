@@ -114,7 +114,18 @@ void SocialForceModel::SetPeriodicX(double min_x_m, double length_m) {
   Invalidate();
 }
 
-void SocialForceModel::SetRobots(std::vector<RobotObstacle> robots) { robots_ = std::move(robots); }
+void SocialForceModel::SetRobots(std::vector<RobotObstacle> robots) {
+  robots_ = std::move(robots);
+  // The fastest a point of each hull moves: its translation plus the turn of
+  // its farthest point from the reference.
+  robot_sweep_mps_.clear();
+  for (const RobotObstacle& robot : robots_) {
+    double reach = 0.0;
+    for (const Eigen::Vector2d& v : robot.hull_m)
+      reach = std::max(reach, (v - robot.center_m).norm());
+    robot_sweep_mps_.push_back(robot.velocity_mps.norm() + std::abs(robot.yaw_rate_radps) * reach);
+  }
+}
 
 void SocialForceModel::BuildWallGrid() {
   Eigen::Vector2d lo(std::numeric_limits<double>::infinity(),
@@ -325,11 +336,7 @@ Eigen::Vector2d SocialForceModel::RobotForce(int i, double skin, double period) 
     Eigen::Vector2d normal, closest;
     const double d = SignedDistanceToConvex(robot.hull_m, a.position_m, &normal, &closest);
     const double gap = d - a.radius_m;
-    // The hull's farthest point from the reference sweeps at most this fast.
-    double reach = 0.0;
-    for (const Eigen::Vector2d& v : robot.hull_m)
-      reach = std::max(reach, (v - robot.center_m).norm());
-    const double robot_speed = robot.velocity_mps.norm() + std::abs(robot.yaw_rate_radps) * reach;
+    const double robot_speed = robot_sweep_mps_[r];
     if (gap < skin + 2.0 * robot_speed * period) near_robots_.emplace_back(static_cast<int>(r), i);
     if (gap <= o.social_cutoff_m + o.robot_range_m * 4 &&
         a.approached_robot != static_cast<int>(r)) {

@@ -187,6 +187,7 @@ class SocialForceModel {
   std::vector<WallSegment> segments_;
   std::vector<WallCircle> circles_;
   std::vector<RobotObstacle> robots_;
+  std::vector<double> robot_sweep_mps_;  // by robot: the fastest a point of its hull moves
   // Walls binned into square cells, each listing the walls within reach of a
   // person standing in it (sorted: segments by group, then circles).
   Eigen::Vector2d wall_grid_min_m_{0, 0};

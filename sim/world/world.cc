@@ -397,7 +397,8 @@ void World::StepCrowd(double dt) {
     robot.pose = state.pose;
     robot.velocity_mps = state.velocity_mps;
     robot.yaw_rate_radps = state.yaw_rate_radps;
-    robot.footprint_in_robot_m = im.robots[r].model().footprint_m;
+    if (robot.footprint_in_robot_m.empty())
+      robot.footprint_in_robot_m = im.robots[r].model().footprint_m;
   }
   im.crowd_result.contacts.clear();
   im.crowd_result.pushes.clear();

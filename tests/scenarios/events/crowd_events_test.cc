@@ -10,15 +10,14 @@
 #include <string>
 #include <vector>
 
-#include "scenarios/config/input_error.h"
 #include "scenarios/config/scenario.h"
 #include "scenarios/run/scenario_runner.h"
+#include "tests/support/load_errors.h"
 #include "tests/support/test_files.h"
 
 namespace pavilion::scenarios {
 namespace {
 
-using pavilion::testing::Contains;
 using pavilion::testing::LineOf;
 using pavilion::testing::TestDir;
 using pavilion::testing::WriteFile;
@@ -63,19 +62,8 @@ std::string Write(const std::string& scenario) {
 void ExpectOneError(const std::string& crowd, const std::string& events, const std::string& marker,
                     const std::string& key_path, const std::string& says) {
   const std::string text = ScenarioWith(crowd, events);
-  const std::string path = Write(text);
-  try {
-    LoadScenarioFile(path);
-    ADD_FAILURE() << "loaded " << text;
-  } catch (const InputError& e) {
-    ASSERT_EQ(e.diagnostics().size(), 1u) << e.what();
-    const Diagnostic& d = e.diagnostics()[0];
-    EXPECT_EQ(d.file, path);
-    EXPECT_EQ(d.line, LineOf(text, marker));
-    EXPECT_EQ(d.key_path, key_path);
-    EXPECT_TRUE(Contains(d.message, says)) << d.ToString();
-    EXPECT_EQ(d.ToString().find('\n'), std::string::npos);
-  }
+  const Diagnostic d = pavilion::testing::ExpectOneLoadError(Write(text), key_path, says);
+  EXPECT_EQ(d.line, LineOf(text, marker));
 }
 
 // Confirms the load-time checks: a crowd is needed, the pool bounds the

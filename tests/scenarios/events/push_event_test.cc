@@ -9,16 +9,14 @@
 #include <string>
 #include <vector>
 
-#include "scenarios/config/input_error.h"
 #include "scenarios/config/scenario.h"
 #include "scenarios/run/scenario_runner.h"
-#include "tests/support/csv_column.h"
+#include "tests/support/load_errors.h"
 #include "tests/support/test_files.h"
 
 namespace pavilion::scenarios {
 namespace {
 
-using pavilion::testing::Contains;
 using pavilion::testing::TestDir;
 using pavilion::testing::WriteFile;
 
@@ -98,14 +96,7 @@ TEST(PushEventTest, PullWithTheMotorsEngagedIsHeld) {
 TEST(PushEventTest, BadInputIsAnErrorAtItsKey) {
   const auto expect_error = [](const std::string& events, const std::string& key_path,
                                const std::string& says) {
-    try {
-      LoadScenarioFile(Write(events));
-      ADD_FAILURE() << events;
-    } catch (const InputError& e) {
-      ASSERT_EQ(e.diagnostics().size(), 1u) << e.what();
-      EXPECT_EQ(e.diagnostics()[0].key_path, key_path);
-      EXPECT_TRUE(Contains(e.diagnostics()[0].message, says)) << e.what();
-    }
+    pavilion::testing::ExpectOneLoadError(Write(events), key_path, says);
   };
   expect_error("  - {at_s: 1, type: push, body: box, impulse: [5, 0], motors: disengaged}\n",
                "events[0].motors", "'box' is not a robot");

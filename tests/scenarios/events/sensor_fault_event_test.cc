@@ -9,16 +9,15 @@
 #include <string>
 #include <vector>
 
-#include "scenarios/config/input_error.h"
 #include "scenarios/config/scenario.h"
 #include "scenarios/output/scan_log.h"
 #include "scenarios/run/scenario_runner.h"
+#include "tests/support/load_errors.h"
 #include "tests/support/test_files.h"
 
 namespace pavilion::scenarios {
 namespace {
 
-using pavilion::testing::Contains;
 using pavilion::testing::TestDir;
 using pavilion::testing::WriteFile;
 
@@ -134,14 +133,7 @@ TEST(SensorFaultEventTest, StuckReadingsRepeat) {
 TEST(SensorFaultEventTest, BadInputIsAnErrorAtItsKey) {
   const auto expect_error = [](const std::string& events, const std::string& key_path,
                                const std::string& says) {
-    try {
-      LoadScenarioFile(Write(events));
-      ADD_FAILURE() << events;
-    } catch (const InputError& e) {
-      ASSERT_EQ(e.diagnostics().size(), 1u) << e.what();
-      EXPECT_EQ(e.diagnostics()[0].key_path, key_path);
-      EXPECT_TRUE(Contains(e.diagnostics()[0].message, says)) << e.what();
-    }
+    pavilion::testing::ExpectOneLoadError(Write(events), key_path, says);
   };
   expect_error("  - {at_s: 1, type: sensor_fault, robot: r9, mode: blackout}\n", "events[0].robot",
                "no robot 'r9'");
