@@ -9,10 +9,14 @@ JOBS       ?= $(shell nproc)
 SCENARIO   ?= scenarios/expo_visitors.yaml
 DEMO_OUT   ?= out/demo
 
-.PHONY: deps configure build demo test acceptance format format-check asan-test bench clean
+.PHONY: deps deps-test configure build demo test acceptance format format-check asan-test bench clean
 
 deps:
 	bash scripts/install-deps.sh
+
+# The tests also need headless Chromium (the report's browser test).
+deps-test:
+	bash scripts/install-deps.sh --test
 
 configure: deps
 	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release
@@ -23,7 +27,7 @@ build: configure
 demo: build
 	./$(BUILD)/pavilion run $(SCENARIO) --out $(DEMO_OUT)
 
-test: build
+test: deps-test build
 	ctest --test-dir $(BUILD) --output-on-failure -j $(JOBS) -LE acceptance
 
 # The long acceptance runs (full-length scenarios, many seeds): not in CI;

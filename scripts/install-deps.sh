@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs Pavilion's build and test dependencies from Debian 12 packages.
 # Used by the README's quick start (make demo / make test) and by .ci/run.
-# Skips the apt run entirely when every package is already installed.
+# `--test` adds what only the tests need (headless Chromium for the report's
+# browser test). Skips the apt run entirely when every package is already installed.
 set -euo pipefail
 
 PACKAGES=(
@@ -12,7 +13,11 @@ PACKAGES=(
   liburdfdom-dev libassimp-dev
   libyaml-cpp-dev nlohmann-json3-dev libcli11-dev libspdlog-dev libfmt-dev libpng-dev zlib1g-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  libjs-chart.js
 )
+if [ "${1:-}" = "--test" ]; then
+  PACKAGES+=(chromium)
+fi
 
 missing=()
 for p in "${PACKAGES[@]}"; do

@@ -14,7 +14,10 @@
 #include "scenarios/cli/calibrate_command.h"
 #include "scenarios/cli/extract_command.h"
 #include "scenarios/cli/map_command.h"
+#include "scenarios/cli/run_command.h"
 #include "scenarios/cli/scan_command.h"
+#include "scenarios/cli/sweep_command.h"
+#include "scenarios/cli/test_command.h"
 #include "scenarios/config/data_paths.h"
 #include "scenarios/config/input_error.h"
 #include "scenarios/config/scenario.h"
@@ -38,38 +41,6 @@ bool ProgressWanted() { return ::isatty(STDERR_FILENO) == 1 && std::getenv("CI")
 int Fail(const std::string& message) {
   std::fprintf(stderr, "pavilion: error: %s\n", message.c_str());
   return kExitBadInput;
-}
-
-struct RunArgs {
-  std::string scenario;
-  std::string out;
-  std::int64_t seed = -1;
-  double duration_s = -1.0;
-  std::vector<std::string> set;
-  int threads = 0;
-};
-
-int Run(const RunArgs& a) {
-  scenarios::ScenarioOverrides overrides;
-  if (a.seed >= 0) overrides.seed = static_cast<std::uint64_t>(a.seed);
-  if (a.duration_s > 0) overrides.duration_s = a.duration_s;
-  overrides.assignments = a.set;
-  const scenarios::Scenario scenario = scenarios::LoadScenarioFile(a.scenario, overrides);
-  spdlog::info("running '{}' in world '{}' for {} s, seed {}", scenario.name, scenario.world.name,
-               scenario.duration_s, scenario.seed);
-  scenarios::RunOptions options;
-  options.out_dir = a.out;
-  options.progress = ProgressWanted();
-  options.threads = a.threads;
-  const scenarios::RunSummary s = scenarios::RunScenario(scenario, options);
-  spdlog::info("simulated {:.1f} s in {:.2f} s wall ({:.1f}x real time), {} events",
-               s.sim_duration_s, s.wall_time_s, s.real_time_factor, s.events);
-  if (scenario.laser_backend == scenarios::LaserBackend::kPlanar && !scenario.robots.empty()) {
-    spdlog::info("laser: planar casting, {} scans fell back to Bullet", s.laser_fallback_scans);
-  }
-  std::printf("report: %s\n",
-              (std::filesystem::path(a.out) / "report.html").lexically_normal().c_str());
-  return 0;
 }
 
 int Validate(const std::vector<std::string>& files) {
@@ -130,26 +101,6 @@ int WorldInfo(const WorldArgs& a) {
   return 0;
 }
 
-CLI::App* AddRunCommand(CLI::App* app, RunArgs* args) {
-  auto* run = app->add_subcommand("run", "Run a scenario headless and write its outputs");
-  run->add_option("scenario", args->scenario, "Scenario file (YAML)")->required();
-  run->add_option("--out", args->out, "Output folder (created if missing)")->required();
-  run->add_option("--seed", args->seed, "Seed, replaces the scenario's")
-      ->check(CLI::NonNegativeNumber);
-  run->add_option("--duration", args->duration_s, "Simulated seconds, replaces the scenario's")
-      ->check(CLI::PositiveNumber);
-  run->add_option("--set", args->set, "Override a scenario key: key.path=value (repeatable)");
-  run->add_option("--threads", args->threads,
-                  "Threads for the robots' sensors and localization (0: all cores); the outputs "
-                  "are the same for any count")
-      ->check(CLI::Range(0, 256))
-      ->capture_default_str();
-  run->footer(
-      "Example:\n  pavilion run scenarios/expo_visitors.yaml --out out/demo --seed 3 "
-      "--duration 20 --set physics.rate_hz=100");
-  return run;
-}
-
 CLI::App* AddValidateCommand(CLI::App* app, std::vector<std::string>* files) {
   auto* validate = app->add_subcommand(
       "validate", "Check world, robot, scenario and map files, print every error");
@@ -201,8 +152,10 @@ int FailOnInput(const scenarios::InputError& e) {
 
 // Every subcommand with its arguments.
 struct Commands {
-  RunArgs run_args;
+  cli::RunArgs run_args;
   CLI::App* run = nullptr;
+  scenarios::TestSuiteOptions test_args;
+  CLI::App* test = nullptr;
   std::vector<std::string> validate_files;
   CLI::App* validate = nullptr;
   CLI::App* version = nullptr;
@@ -218,10 +171,13 @@ struct Commands {
   CLI::App* calibrate = nullptr;
   cli::BenchArgs bench_args;
   CLI::App* bench_hall = nullptr;
+  cli::SweepArgs sweep_args;
+  CLI::App* sweep = nullptr;
 };
 
 void AddCommands(CLI::App* app, Commands* c) {
-  c->run = AddRunCommand(app, &c->run_args);
+  c->run = cli::AddRunCommand(app, &c->run_args);
+  c->test = cli::AddTestCommand(app, &c->test_args);
   c->validate = AddValidateCommand(app, &c->validate_files);
   c->version = app->add_subcommand("version", "Print the version");
   c->version->footer("Example:\n  pavilion version");
@@ -237,11 +193,18 @@ void AddCommands(CLI::App* app, Commands* c) {
   // --- bench: the hall benchmark (scenarios/cli/bench_command.cc) ---
   c->bench_hall = cli::AddBenchCommand(app, &c->bench_args);
   // --- end bench ---
+  // --- sweep: seeds x parameter grid (scenarios/cli/sweep_command.cc) ---
+  c->sweep = cli::AddSweepCommand(app, &c->sweep_args);
+  // --- end sweep ---
 }
 
 // Runs the parsed subcommand; its exit code.
 int Dispatch(Commands& c) {
-  if (*c.run) return Run(c.run_args);
+  if (*c.run) {
+    c.run_args.progress = ProgressWanted();
+    return cli::RunRunCommand(c.run_args);
+  }
+  if (*c.test) return cli::RunTestCommand(c.test_args);
   if (*c.validate) return Validate(c.validate_files);
   if (*c.version) {
     std::printf("pavilion %s\n", pavilion::kVersion);
@@ -257,6 +220,7 @@ int Dispatch(Commands& c) {
     c.bench_args.progress = ProgressWanted();
     return cli::RunBenchCommand(c.bench_args);
   }
+  if (*c.sweep) return cli::RunSweepCommand(c.sweep_args);  // sweep
   return kExitBadUsage;
 }
 
@@ -276,7 +240,8 @@ int main(int argc, char** argv) {
       "  pavilion world render expo_hall --png hall.png\n"
       "  pavilion map derive expo_hall --out map.yaml\n"
       "  pavilion scan expo_hall robox --pose 15,3,1.57 --out scan.csv --png scan.png\n"
-      "  pavilion bench hall --robots 10 --runs 3");
+      "  pavilion bench hall --robots 10 --runs 3\n"
+      "  pavilion sweep scenarios/office_tour.yaml --seeds 1-10 --jobs 2 --out out/sweep");
   std::string log_level = "info";
   app.add_option("--log-level", log_level, "trace, debug, info, warn, error or off")
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}))

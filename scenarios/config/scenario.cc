@@ -47,6 +47,10 @@ void RouteEntry::Validate() const {
 void OutputOptions::Validate() const {
   Require(InRange(trajectory_rate_hz, 1e-3, kMaxTrajectoryRateHz), "OutputOptions",
           "trajectory_rate_hz", "in [1e-3, 1e4] Hz");
+  Require(InRange(body_rate_hz, 1e-3, kMaxTrajectoryRateHz), "OutputOptions", "body_rate_hz",
+          "in [1e-3, 1e4] Hz");
+  Require(InRange(scan_log_robot_minutes, 0.0, 1e6), "OutputOptions", "scan_log_robot_minutes",
+          "in [0, 1e6] robot-min");
   Require(InRange(section_height_m, 0.0, kMaxSectionHeightM), "OutputOptions", "section_height_m",
           "in [0, 100] m");
   Require(image_width_px >= kMinImageWidthPx && image_width_px <= kMaxImageWidthPx, "OutputOptions",

@@ -10,6 +10,7 @@
 #include "nav/control/wander_controller.h"
 #include "nav/mission/navigation_controller.h"
 #include "scenarios/events/event.h"
+#include "scenarios/expect/expectation.h"
 #include "sim/bodies/body_motion.h"
 #include "sim/raycast/planar_caster.h"
 #include "sim/robot/robot_config.h"
@@ -121,14 +122,27 @@ struct RobotEntry {
   std::optional<WanderEntry> wander;
 };
 
+// scans.bin: off, every scan, or (auto, the default) every scan until the run
+// has logged `scan_log_robot_minutes` robot-minutes, then no more (an event
+// `scan_log_stopped` says so): about 18 MB per robot-minute, so a 12 h
+// ten-robot day would otherwise write 130 GB.
+enum class ScanLogMode { kOff, kOn, kAuto };
+
+// The defaults keep a 12 h ten-robot day among ~100 visitors under 1 GB of
+// outputs (docs/benchmarks.md, "Outputs that scale"); scenarios that want
+// finer rows ask for them.
 struct OutputOptions {
-  double trajectory_rate_hz = 10.0;  // rows of trajectories.csv per body per s, Hz, [1e-3, 1e4]
-  double section_height_m = 0.5;     // height of the top-down picture's cut, m, [0, 100]
-  int image_width_px = 900;          // top-down picture width, px, [100, 8000]
-  bool scan_log = true;              // write scans.bin (every robot's scans with ground truth)
+  double trajectory_rate_hz = 2.0;  // rows of trajectories.csv per robot per s, Hz, [1e-3, 1e4]
+  // Rows per scripted or walking body per s, Hz, [1e-3, 1e4]; a scenario
+  // that does not set it gets its trajectory_rate_hz.
+  double body_rate_hz = 2.0;
+  double section_height_m = 0.5;              // height of the top-down picture's cut, m, [0, 100]
+  int image_width_px = 900;                   // top-down picture width, px, [100, 8000]
+  ScanLogMode scan_log = ScanLogMode::kAuto;  // scans.bin (the robots' scans with ground truth)
+  double scan_log_robot_minutes = 10.0;       // auto's budget, robot-min, [0, 1e6]
   // Rows of trajectories.csv per present crowd visitor per s (people are many:
   // a lower rate than the robots'), Hz, [0, 1e4]; 0 leaves people out.
-  double people_rate_hz = 2.0;
+  double people_rate_hz = 1.0;
 
   void Validate() const;  // throws std::invalid_argument naming the field
 };
@@ -160,6 +174,11 @@ struct Scenario {
   // places resolved (entrance, exit, roam area, attractions).
   std::optional<sim::CrowdSpec> crowd;
   std::vector<TimedEvent> events;  // sorted by time, stable
+  // `expect:`: what the run must show to pass (scenarios/expect/expectation.h).
+  std::vector<Expectation> expectations;
+  // What loading changed that a user should hear of (events skipped by a
+  // shorter --duration), one line each; the command line prints them.
+  std::vector<std::string> notes;
   OutputOptions outputs;
 };
 

@@ -15,6 +15,9 @@
 #include "scenarios/config/world_loader.h"
 #include "scenarios/config/yaml_reader.h"
 #include "scenarios/events/event_registry.h"
+#include "scenarios/events/event_types.h"
+#include "scenarios/events/random_events.h"
+#include "scenarios/expect/expect_reader.h"
 #include "scenarios/maps/map_derivation.h"
 
 namespace pavilion::scenarios {
@@ -532,7 +535,8 @@ EventTargets ReadEventTargets(const Scenario& s) {
 
 // Each entry at at_s and, with every_s, again at at_s + k every_s while the
 // run lasts. `file_duration_s`: the file's duration_s (before --duration),
-// which no event may be due after.
+// which no event may be due after. An entry with `random:` expands into timed
+// events of its type (random_events.h).
 void ReadEvents(YamlDocument* doc, MapReader& top, double file_duration_s, Scenario* s) {
   YAML::Node list = top.Child("events");
   if (!list.IsDefined() || list.IsNull()) return;
@@ -545,6 +549,10 @@ void ReadEvents(YamlDocument* doc, MapReader& top, double file_duration_s, Scena
   for (std::size_t i = 0; i < list.size(); ++i) {
     MapReader r(doc, list[i], IndexPath("events", i));
     if (!r.valid()) continue;
+    if (r.Has("random")) {
+      ExpandRandomEvent(r, i, targets, {s->seed, file_duration_s, s->duration_s}, &s->events);
+      continue;
+    }
     TimedEvent e;
     e.at_s = r.RequiredNumber("at_s", 0.0, kMaxDurationS).value_or(0.0);
     if (e.at_s > file_duration_s) {
@@ -603,7 +611,8 @@ MapReader OptionalSection(YamlDocument* doc, MapReader& top, const std::string& 
 }
 
 // physics: {rate_hz, solver_iterations, gravity_mps2, wheel_model} and
-// outputs: {trajectory_rate_hz, section_height_m, image_width_px, scan_log, people_rate_hz}.
+// outputs: {trajectory_rate_hz, body_rate_hz, section_height_m, image_width_px, scan_log,
+// scan_log_robot_minutes, people_rate_hz}.
 void ReadPhysicsAndOutputs(YamlDocument* doc, MapReader& top, Scenario* s) {
   MapReader physics = OptionalSection(doc, top, "physics");
   using Physics = sim::WorldOptions;
@@ -618,8 +627,22 @@ void ReadPhysicsAndOutputs(YamlDocument* doc, MapReader& top, Scenario* s) {
               {{"trajectory_rate_hz", &OutputOptions::trajectory_rate_hz},
                {"section_height_m", &OutputOptions::section_height_m},
                {"image_width_px", &OutputOptions::image_width_px},
-               {"scan_log", &OutputOptions::scan_log},
+               {"body_rate_hz", &OutputOptions::body_rate_hz},
+               {"scan_log_robot_minutes", &OutputOptions::scan_log_robot_minutes},
                {"people_rate_hz", &OutputOptions::people_rate_hz}});
+  // Bodies follow the robots' rate unless given their own.
+  if (!outputs.Has("body_rate_hz")) s->outputs.body_rate_hz = s->outputs.trajectory_rate_hz;
+  if (outputs.Has("scan_log")) {
+    const YAML::Node mode = outputs.Child("scan_log");
+    const std::string text = mode.IsScalar() ? mode.Scalar() : "";
+    if (text == "auto") {
+      s->outputs.scan_log = ScanLogMode::kAuto;
+    } else if (text == "true" || text == "false") {
+      s->outputs.scan_log = text == "true" ? ScanLogMode::kOn : ScanLogMode::kOff;
+    } else {
+      doc->Error(mode, "outputs.scan_log", "expected auto, true or false");
+    }
+  }
   // OutputOptions::Validate() does not bound people_rate_hz (yet): its header's range.
   if (!(s->outputs.people_rate_hz >= 0.0 && s->outputs.people_rate_hz <= kMaxPeopleRateHz)) {
     doc->Error(outputs.Child("people_rate_hz"), "outputs.people_rate_hz",
@@ -663,6 +686,25 @@ void ReadWorldAndAdditions(YamlDocument* doc, MapReader& top, const std::string&
   }
 }
 
+// Events due at or after the (overridden) duration never happen: dropped with
+// a note, as a shorter --duration asks.
+void SkipEventsPastTheEnd(Scenario* s) {
+  const auto past = [&](const TimedEvent& e) { return e.at_s >= s->duration_s; };
+  const auto skipped = std::count_if(s->events.begin(), s->events.end(), past);
+  if (skipped == 0) return;
+  std::erase_if(s->events, past);
+  s->notes.push_back(std::to_string(skipped) + " event(s) due at or after " +
+                     FormatNumber(s->duration_s) + " s skipped (the run is shorter)");
+}
+
+// The ids a metric path of `expect:` may name.
+MetricIds MetricIdsOf(const Scenario& s) {
+  MetricIds ids{{}, {}, KnownEventTypes()};
+  for (const RobotEntry& r : s.robots) ids.robots.insert(r.id);
+  for (const BodyEntry& b : s.bodies) ids.bodies.insert(b.spec.id);
+  return ids;
+}
+
 }  // namespace
 
 const char* ToString(LaserBackend backend) {
@@ -687,8 +729,10 @@ Scenario LoadScenarioFile(const std::string& path, const ScenarioOverrides& over
   ReadRobots(&doc, top, base, &s);
   ReadCrowd(&doc, top, &s);
   ReadEvents(&doc, top, file_duration_s, &s);
+  s.expectations = ReadExpectations(top, MetricIdsOf(s));
   top.Finish();
   doc.ThrowIfErrors();
+  SkipEventsPastTheEnd(&s);
   return s;
 }
 

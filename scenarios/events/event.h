@@ -17,6 +17,10 @@
 #include "sim/sensors/laser_scanner.h"
 #include "sim/world/world.h"
 
+namespace pavilion::sim {
+class SimRobot;
+}  // namespace pavilion::sim
+
 namespace pavilion::scenarios {
 
 // The fields of an events.jsonl record after its time_s and type, in order.
@@ -58,6 +62,9 @@ struct EventContext {
   // the robot or laser is unknown.
   std::function<bool(const std::string& robot, const std::string& sensor, const sim::LaserFault&)>
       set_laser_fault;
+  // The simulated robot of a world robot index (its hardware: odometry_bias
+  // changes its wheels); null or empty when the run has none.
+  std::function<sim::SimRobot*(int robot)> sim_robot;
 };
 
 class ScenarioEvent {

@@ -11,6 +11,7 @@ void EventLog::Emit(double time_s, const std::string& type, const EventFields& f
   }
   ++counts_[type];
   writer_.Append(record.dump());
+  if (listener_) listener_(time_s, type, fields.is_object() ? fields : EventFields::object());
 }
 
 }  // namespace pavilion::scenarios

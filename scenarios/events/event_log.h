@@ -5,6 +5,7 @@
 // simulation time and type first — and the count of each type for metrics.
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <string>
 
@@ -20,10 +21,14 @@ class EventLog {
   void Emit(double time_s, const std::string& type, const EventFields& fields = {});
   void Flush() { writer_.Flush(); }
   const std::map<std::string, std::int64_t>& counts() const { return counts_; }
+  // Called with every record as it is written (e.g. the expectations' monitor).
+  using Listener = std::function<void(double, const std::string&, const EventFields&)>;
+  void SetListener(Listener listener) { listener_ = std::move(listener); }
 
  private:
   LineWriter writer_;
   std::map<std::string, std::int64_t> counts_;
+  Listener listener_;
 };
 
 }  // namespace pavilion::scenarios

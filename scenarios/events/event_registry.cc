@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "scenarios/events/crowd_events.h"
+#include "scenarios/events/odometry_bias_event.h"
 #include "scenarios/events/scripted_events.h"
 #include "scenarios/events/sensor_fault_event.h"
 
@@ -24,6 +25,7 @@ EventRegistry& EventRegistry::Global() {
     RegisterScriptedEvents(r);
     RegisterCrowdEvents(r);
     RegisterSensorFaultEvent(r);
+    RegisterOdometryBiasEvent(r);
     return r;
   }();
   return *registry;

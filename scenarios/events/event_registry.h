@@ -2,7 +2,8 @@
 
 // Event types by name: the scenario loader reads each `events:` entry with the
 // reader registered for its `type`. Built in: push, teleport, door, kidnap,
-// spawn_group, sensor_fault.
+// spawn_group, sensor_fault, odometry_bias. An entry with a `random:` block
+// instead of `at_s` is expanded into timed entries first (random_events.h).
 
 #include <functional>
 #include <map>

@@ -60,47 +60,45 @@ const LocalizationCycle& LocalizationTracker::Record(const nav::EstimatorCycle& 
   in_lost_situation_ = lost_now;
   lost_reason_ = estimator.lost_reason();
   if (lost_reason_ == "none" && in_lost_situation_) lost_reason_ = "true_error";
-  cycles_.push_back(c);
-  return cycles_.back();
+  position_errors_m_.push_back(c.position_error_m);
+  heading_errors_deg_.push_back(std::abs(c.heading_error_rad) * kDeg);
+  sum_p2_ += c.position_error_m * c.position_error_m;
+  sum_h2_ += c.heading_error_rad * c.heading_error_rad;
+  position_max_m_ = std::max(position_max_m_, c.position_error_m);
+  heading_max_deg_ = std::max(heading_max_deg_, std::abs(c.heading_error_rad) * kDeg);
+  two_sigma_frontal_m_ += c.two_sigma_frontal_m;
+  two_sigma_lateral_m_ += c.two_sigma_lateral_m;
+  two_sigma_heading_deg_ += c.two_sigma_heading_rad * kDeg;
+  nees_ += c.nees;
+  below_ += c.nees <= kNees95Bound3 ? 1 : 0;
+  matched_lines_ += c.matched_lines;
+  matched_beacons_ += c.matched_beacons;
+  cycles_without_match_ += c.matched_lines + c.matched_beacons + c.matched_other == 0 ? 1 : 0;
+  plot_cycles_.Add(c);
+  return plot_cycles_.last();
 }
 
 LocalizationFigures LocalizationTracker::Figures() const {
   LocalizationFigures f;
-  f.cycles = static_cast<int>(cycles_.size());
+  f.cycles = static_cast<int>(plot_cycles_.count());
   f.lost_situations = lost_situations_;
   f.declared_lost_situations = declared_lost_situations_;
-  if (cycles_.empty()) return f;
-  std::vector<double> position, heading;
-  double sum_p2 = 0.0, sum_h2 = 0.0, nees = 0.0;
-  int below = 0;
-  for (const LocalizationCycle& c : cycles_) {
-    position.push_back(c.position_error_m);
-    heading.push_back(std::abs(c.heading_error_rad) * kDeg);
-    sum_p2 += c.position_error_m * c.position_error_m;
-    sum_h2 += c.heading_error_rad * c.heading_error_rad;
-    f.position_max_m = std::max(f.position_max_m, c.position_error_m);
-    f.heading_max_deg = std::max(f.heading_max_deg, std::abs(c.heading_error_rad) * kDeg);
-    f.two_sigma_frontal_m += c.two_sigma_frontal_m;
-    f.two_sigma_lateral_m += c.two_sigma_lateral_m;
-    f.two_sigma_heading_deg += c.two_sigma_heading_rad * kDeg;
-    nees += c.nees;
-    below += c.nees <= kNees95Bound3 ? 1 : 0;
-    f.matched_lines_per_cycle += c.matched_lines;
-    f.matched_beacons_per_cycle += c.matched_beacons;
-    f.cycles_without_match += c.matched_lines + c.matched_beacons + c.matched_other == 0 ? 1 : 0;
-  }
-  const double n = static_cast<double>(cycles_.size());
-  f.position_rmse_m = std::sqrt(sum_p2 / n);
-  f.heading_rmse_deg = std::sqrt(sum_h2 / n) * kDeg;
-  f.position_median_m = Median(position);
-  f.heading_median_deg = Median(heading);
-  f.two_sigma_frontal_m /= n;
-  f.two_sigma_lateral_m /= n;
-  f.two_sigma_heading_deg /= n;
-  f.anees = nees / n;
-  f.nees_below_95_bound_ratio = below / n;
-  f.matched_lines_per_cycle /= n;
-  f.matched_beacons_per_cycle /= n;
+  if (plot_cycles_.empty()) return f;
+  const double n = static_cast<double>(plot_cycles_.count());
+  f.position_rmse_m = std::sqrt(sum_p2_ / n);
+  f.heading_rmse_deg = std::sqrt(sum_h2_ / n) * kDeg;
+  f.position_max_m = position_max_m_;
+  f.heading_max_deg = heading_max_deg_;
+  f.position_median_m = Median(position_errors_m_);
+  f.heading_median_deg = Median(heading_errors_deg_);
+  f.two_sigma_frontal_m = two_sigma_frontal_m_ / n;
+  f.two_sigma_lateral_m = two_sigma_lateral_m_ / n;
+  f.two_sigma_heading_deg = two_sigma_heading_deg_ / n;
+  f.anees = nees_ / n;
+  f.nees_below_95_bound_ratio = below_ / n;
+  f.matched_lines_per_cycle = matched_lines_ / n;
+  f.matched_beacons_per_cycle = matched_beacons_ / n;
+  f.cycles_without_match = cycles_without_match_;
   return f;
 }
 

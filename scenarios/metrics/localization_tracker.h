@@ -12,6 +12,7 @@
 
 #include "core/types/pose2.h"
 #include "nav/stack/pose_estimator.h"
+#include "scenarios/metrics/stride_buffer.h"
 
 namespace pavilion::scenarios {
 
@@ -72,8 +73,10 @@ class LocalizationTracker {
                                   const nav::PoseEstimator& estimator, const core::Pose2& truth,
                                   double now_s);
 
-  const LocalizationCycle& last_cycle() const { return cycles_.back(); }
-  const std::vector<LocalizationCycle>& cycles() const { return cycles_; }
+  const LocalizationCycle& last_cycle() const { return plot_cycles_.last(); }
+  std::int64_t cycle_count() const { return plot_cycles_.count(); }
+  // The cycles for pictures: at most a few thousand, evenly spaced, the last included.
+  std::vector<LocalizationCycle> plot_cycles() const { return plot_cycles_.items_and_last(); }
   // A lost situation began with the last recorded cycle (for events).
   bool lost_started() const { return lost_started_; }
   // Why: the estimator's reason, or "true_error" when only the truth says so.
@@ -81,7 +84,17 @@ class LocalizationTracker {
   LocalizationFigures Figures() const;
 
  private:
-  std::vector<LocalizationCycle> cycles_;
+  // Memory per cycle: the two errors (16 bytes, for the exact medians); the
+  // rest are running sums, in cycle order as a pass over all cycles would add.
+  StrideBuffer<LocalizationCycle> plot_cycles_;
+  std::vector<double> position_errors_m_;
+  std::vector<double> heading_errors_deg_;
+  double sum_p2_ = 0.0, sum_h2_ = 0.0, nees_ = 0.0;
+  double position_max_m_ = 0.0, heading_max_deg_ = 0.0;
+  double two_sigma_frontal_m_ = 0.0, two_sigma_lateral_m_ = 0.0, two_sigma_heading_deg_ = 0.0;
+  double matched_lines_ = 0.0, matched_beacons_ = 0.0;
+  int below_ = 0;
+  int cycles_without_match_ = 0;
   bool in_lost_situation_ = false;
   bool lost_started_ = false;
   std::string lost_reason_ = "none";

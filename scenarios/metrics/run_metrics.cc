@@ -289,6 +289,7 @@ nlohmann::ordered_json MetricsToJson(const RunMetrics& m) {
   j["world"] = m.world;
   j["sim_duration_s"] = m.sim_duration_s;
   j["physics"] = {{"rate_hz", m.physics_rate_hz}, {"ticks", m.ticks}};
+  if (m.interrupted) j["interrupted"] = true;
   if (!m.bodies.empty()) {
     Json bodies;
     for (const BodyMetrics& b : m.bodies) {

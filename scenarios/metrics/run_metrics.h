@@ -73,6 +73,8 @@ struct RunMetrics {
   double sim_duration_s = 0.0;
   double physics_rate_hz = 0.0;
   std::int64_t ticks = 0;
+  // Ended early by SIGINT/SIGTERM: the figures cover sim_duration_s only.
+  bool interrupted = false;
   std::vector<BodyMetrics> bodies;   // in world order
   std::vector<RobotMetrics> robots;  // in scenario order
   std::string laser_backend;

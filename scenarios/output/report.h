@@ -2,19 +2,18 @@
 
 #include <cstdint>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "scenarios/config/scenario.h"
+#include "scenarios/expect/expectation_result.h"
 #include "scenarios/metrics/run_metrics.h"
+#include "scenarios/output/report_charts.h"
+#include "scenarios/output/report_data.h"
+#include "scenarios/output/series_decimator.h"
 
 namespace pavilion::scenarios {
-
-// A robot's picture of its localization's 2-sigma bounds over time (PNG bytes).
-struct LocalizationPlot {
-  std::string robot_id;
-  std::vector<std::uint8_t> png;
-};
 
 // A robot's location hypotheses after a kidnap, drawn from above (PNG bytes).
 struct HypothesisFigure {
@@ -37,13 +36,42 @@ struct CrowdFrame {
 // where the time is not within 0.05 s of a whole second.
 std::string CrowdFrameCaption(double time_s);
 
-// A self-contained HTML page for a run: scenario, the figures of metrics.json,
-// the top-down snapshot, the robots' localization plots and, when there are
-// any, a strip of crowd frames side by side, embedded as PNGs.
+// What report.html shows beside the scenario and its metrics.
+struct ReportContent {
+  std::vector<std::uint8_t> topdown_png;  // snapshots/topdown_final.png
+  // The world rectangle the picture shows: events with a position are marked
+  // on it (none: the picture alone).
+  std::optional<PictureExtent> topdown_extent;
+  std::vector<HypothesisFigure> hypothesis_figures;
+  std::vector<CrowdFrame> crowd_frames;
+  // Read back from the run's line files (ReadReportSeries); null: no charts
+  // of them.
+  const ReportSeries* series = nullptr;
+  const SeriesDecimator* visitors_present = nullptr;  // null: the run has no crowd
+  const ExpectationResults* expectations = nullptr;   // null: the scenario has none
+  // The run's output files that exist, relative to its folder, linked in
+  // this order.
+  std::vector<std::string> files;
+};
+
+// A self-contained HTML page for a run (docs/report.md): the expectations'
+// outcome, a run table after thesis Table 4.3, charts drawn by the inlined
+// Chart.js (localization error and 2 sigma, visitors present, missions, the
+// event timeline, events on the top-down picture), the figures of
+// metrics.json, and the crowd strip and hypothesis figures as PNGs. The same
+// inputs give the same bytes.
 std::string RenderReportHtml(const Scenario& scenario, const RunMetrics& metrics,
-                             const std::vector<std::uint8_t>& topdown_png,
-                             const std::vector<LocalizationPlot>& localization_plots = {},
-                             const std::vector<HypothesisFigure>& hypothesis_figures = {},
-                             const std::vector<CrowdFrame>& crowd_frames = {});
+                             const ReportContent& content);
+
+// A number for people: `significant` digits, never fewer than the integer
+// part has (17.513708 -> "17.5", 0.0131234 -> "0.0131", 145433.2 -> "145,433"),
+// thousands grouped with commas, no trailing zeros after the point.
+std::string HumanNumber(double value, int significant = 3);
+// A count with its thousands grouped: 145433 -> "145,433".
+std::string HumanCount(std::int64_t count);
+// A length: "17.5 m", from 1 km on "5.01 km".
+std::string HumanDistance(double metres);
+// A duration: "45 s", from 2 min on "12.5 min", from 2 h on "28 h".
+std::string HumanDuration(double seconds);
 
 }  // namespace pavilion::scenarios

@@ -97,6 +97,27 @@ HypothesisFigure DrawHypotheses(const std::filesystem::path& out, const Scenario
   return figure;
 }
 
+// The world rectangle RenderTopDown draws without a window: the floor and
+// its margin.
+PictureExtent TopDownExtent(const sim::World& world, const sim::TopDownOptions& view) {
+  const sim::Floor& floor = world.description().floor;
+  return {floor.min_m.x() - view.margin_m, floor.min_m.y() - view.margin_m,
+          floor.max_m.x() + view.margin_m, floor.max_m.y() + view.margin_m};
+}
+
+// The run's output files present in `out` (the line files, metrics.json and
+// the like; performance.json comes after the report), then `written`.
+std::vector<std::string> OutputFiles(const std::filesystem::path& out,
+                                     const std::vector<std::string>& written) {
+  std::vector<std::string> files;
+  for (const char* name : {"metrics.json", "expectations.json", "events.jsonl", "trajectories.csv",
+                           "localization.csv", "scans.bin"}) {
+    if (std::filesystem::exists(out / name)) files.push_back(name);
+  }
+  files.insert(files.end(), written.begin(), written.end());
+  return files;
+}
+
 }  // namespace
 
 void WriteSnapshotsAndReport(const std::filesystem::path& out, const Scenario& scenario,
@@ -104,7 +125,9 @@ void WriteSnapshotsAndReport(const std::filesystem::path& out, const Scenario& s
                              const std::vector<std::vector<Eigen::Vector2d>>& body_tracks,
                              const std::vector<RobotTracks>& robot_tracks,
                              const std::vector<RobotLocalization>& localizations,
-                             const RunMetrics& metrics, const CrowdStrip* crowd_strip) {
+                             const RunMetrics& metrics, const CrowdStrip* crowd_strip,
+                             const SeriesDecimator* visitors_present,
+                             const ExpectationResults* expectations) {
   std::vector<sim::TopDownTrack> top_tracks;
   for (const auto& t : body_tracks) top_tracks.push_back({t, {200, 40, 40}, 0.4});
   for (const RobotTracks& r : robot_tracks) {
@@ -116,26 +139,33 @@ void WriteSnapshotsAndReport(const std::filesystem::path& out, const Scenario& s
     if (r.navigation) AddNavigationTracks(*r.navigation, &top_tracks);
   }
   const sim::TopDownOptions view = TopDownView(scenario);
-  const std::vector<std::uint8_t> png = EncodePng(sim::RenderTopDown(world, top_tracks, view));
-  WriteFileAtomically((out / "snapshots" / "topdown_final.png").string(),
-                      std::string(png.begin(), png.end()));
-  std::vector<LocalizationPlot> plots;
+  ReportContent content;
+  content.topdown_png = EncodePng(sim::RenderTopDown(world, top_tracks, view));
+  content.topdown_extent = TopDownExtent(world, view);
+  std::vector<std::string> written{"snapshots/topdown_final.png"};
+  WriteFileAtomically((out / written.back()).string(),
+                      std::string(content.topdown_png.begin(), content.topdown_png.end()));
   for (const RobotLocalization& l : localizations) {
-    LocalizationPlot plot{l.robot_id, EncodePng(PlotTwoSigmaOverTime(l.tracker->cycles()))};
-    WriteFileAtomically((out / "snapshots" / ("two_sigma_" + l.robot_id + ".png")).string(),
-                        std::string(plot.png.begin(), plot.png.end()));
-    plots.push_back(std::move(plot));
+    const std::vector<std::uint8_t> png = EncodePng(PlotTwoSigmaOverTime(l.tracker->plot_cycles()));
+    written.push_back("snapshots/two_sigma_" + l.robot_id + ".png");
+    WriteFileAtomically((out / written.back()).string(), std::string(png.begin(), png.end()));
   }
-  std::vector<HypothesisFigure> figures;
   for (std::size_t k = 0; k < robot_tracks.size() && k < scenario.robots.size(); ++k) {
     if (!robot_tracks[k].hypotheses) continue;
-    figures.push_back(
+    content.hypothesis_figures.push_back(
         DrawHypotheses(out, scenario, world, scenario.robots[k].id, *robot_tracks[k].hypotheses));
+    written.push_back("snapshots/hypotheses_" + scenario.robots[k].id + ".png");
   }
-  const std::vector<CrowdFrame> crowd_frames =
-      crowd_strip ? crowd_strip->Write(out) : std::vector<CrowdFrame>{};
-  WriteFileAtomically((out / "report.html").string(),
-                      RenderReportHtml(scenario, metrics, png, plots, figures, crowd_frames));
+  if (crowd_strip) content.crowd_frames = crowd_strip->Write(out);
+  for (const CrowdFrame& f : content.crowd_frames) written.push_back(f.path);
+  std::vector<std::string> robot_order;
+  for (const RobotEntry& r : scenario.robots) robot_order.push_back(r.id);
+  const ReportSeries series = ReadReportSeries(out, robot_order);
+  content.series = &series;
+  content.visitors_present = visitors_present;
+  content.expectations = expectations;
+  content.files = OutputFiles(out, written);
+  WriteFileAtomically((out / "report.html").string(), RenderReportHtml(scenario, metrics, content));
 }
 
 void WritePerformanceJson(const std::filesystem::path& out, const RunSummary& s, int threads,

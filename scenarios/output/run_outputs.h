@@ -14,8 +14,10 @@
 #include "nav/mission/mission.h"
 #include "nav/stack/pose_estimator.h"
 #include "scenarios/config/scenario.h"
+#include "scenarios/expect/expectation_result.h"
 #include "scenarios/metrics/localization_tracker.h"
 #include "scenarios/metrics/run_metrics.h"
+#include "scenarios/output/series_decimator.h"
 #include "scenarios/run/scenario_runner.h"
 #include "sim/world/world.h"
 
@@ -49,13 +51,17 @@ struct RobotLocalization {
 
 // Pictures the world at the end of the run, writes the figures under
 // snapshots/ (with the frames `crowd_strip` captured, when given) and
-// report.html showing them.
+// report.html: its charts read localization.csv and events.jsonl back from
+// `out` (streamed, bounded memory), plus the visitors present over time and
+// the expectations' results when given.
 void WriteSnapshotsAndReport(const std::filesystem::path& out, const Scenario& scenario,
                              const sim::World& world,
                              const std::vector<std::vector<Eigen::Vector2d>>& body_tracks,
                              const std::vector<RobotTracks>& robot_tracks,
                              const std::vector<RobotLocalization>& localizations,
-                             const RunMetrics& metrics, const CrowdStrip* crowd_strip = nullptr);
+                             const RunMetrics& metrics, const CrowdStrip* crowd_strip = nullptr,
+                             const SeriesDecimator* visitors_present = nullptr,
+                             const ExpectationResults* expectations = nullptr);
 
 // performance.json from the run's summary.
 void WritePerformanceJson(const std::filesystem::path& out, const RunSummary& summary, int threads,

@@ -1,11 +1,14 @@
 #pragma once
 
+#include <csignal>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "scenarios/config/scenario.h"
+#include "scenarios/expect/expectation_result.h"
 #include "scenarios/metrics/run_metrics.h"
 #include "scenarios/run/run_observer.h"
 #include "sim/robot/sim_robot.h"
@@ -19,6 +22,10 @@ struct RunOptions {
   // calling thread included; 0: every hardware thread. Outputs do not depend
   // on it (same scenario and seed, same bytes; performance.json aside).
   int threads = 0;
+  // Set (by a signal handler) to a signal number to end the run early and
+  // cleanly: the files are flushed and valid, metrics.json says
+  // "interrupted": true and run_finished names the signal. Read once per tick.
+  const volatile std::sig_atomic_t* stop_signal = nullptr;
 };
 
 // Additions to a run from outside the runner (tests, tools): called for each
@@ -55,6 +62,9 @@ struct RunSummary {
   std::int64_t events = 0;
   std::int64_t laser_fallback_scans = 0;  // planar backend: scans cast partly with Bullet
   RunMetrics metrics;                     // what metrics.json holds
+  // The scenario's `expect:` judged (expectations.json); none without one.
+  std::optional<ExpectationResults> expectations;
+  int interrupted_by = 0;  // the signal that ended the run early; 0: it ran to its end
 };
 
 // Runs a scenario to its end and writes metrics.json, performance.json,

@@ -57,6 +57,17 @@ class SimRobot {
   // Wheel-speed command (rad/s, positive forward), held until changed.
   void SetWheelSpeeds(double left_radps, double right_radps);
 
+  // The true radius of a drive wheel (side 0 left, 1 right) from now on, as a
+  // factor of the radius it was built with (a flat tyre, a carpet's pile):
+  // the floor moves by the new radius per turn, the encoders count the wheel's
+  // turns, and the robot's calibrated odometry is not told. Throws
+  // std::invalid_argument for a side not 0 or 1 or a scale outside
+  // [kMinWheelRadiusScale, kMaxWheelRadiusScale].
+  void SetWheelRadiusScale(int side, double scale);
+  double wheel_radius_scale(int side) const { return wheel_scale_[side].scale; }
+  static constexpr double kMinWheelRadiusScale = 0.5;
+  static constexpr double kMaxWheelRadiusScale = 2.0;
+
   // Samples the sensors due in the tick that just ended, in the order they
   // were added: `before` and `after` are the robot's true states at its start
   // and end (times world.time_s() − step and world.time_s()). Laser readings
@@ -83,6 +94,20 @@ class SimRobot {
   std::vector<std::reference_wrapper<const LaserScanner>> lasers_;
   std::vector<LaserScanner*> mutable_lasers_;  // the same, for faults
   PlanarCaster* planar_ = nullptr;
+
+  // SetWheelRadiusScale (sim_robot.cc): the world simulates the wheel it
+  // built, turning at `scale` times the true wheel's rate. Per side: the scale
+  // and, at its last change, the simulated and the true wheel's angles (rad).
+  struct WheelScale {
+    double scale = 1.0;
+    double simulated_at_rad = 0.0;
+    double true_at_rad = 0.0;
+  };
+  // The true wheels' angles and rates of a state of the simulated ones.
+  RobotState TrueWheels(RobotState simulated) const;
+  void CommandWorld();
+  WheelScale wheel_scale_[2];
+  double command_radps_[2] = {0.0, 0.0};  // the last command (true wheel rates)
 };
 
 }  // namespace pavilion::sim

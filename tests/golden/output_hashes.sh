@@ -19,7 +19,7 @@ while [ $# -gt 0 ]; do
     *) echo "output_hashes.sh: unknown argument '$1'" >&2; exit 2 ;;
   esac
 done
-mapfile -t scenarios < <(cd "$source_dir" && ls scenarios/*.yaml scenarios/hall_bench/*.yaml | sort)
+mapfile -t scenarios < <(cd "$source_dir" && ls scenarios/*.yaml scenarios/hall_bench/*.yaml scenarios/ci/*.yaml | sort)
 actual="$work/hashes.sha256"
 : > "$actual"
 for s in "${scenarios[@]}"; do

@@ -82,4 +82,22 @@ inline std::string CarmenDataDir() {
   return "";
 }
 
+// A world file of one square room: a 20 m concrete floor and closed concrete
+// walls (0.2 m thick, 2.5 m high) `half_width_m` from the centre.
+inline std::string WalledRoomWorld(const std::string& name, double half_width_m = 5.0) {
+  const std::string h = std::to_string(half_width_m);
+  return "kind: world\n"
+         "name: " +
+         name +
+         "\n"
+         "materials:\n"
+         "  concrete: {friction: 0.8}\n"
+         "floor: {min: [-10, -10], max: [10, 10], material: concrete}\n"
+         "walls:\n"
+         "  - {id: outline, points: [[-" +
+         h + ", -" + h + "], [" + h + ", -" + h + "], [" + h + ", " + h + "], [-" + h + ", " + h +
+         "]], closed: true,\n"
+         "     thickness: 0.2, height: 2.5, material: concrete}\n";
+}
+
 }  // namespace pavilion::testing

@@ -213,7 +213,7 @@ TEST(ScenarioLoaderTest, AppliesOverrides) {
   EXPECT_EQ(plain.seed, 3u);
   EXPECT_DOUBLE_EQ(plain.duration_s, 10.0);
   EXPECT_DOUBLE_EQ(plain.physics.physics_rate_hz, 200.0);
-  EXPECT_DOUBLE_EQ(plain.outputs.trajectory_rate_hz, 10.0);
+  EXPECT_DOUBLE_EQ(plain.outputs.trajectory_rate_hz, 2.0);  // the default (issue 17)
 }
 
 // Confirms that a misspelt key given with --set is reported as an unknown key.

@@ -21,15 +21,7 @@ namespace {
 using pavilion::testing::TestDir;
 using pavilion::testing::WriteFile;
 
-const char* const kWorld =
-    "kind: world\n"
-    "name: fault_room\n"
-    "materials:\n"
-    "  concrete: {friction: 0.8}\n"
-    "floor: {min: [-10, -10], max: [10, 10], material: concrete}\n"
-    "walls:\n"
-    "  - {id: outline, points: [[-5, -5], [5, -5], [5, 5], [-5, 5]], closed: true,\n"
-    "     thickness: 0.2, height: 2.5, material: concrete}\n";
+const std::string kWorld = pavilion::testing::WalledRoomWorld("fault_room");
 
 std::string Write(const std::string& events) {
   const auto dir = TestDir();

@@ -203,13 +203,16 @@ TEST(CrowdStripTest, ReportShowsTheStripWhenFramesExist) {
   scenario.name = "strip";
   RunMetrics metrics;
   const std::vector<std::uint8_t> png = EncodePng(core::RgbImage(4, 4));
-  const std::string without = RenderReportHtml(scenario, metrics, png);
+  ReportContent content;
+  content.topdown_png = png;
+  const std::string without = RenderReportHtml(scenario, metrics, content);
   EXPECT_EQ(without.find("The crowd around"), std::string::npos);
   EXPECT_EQ(without.find("<figure"), std::string::npos);
   const std::vector<CrowdFrame> frames{{"snapshots/crowd_01.png", 5.0, 8.0, png},
                                        {"snapshots/crowd_02.png", 120.0, 8.0, png},
                                        {"snapshots/crowd_03.png", 7.52, 8.0, png}};
-  const std::string with = RenderReportHtml(scenario, metrics, png, {}, {}, frames);
+  content.crowd_frames = frames;
+  const std::string with = RenderReportHtml(scenario, metrics, content);
   EXPECT_NE(with.find("The crowd around"), std::string::npos);
   const std::size_t a = with.find("t = 5 s</figcaption>");
   const std::size_t b = with.find("t = 120 s</figcaption>");

@@ -120,7 +120,7 @@ TEST(HallBenchTest, ShippedFilesHoldTheLayout) {
         LoadScenarioFile((kDir / ("hall_bench_" + std::to_string(n) + ".yaml")).string());
     EXPECT_EQ(s.duration_s, duration);
     EXPECT_EQ(s.world.name, "hall");
-    EXPECT_FALSE(s.outputs.scan_log);
+    EXPECT_EQ(s.outputs.scan_log, ScanLogMode::kOff);
     const auto& poses = layout["robots"][std::to_string(n)];
     ASSERT_EQ(s.robots.size(), static_cast<std::size_t>(n));
     for (int k = 0; k < n; ++k) {
