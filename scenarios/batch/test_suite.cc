@@ -7,6 +7,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <thread>
 
 #include "scenarios/batch/child_process.h"
 #include "scenarios/config/input_error.h"
@@ -89,6 +90,7 @@ TestSuiteResult RunTestSuite(const std::vector<std::string>& files,
   std::vector<ChildJob> jobs;
   fs::create_directories(options.out_dir);
   const std::string exe = options.executable.empty() ? SelfExecutable() : options.executable;
+  const int jobs_at_once = std::max(1, options.jobs);
   for (const std::string& file : files) {
     TestRun run;
     run.file = file;
@@ -98,6 +100,11 @@ TestSuiteResult RunTestSuite(const std::vector<std::string>& files,
     run.suite.file = file;
     std::vector<std::string> argv{exe, "run", file, "--out", run.out.string()};
     argv.insert(argv.end(), options.run_args.begin(), options.run_args.end());
+    // The cores shared among the runs at a time, unless the caller chose.
+    if (std::find(argv.begin(), argv.end(), "--threads") == argv.end()) {
+      const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+      argv.insert(argv.end(), {"--threads", std::to_string(std::max(1, cores / jobs_at_once))});
+    }
     const fs::path logs = fs::path(options.out_dir) / run.name;
     jobs.push_back(ChildJob{argv, logs.string() + ".stdout", logs.string() + ".stderr"});
     result.runs.push_back(std::move(run));
