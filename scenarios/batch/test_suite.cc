@@ -11,17 +11,12 @@
 
 #include "scenarios/batch/child_process.h"
 #include "scenarios/config/input_error.h"
+#include "scenarios/expect/expect_eval.h"
 
 namespace pavilion::scenarios {
 namespace {
 
 namespace fs = std::filesystem;
-
-ExpectationStatus StatusOf(const std::string& s) {
-  if (s == "pass") return ExpectationStatus::kPass;
-  if (s == "fail") return ExpectationStatus::kFail;
-  return ExpectationStatus::kMissing;
-}
 
 // The run's expectations.json; a run without `expect:` passes by completing.
 ExpectationResults ReadResults(const fs::path& out) {
@@ -32,12 +27,7 @@ ExpectationResults ReadResults(const fs::path& out) {
         {"run completes", ExpectationStatus::kPass, "exit 0", "exit 0", "", 0});
     return results;
   }
-  const nlohmann::json j = nlohmann::json::parse(in);
-  for (const auto& r : j.at("results")) {
-    results.results.push_back({r.at("name"), StatusOf(r.at("status")), r.at("measured"),
-                               r.at("bound"), r.value("detail", ""), r.value("line", 0)});
-  }
-  return results;
+  return ExpectationsFromJson(nlohmann::json::parse(in));
 }
 
 std::string HowItEnded(const ChildResult& r) {

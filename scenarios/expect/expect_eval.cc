@@ -204,6 +204,20 @@ Json ExpectationsToJson(const ExpectationResults& results) {
   return Json{{"passed", results.passed()}, {"failures", results.failures()}, {"results", list}};
 }
 
+ExpectationResults ExpectationsFromJson(const nlohmann::json& json) {
+  ExpectationResults out;
+  for (const auto& r : json.at("results")) {
+    ExpectationStatus status = ExpectationStatus::kMissing;
+    for (ExpectationStatus s :
+         {ExpectationStatus::kPass, ExpectationStatus::kFail, ExpectationStatus::kMissing}) {
+      if (r.at("status") == ToString(s)) status = s;
+    }
+    out.results.push_back({r.at("name"), status, r.at("measured"), r.at("bound"),
+                           r.value("detail", ""), r.value("line", 0)});
+  }
+  return out;
+}
+
 std::string FormatExpectationTable(const ExpectationResults& results) {
   std::size_t width = 11;
   for (const ExpectationResult& r : results.results) width = std::max(width, r.name.size());

@@ -57,6 +57,9 @@ ExpectationResults EvaluateExpectations(const std::vector<Expectation>& expectat
 
 // expectations.json: {"passed": bool, "failures": n, "results": [...]}.
 nlohmann::ordered_json ExpectationsToJson(const ExpectationResults& results);
+// Its inverse (pavilion test and sweeps read the runs' files); throws
+// nlohmann::json::exception for a file of another shape.
+ExpectationResults ExpectationsFromJson(const nlohmann::json& json);
 
 // The pass/fail table `pavilion run` prints: status, expectation, measured, bound.
 std::string FormatExpectationTable(const ExpectationResults& results);
