@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
+#include <stdexcept>
 
 #include "core/geometry/polygon.h"
 #include "core/geometry/segment2.h"
@@ -17,11 +19,75 @@ constexpr double kMemoryReachM = 3.0;
 
 }  // namespace
 
+void GhostBarrier::Validate() const {
+  if (!(link_m >= 0.0 && link_m <= 2.0)) {
+    throw std::invalid_argument("GhostBarrier.link_m must be in [0, 2] m");
+  }
+  if (!(fill_m >= 0.005 && fill_m <= 1.0)) {
+    throw std::invalid_argument("GhostBarrier.fill_m must be in [0.005, 1] m");
+  }
+  if (!(clearance_m >= 0.0 && clearance_m <= 0.2)) {
+    throw std::invalid_argument("GhostBarrier.clearance_m must be in [0, 0.2] m");
+  }
+}
+
+std::vector<Eigen::Vector2d> FillGhostBarriers(std::span<const Eigen::Vector2d> ghosts,
+                                               const GhostBarrier& barrier) {
+  barrier.Validate();
+  std::vector<Eigen::Vector2d> filled(ghosts.begin(), ghosts.end());
+  const double c = barrier.clearance_m;
+  if (c > 0.0) {
+    for (const Eigen::Vector2d& g : ghosts) {
+      for (int k = 0; k < kGhostRingPoints; ++k) {
+        const double a = 2.0 * std::numbers::pi * k / kGhostRingPoints;
+        filled.push_back(g + c * Eigen::Vector2d(std::cos(a), std::sin(a)));
+      }
+    }
+  }
+  const double link2 = barrier.link_m * barrier.link_m;
+  for (std::size_t i = 0; i < ghosts.size(); ++i) {
+    for (std::size_t j = i + 1; j < ghosts.size(); ++j) {
+      const Eigen::Vector2d d = ghosts[j] - ghosts[i];
+      if (d.squaredNorm() >= link2 || d.squaredNorm() == 0.0) continue;
+      const int n = static_cast<int>(std::ceil(d.norm() / barrier.fill_m));
+      const Eigen::Vector2d side = c * Eigen::Vector2d(-d.y(), d.x()).normalized();
+      for (int k = 0; k <= n; ++k) {
+        const Eigen::Vector2d on = ghosts[i] + (double(k) / n) * d;
+        // The two rows beside the join bound it; the join itself is needed
+        // only without them.
+        if (c > 0.0) {
+          filled.insert(filled.end(), {on + side, on - side});
+        } else if (k > 0 && k < n) {
+          filled.push_back(on);
+        }
+      }
+    }
+  }
+  return filled;
+}
+
 ScanObstacles::ScanObstacles(std::vector<Eigen::Vector2d> footprint_in_robot,
-                             std::vector<Eigen::Vector2d> ghosts_in_world, double blind_memory_s)
+                             std::vector<Eigen::Vector2d> ghosts_in_world, double blind_memory_s,
+                             const GhostBarrier& barrier)
     : footprint_(std::move(footprint_in_robot)),
       ghosts_in_world_(std::move(ghosts_in_world)),
-      blind_memory_s_(blind_memory_s) {}
+      blind_memory_s_(blind_memory_s) {
+  const std::vector<Eigen::Vector2d> filled = FillGhostBarriers(ghosts_in_world_, barrier);
+  if (filled.empty()) return;
+  Eigen::Vector2d lo = filled.front(), hi = filled.front();
+  for (const Eigen::Vector2d& p : filled) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  barrier_origin_ = lo;
+  barrier_size_ = ((hi - lo) / kBucketM).array().floor().cast<int>() + 1;
+  barrier_buckets_.resize(static_cast<std::size_t>(barrier_size_.x()) * barrier_size_.y());
+  for (const Eigen::Vector2d& p : filled) {
+    const Eigen::Vector2i cell = ((p - lo) / kBucketM).array().floor().cast<int>();
+    barrier_buckets_[static_cast<std::size_t>(cell.y()) * barrier_size_.x() + cell.x()].push_back(
+        p);
+  }
+}
 
 void ScanObstacles::AddScan(const core::LaserScan& scan, const core::Pose2& odom_from_robot) {
   auto it = std::find_if(lasers_.begin(), lasers_.end(),
@@ -84,10 +150,22 @@ void ScanObstacles::InRobot(const core::Pose2& odom_from_robot, const core::Pose
       if (q.squaredNorm() <= reach2 && !Covered(q)) points_in_robot->push_back(q);
     }
   }
+  if (barrier_buckets_.empty()) return;
   const core::Pose2 robot_from_world = world_from_robot.Inverse();
-  for (const Eigen::Vector2d& g : ghosts_in_world_) {
-    if ((g - world_from_robot.translation()).squaredNorm() > reach2) continue;
-    points_in_robot->push_back(robot_from_world * g);
+  const Eigen::Vector2d centre = world_from_robot.translation();
+  const Eigen::Vector2d lo = (centre.array() - reach_m - barrier_origin_.array()) / kBucketM;
+  const Eigen::Vector2d hi = (centre.array() + reach_m - barrier_origin_.array()) / kBucketM;
+  const int x0 = std::max(0, static_cast<int>(std::floor(lo.x())));
+  const int y0 = std::max(0, static_cast<int>(std::floor(lo.y())));
+  const int x1 = std::min(barrier_size_.x() - 1, static_cast<int>(std::floor(hi.x())));
+  const int y1 = std::min(barrier_size_.y() - 1, static_cast<int>(std::floor(hi.y())));
+  for (int y = y0; y <= y1; ++y) {
+    for (int x = x0; x <= x1; ++x) {
+      for (const Eigen::Vector2d& g :
+           barrier_buckets_[static_cast<std::size_t>(y) * barrier_size_.x() + x]) {
+        if ((g - centre).squaredNorm() <= reach2) points_in_robot->push_back(robot_from_world * g);
+      }
+    }
   }
 }
 

@@ -11,6 +11,21 @@
 // sides of a robot with two lasers back to back, §6.3.5.1) stays an obstacle,
 // so that a robot turning through a door does not sweep its corner into the
 // door post it saw a moment ago. The local grid keeps to the thesis: no memory.
+//
+// Ghost points mark invisible barriers (§6.3.1: glass, a low plinth, an exit)
+// with points a map spacing apart (0.25 m in the derived maps). A polygon
+// corner fits between two of them: an octagon's 135° corner reaches 5 cm past
+// points 25 cm apart, more than the dynamic window's safety margin. The thesis
+// injects ghost points "as virtual sensor readings"; a laser would read such a
+// barrier at every beam, so the dynamic window sees the barrier filled: ghost
+// points closer than `GhostBarrier::link_m` are joined and the join sampled
+// every `fill_m`. A ghost point is also only as good as the estimate that
+// places it and the tape measure that surveyed it, while a laser reading is
+// measured from the robot itself: barriers are drawn `clearance_m` thick on
+// either side (two rows beside each join, a ring around each point), so the
+// dynamic window keeps its safety margin plus clearance_m from them. The
+// local grid, whose robot-circle dilation closes such gaps anyway, gets the
+// map's points alone.
 
 #include <Eigen/Core>
 #include <span>
@@ -22,20 +37,47 @@
 
 namespace pavilion::nav {
 
+// How the dynamic window fills the gaps between neighbouring ghost points.
+struct GhostBarrier {
+  // Ghost points closer than this are one barrier, m, [0, 2] (0: points
+  // alone). Chosen: above the derived maps' 0.25 m spacing, below their
+  // diagonal 0.35 m and any robot's width.
+  double link_m = 0.3;
+  // The join is sampled at most this far apart, m, [0.005, 1]. Chosen: a
+  // square corner then reaches fill_m / 2 = 1.5 cm past the barrier, inside
+  // the dynamic window's 2 cm safety margin.
+  double fill_m = 0.03;
+  // Drawn this much thicker on either side, m, [0, 0.2]. Chosen: the
+  // estimate's 2σ in the hall (about 1 cm) plus the map's 5 mm survey noise
+  // and the 5 mm at which the simulator counts a contact.
+  double clearance_m = 0.02;
+
+  void Validate() const;  // throws std::invalid_argument naming the field
+};
+
+// The map's ghost points and, between every two closer than `barrier.link_m`,
+// points every `barrier.fill_m` or less (each join once, in index order): on
+// the join or, with clearance_m > 0, on its two sides clearance_m away
+// instead, with a ring of kGhostRingPoints around each ghost point.
+inline constexpr int kGhostRingPoints = 8;
+std::vector<Eigen::Vector2d> FillGhostBarriers(std::span<const Eigen::Vector2d> ghosts,
+                                               const GhostBarrier& barrier);
+
 class ScanObstacles {
  public:
   // `footprint_in_robot`: the robot's polygon; readings inside it (the robot
   // seeing itself) are dropped. `ghosts_in_world`: the map's ghost points.
   ScanObstacles(std::vector<Eigen::Vector2d> footprint_in_robot,
-                std::vector<Eigen::Vector2d> ghosts_in_world, double blind_memory_s = 1.0);
+                std::vector<Eigen::Vector2d> ghosts_in_world, double blind_memory_s = 1.0,
+                const GhostBarrier& barrier = {});
 
   // Replaces the points of `scan`'s laser; `odom_from_robot` is the robot's
   // odometry pose when the scan arrived.
   void AddScan(const core::LaserScan& scan, const core::Pose2& odom_from_robot);
 
-  // The laser points, the remembered blind-zone points and the ghost points
-  // within `reach_m` of the robot, in the robot frame (the dynamic window's
-  // input). `world_from_robot` is the belief, `odom_from_robot` the odometry
+  // The laser points, the remembered blind-zone points and the filled ghost
+  // barriers within `reach_m` of the robot, in the robot frame (the dynamic
+  // window's input). `world_from_robot` is the belief, `odom_from_robot` the odometry
   // pose, both now.
   void InRobot(const core::Pose2& odom_from_robot, const core::Pose2& world_from_robot,
                double reach_m, std::vector<Eigen::Vector2d>* points_in_robot) const;
@@ -64,6 +106,12 @@ class ScanObstacles {
 
   std::vector<Eigen::Vector2d> footprint_;
   std::vector<Eigen::Vector2d> ghosts_in_world_;
+  // FillGhostBarriers(ghosts_in_world_) in square buckets of kBucketM,
+  // row-major over barrier_origin_ .. + barrier_buckets_ * kBucketM.
+  static constexpr double kBucketM = 1.0;
+  std::vector<std::vector<Eigen::Vector2d>> barrier_buckets_;
+  Eigen::Vector2d barrier_origin_ = Eigen::Vector2d::Zero();
+  Eigen::Vector2i barrier_size_ = Eigen::Vector2i::Zero();  // buckets along x, y
   double blind_memory_s_;
   std::vector<LaserPoints> lasers_;
   std::vector<Remembered> memory_;  // earlier scans (thinned), oldest first

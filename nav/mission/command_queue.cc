@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/geometry/segment2.h"
+
 namespace pavilion::nav {
 namespace {
 
@@ -40,6 +42,13 @@ void CommandQueue::Load(std::vector<QueuedNode> nodes, const core::Pose2& goal_p
   arrived_ = false;
 }
 
+bool CommandQueue::Sees(const Eigen::Vector2d& from, const Eigen::Vector2d& to) const {
+  for (const auto& [a, b] : walls_) {
+    if (core::SegmentsCross(from, to, a, b)) return false;
+  }
+  return true;
+}
+
 void CommandQueue::Clear() {
   nodes_.clear();
   next_ = 0;
@@ -53,7 +62,8 @@ void CommandQueue::Update(const core::Pose2& belief) {
   // Past the last via node whose disk holds the robot: a robot pushed on
   // beyond a node it never came near does not turn back for it.
   for (std::size_t k = nodes_.size() - 1; k-- > next_;) {
-    if ((nodes_[k].position_m - p).norm() <= options_.via_reached_radius_m) {
+    if ((nodes_[k].position_m - p).norm() <= options_.via_reached_radius_m &&
+        Sees(p, nodes_[k + 1].position_m)) {
       next_ = k + 1;
       break;
     }

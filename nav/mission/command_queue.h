@@ -6,10 +6,18 @@
 // be met with its full pose. Near the last node (10 cm) localization pauses,
 // because its corrections make the estimate too noisy for any position
 // controller to settle on the goal.
+//
+// With the map's walls given (SetWalls), a via node counts as passed only
+// when the robot also sees the node after it over those walls. 2 m from the
+// via node in front of a door, the room's station behind the wall is out of
+// sight; the local grid, which holds only what the lasers see now, would
+// lead through the next room's door and a wall it has not seen yet, and the
+// band would snap and replan in a loop (issue 14, office_errands' mail room).
 
 #include <Eigen/Core>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/types/pose2.h"
@@ -43,9 +51,15 @@ class CommandQueue {
   // (its position replaces the last node's). Requires at least one node.
   void Load(std::vector<QueuedNode> nodes, const core::Pose2& goal_pose);
   void Clear();
+  // The walls (endpoint pairs, world frame) a via node's successor must be
+  // seen over before the via node counts as passed; none: the disk alone.
+  void SetWalls(std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> walls) {
+    walls_ = std::move(walls);
+  }
 
-  // Advances past every via node whose disk holds the robot's belief, and
-  // updates the localization pause and arrival at the goal.
+  // Advances past every via node whose disk holds the robot's belief (and
+  // whose successor it sees, with walls set), and updates the localization
+  // pause and arrival at the goal.
   void Update(const core::Pose2& belief);
 
   bool empty() const { return next_ >= nodes_.size(); }
@@ -64,7 +78,11 @@ class CommandQueue {
 
  private:
   CommandQueueOptions options_;
+  // The straight line from `from` to `to` crosses none of walls_.
+  bool Sees(const Eigen::Vector2d& from, const Eigen::Vector2d& to) const;
+
   std::vector<QueuedNode> nodes_;
+  std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> walls_;
   std::size_t next_ = 0;
   core::Pose2 goal_pose_;
   bool paused_ = false;

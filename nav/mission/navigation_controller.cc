@@ -99,6 +99,7 @@ void NavigationControllerOptions::Validate() const {
   Require(relocalization_timeout_s >= 0.0 && relocalization_timeout_s <= 3600.0,
           "relocalization_timeout_s", "in [0, 3600] s");
   Require(bumper_hold_s >= 0.0 && bumper_hold_s <= 60.0, "bumper_hold_s", "in [0, 60] s");
+  ghost_barrier.Validate();
   ompl.Validate();
   local.Validate();
   dwa.Validate();
@@ -116,11 +117,12 @@ NavigationController::NavigationController(core::RobotMap map,
       footprint_(std::move(footprint_in_robot)),
       missions_(std::move(missions)),
       graph_(map_),
-      obstacles_(footprint_, GhostPoints(map_)),
+      obstacles_(footprint_, GhostPoints(map_), /*blind_memory_s=*/1.0, options.ghost_barrier),
       dwa_(options.dwa, footprint_),
       queue_(options.queue),
       blocked_(options.blocked) {
   options_.Validate();
+  queue_.SetWalls(MapWalls(map_));
   local_ = std::make_unique<LocalPlanner>(options_.local, MakeInitialPlanner(options_));
   dwa_period_ticks_ = PeriodTicks(options_.step_s, options_.dwa_rate_hz);
   band_period_ticks_ = PeriodTicks(options_.step_s, options_.band_rate_hz);

@@ -58,6 +58,7 @@ struct NavigationControllerOptions {
   // at once. s, [0, 3600]. Chosen: the kidnap recovery bound of 30 s.
   double relocalization_timeout_s = 30.0;
   InitialPlanner initial_planner = InitialPlanner::kNf1;
+  GhostBarrier ghost_barrier;  // the dynamic window's filled ghost barriers (scan_obstacles.h)
   OmplPlannerOptions ompl;
   LocalPlannerOptions local;
   DynamicWindowOptions dwa;

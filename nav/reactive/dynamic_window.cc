@@ -120,6 +120,7 @@ DynamicWindow::DynamicWindow(const DynamicWindowOptions& options, core::Polygon2
   const int n = options_.samples_per_wheel;
   candidates_.resize(static_cast<std::size_t>(n) * n);
   bin_arc_m_.resize(table_.bins());
+  cell_stamp_.assign(static_cast<std::size_t>(table_.cells()), 0u);
 }
 
 double DynamicWindow::StoppingArc(const WheelVelocity& command) const {
@@ -218,6 +219,10 @@ void DynamicWindow::AddContact(const Eigen::Vector2d& p, double edge_distance_m)
 bool DynamicWindow::GatherPoints(std::span<const Eigen::Vector2d> obstacles, double reach_m) {
   points_.clear();
   cells_.clear();
+  if (++stamp_ == 0) {  // wrapped: forget every stamp
+    std::fill(cell_stamp_.begin(), cell_stamp_.end(), 0u);
+    stamp_ = 1;
+  }
   band_points_.clear();
   contacts_.clear();
   nearest_contact_m_ = kInfinity;
@@ -239,7 +244,12 @@ bool DynamicWindow::GatherPoints(std::span<const Eigen::Vector2d> obstacles, dou
     const int cell = table_.CellOf(p);
     if (cell < 0) continue;  // cannot happen within reach_m <= table reach
     points_.push_back(p);
-    cells_.push_back(cell);
+    // Each cell once: the table's minimum over cells does not care how many
+    // points share one (a filled ghost barrier puts two or three in a cell).
+    if (cell_stamp_[cell] != stamp_) {
+      cell_stamp_[cell] = stamp_;
+      cells_.push_back(cell);
+    }
   }
   return shallow;
 }
@@ -289,6 +299,7 @@ double DynamicWindow::NearArc(const Candidate& c, double arc_m) const {
 
 bool DynamicWindow::Admissible(Candidate& c) {
   if (!RecedesFromContacts(c)) return false;
+  c.near_checked = c.speed_g == 0.0 || (band_points_.empty() && contacts_.empty());
   if (c.speed_g == 0.0) {
     c.arc_to_collision_m = options_.lookahead_m;
     c.ttc_s = kInfinity;
@@ -302,10 +313,20 @@ bool DynamicWindow::Admissible(Candidate& c) {
   } else {
     arc_m = ExactArc(c.twist, options_.lookahead_m);
   }
-  if (arc_m > c.stop_arc_m) arc_m = NearArc(c, arc_m);
   c.arc_to_collision_m = arc_m;
   c.ttc_s = arc_m / c.speed_g;
+  if (c.stop_arc_m >= arc_m) c.near_checked = true;
   return c.stop_arc_m < arc_m;
+}
+
+void DynamicWindow::CheckNear(Candidate& c, const DwaGoal& goal, const Scene& scene) {
+  c.near_checked = true;
+  const double arc_m = NearArc(c, c.arc_to_collision_m);
+  if (arc_m == c.arc_to_collision_m) return;  // the score stands
+  c.arc_to_collision_m = arc_m;
+  c.ttc_s = arc_m / c.speed_g;
+  c.admissible = c.stop_arc_m < arc_m;
+  if (c.admissible) c.score = Objective(c, goal, scene);
 }
 
 double DynamicWindow::Objective(const Candidate& c, const DwaGoal& goal, const Scene& scene) const {
@@ -404,12 +425,20 @@ DwaResult DynamicWindow::Choose(const WheelVelocity& current,
   ScoreCandidates(goal, scene);
   const bool use_table = options_.clearance_geometry == ClearanceGeometry::kLookupTable;
   for (const Candidate& c : candidates_) result.candidates_admissible += c.admissible ? 1 : 0;
+  // Best first: a score before CheckNear is an upper bound (the band and
+  // contact points only shorten the arc, and the objective never rises as the
+  // time to collision falls), so the first maximum (in grid order) that has
+  // been checked is the one a full evaluation would pick.
   while (true) {
     Candidate* best = nullptr;
     for (Candidate& c : candidates_) {
       if (c.admissible && (best == nullptr || c.score > best->score)) best = &c;
     }
     if (best == nullptr) return result;
+    if (!best->near_checked) {
+      CheckNear(*best, goal, scene);
+      continue;
+    }
     if (use_table && !ConfirmExact(*best)) {
       best->admissible = false;
       ++result.exact_rejections;

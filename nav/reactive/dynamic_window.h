@@ -34,6 +34,7 @@
 // A point deeper than max_contact_depth_m inside the robot forces braking.
 
 #include <Eigen/Core>
+#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -114,13 +115,16 @@ struct DwaResult {
   // A point is inside the robot polygon now; escape motions stay admissible
   // while every such point is within max_contact_depth_m of the boundary.
   bool in_collision = false;
-  bool goal_reached = false;      // pose mode: within both tolerances; braking
-  int candidates_evaluated = 0;   // grid candidates considered (samples_per_wheel²)
-  int candidates_admissible = 0;  // of those, within limits and admissible
-  int points_in_reach = 0;        // obstacle points within the window's reach
-  int contact_points = 0;         // of those, inside the margin polygon (escape only)
-  int band_points = 0;            // of those, judged exactly with the margin polygon
-  int exact_rejections = 0;       // table winners the exact geometry rejected
+  bool goal_reached = false;     // pose mode: within both tolerances; braking
+  int candidates_evaluated = 0;  // grid candidates considered (samples_per_wheel²)
+  // Of those, within limits and admissible against the contact rules and the
+  // far points; the band and contact points are judged best candidate first,
+  // only until the winner is known.
+  int candidates_admissible = 0;
+  int points_in_reach = 0;   // obstacle points within the window's reach
+  int contact_points = 0;    // of those, inside the margin polygon (escape only)
+  int band_points = 0;       // of those, judged exactly with the margin polygon
+  int exact_rejections = 0;  // table winners the exact geometry rejected
 };
 
 class DynamicWindow {
@@ -164,7 +168,8 @@ class DynamicWindow {
     double arc_to_collision_m = 0.0;
     double ttc_s = 0.0;
     double escape_gain_m = 0.0;  // first-order clearance growth over one period
-    double score = 0.0;
+    double score = 0.0;          // an upper bound until near_checked
+    bool near_checked = false;   // the band and contact points judged (NearArc)
   };
   // A point inside the margin polygon and its escape constraint.
   struct ContactPoint {
@@ -191,7 +196,11 @@ class DynamicWindow {
   bool RecedesFromContacts(Candidate& c) const;
   // The arc to collision, at most `arc_m`, with the band and contact points.
   double NearArc(const Candidate& c, double arc_m) const;
+  // Admissible against the contact rules and the far points (table or
+  // exact); the band and contact points are left to CheckNear.
   bool Admissible(Candidate& c);
+  // Lowers the arc by the band and contact points; rescores or drops `c`.
+  void CheckNear(Candidate& c, const DwaGoal& goal, const Scene& scene);
   void BuildCandidates(const WheelVelocity& current, const DwaGoal& goal, Scene& scene);
   void ScoreCandidates(const DwaGoal& goal, const Scene& scene);
   bool ConfirmExact(const Candidate& candidate) const;
@@ -213,8 +222,10 @@ class DynamicWindow {
   std::vector<Eigen::Vector2d> band_points_;
   std::vector<ContactPoint> contacts_;
   std::vector<core::Polygon2> contact_polygons_;
-  double nearest_contact_m_ = 0.0;  // the clearance: least contact distance (m)
-  std::vector<int> cells_;
+  double nearest_contact_m_ = 0.0;         // the clearance: least contact distance (m)
+  std::vector<int> cells_;                 // the far points' table cells, each once
+  std::vector<std::uint32_t> cell_stamp_;  // per table cell: the cycle it was last added
+  std::uint32_t stamp_ = 0;
   std::vector<Candidate> candidates_;
   std::vector<double> bin_arc_m_;
 };

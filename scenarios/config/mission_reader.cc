@@ -118,6 +118,11 @@ void ReadNavigationOptions(MapReader& m, nav::NavigationControllerOptions* o) {
                {"approach_radius_m", &Nav::approach_radius_m},
                {"blocked_node_cost_m", &Nav::blocked_node_cost_m},
                {"relocalization_timeout_s", &Nav::relocalization_timeout_s}});
+  using Ghost = nav::GhostBarrier;
+  ReadOptions(m, &o->ghost_barrier,
+              {{"ghost_link_m", "link_m", &Ghost::link_m},
+               {"ghost_fill_m", "fill_m", &Ghost::fill_m},
+               {"ghost_clearance_m", "clearance_m", &Ghost::clearance_m}});
   using Dwa = nav::DynamicWindowOptions;
   ReadOptions(m, &o->dwa, {{"max_speed_mps", &Dwa::max_speed_mps}});
   using Grid = nav::LocalGridOptions;

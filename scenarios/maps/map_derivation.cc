@@ -61,6 +61,8 @@ constexpr double kMergeGapM = 0.05;
 constexpr double kMaxClearanceM = 2.0;
 // Lateral search for the sides of an opening (entrance, exit) (m).
 constexpr double kOpeningSearchM = 5.0;
+// Ghost points closer than this are one (m): a shared corner, not two places.
+constexpr double kGhostMergeM = 0.005;
 // Resolution of derived numbers: positions and radii, angles, covariances.
 constexpr int kPositionDecimals = 6;  // 1 µm
 constexpr int kAngleDecimals = 9;     // 1 nrad
@@ -378,9 +380,13 @@ class MapDeriver {
     }
   }
 
+  // One ghost point per place: a corner shared by two outline segments, a row
+  // across an opening that ends on an outline. Closer points stay, so a glass
+  // panel thinner than the spacing keeps its far face (a robot passing its
+  // end must not see the panel 3 cm thinner than it is).
   void AddGhost(const Vec2& p) {
     for (const Vec2& g : ghosts_) {
-      if ((g - p).norm() < 0.5 * options_.ghost_spacing_m) return;
+      if ((g - p).norm() < kGhostMergeM) return;
     }
     ghosts_.push_back(RoundPosition(p));
   }

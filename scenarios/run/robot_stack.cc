@@ -11,7 +11,10 @@
 #include "nav/control/drive_profile.h"
 #include "nav/control/route_controller.h"
 #include "nav/control/wander_scan_controller.h"
+#include "nav/local/ghost_readings.h"
+#include "nav/local/scan_obstacles.h"
 #include "nav/mission/navigation_controller.h"
+#include "nav/reactive/swept_polygon.h"
 #include "nav/route/route_planner.h"
 #include "nav/stack/ekf_pose_estimator.h"
 #include "nav/stack/global_pose_estimator.h"
@@ -94,9 +97,10 @@ std::unique_ptr<nav::PoseEstimator> MakeEstimator(const RobotEntry& robot, core:
 }
 
 // The hall benchmark's wander on `laser`, its draws from "<robot id>/wander".
-std::unique_ptr<nav::Controller> MakeWander(const Scenario& scenario, const RobotEntry& entry,
-                                            const std::string& laser,
-                                            const nav::WanderOptions& options) {
+std::unique_ptr<nav::WanderScanController> MakeWander(const Scenario& scenario,
+                                                      const RobotEntry& entry,
+                                                      const std::string& laser,
+                                                      const nav::WanderOptions& options) {
   nav::WanderController wander(
       options, core::RandomStream(scenario.seed,
                                   core::RandomStream::StreamId((entry.id + "/wander").c_str())));
@@ -267,9 +271,17 @@ std::unique_ptr<nav::Navigator> MakeNavigator(const Scenario& scenario, std::siz
                                                     MakeController(scenario, index, map));
   // A navigating robot with global localization wanders while it is not
   // localized (issue 18), on its first laser.
+  // It sees the map's ghost barriers in its scans, placed by its belief, as
+  // the navigation's dynamic window does (§6.3.1).
   if (entry.localization.enabled && entry.localization.global && entry.mission &&
       !entry.config.lasers.empty()) {
-    navigator->SetFallback(MakeWander(scenario, entry, entry.config.lasers.front().id, {}));
+    auto wander = MakeWander(scenario, entry, entry.config.lasers.front().id, {});
+    std::vector<Eigen::Vector2d> ghosts;
+    for (const core::MapGhostPoint& g : map->ghost_points) ghosts.push_back(g.position_m);
+    wander->SetGhostReadings(
+        nav::GhostReadings(nav::FillGhostBarriers(ghosts, entry.mission->navigation.ghost_barrier),
+                           nav::Circumradius(entry.config.description.OutlineWithWheels())));
+    navigator->SetFallback(std::move(wander));
   }
   if (entry.localization.enabled && entry.localization.shadow_mcl) {
     navigator->SetShadowEstimator(MakeShadowMcl(scenario, entry, *map));

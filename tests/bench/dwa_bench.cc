@@ -8,12 +8,17 @@
 // BM_DynamicWindowChooseEscape: the same scan plus a person-like ring touching
 // the front 5 mm from the octagon, the robot stopped: escape motions with the
 // exact contact and band geometry.
+// BM_DynamicWindowChooseBesideVitrine: the same scan plus a 1 m glass vitrine's
+// ghost outline (points every 0.25 m, as `pavilion map derive` puts them)
+// filled and thickened as the navigation gives it to the window
+// (nav::FillGhostBarriers), its near face 6 cm beside the octagon's flank.
 #include <benchmark/benchmark.h>
 
 #include <cmath>
 #include <numbers>
 #include <vector>
 
+#include "nav/local/scan_obstacles.h"
 #include "nav/reactive/dynamic_window.h"
 
 namespace {
@@ -75,7 +80,24 @@ std::vector<Eigen::Vector2d> PersonAtFront() {
   return ring;
 }
 
-void RunChoose(benchmark::State& state, nav::ClearanceGeometry geometry, bool touched = false) {
+// A 1 x 1 m vitrine whose near face runs along y = -(0.34 + 0.06), filled.
+std::vector<Eigen::Vector2d> VitrineBeside() {
+  constexpr double kFace_m = 0.34 + 0.06;
+  const Eigen::Vector2d corners[4] = {
+      {-0.5, -kFace_m}, {0.5, -kFace_m}, {0.5, -kFace_m - 1.0}, {-0.5, -kFace_m - 1.0}};
+  std::vector<Eigen::Vector2d> ghosts;
+  for (int side = 0; side < 4; ++side) {
+    const Eigen::Vector2d& a = corners[side];
+    const Eigen::Vector2d& b = corners[(side + 1) % 4];
+    for (int k = 0; k < 4; ++k) ghosts.push_back(a + 0.25 * k * (b - a));
+  }
+  return nav::FillGhostBarriers(ghosts, nav::GhostBarrier{});
+}
+
+enum class Scene { kCorridor, kTouched, kBesideVitrine };
+
+void RunChoose(benchmark::State& state, nav::ClearanceGeometry geometry,
+               Scene scene = Scene::kCorridor) {
   nav::DynamicWindowOptions options;
   options.clearance_geometry = geometry;
   nav::DynamicWindow dwa(options, Octagon());
@@ -83,7 +105,11 @@ void RunChoose(benchmark::State& state, nav::ClearanceGeometry geometry, bool to
   nav::DwaGoal goal;
   goal.target_in_robot = {4.0, 0.2};
   nav::WheelVelocity current{0.5, 0.5};
-  if (touched) {
+  if (scene == Scene::kBesideVitrine) {
+    const std::vector<Eigen::Vector2d> vitrine = VitrineBeside();
+    points.insert(points.end(), vitrine.begin(), vitrine.end());
+  }
+  if (scene == Scene::kTouched) {
     const std::vector<Eigen::Vector2d> person = PersonAtFront();
     points.insert(points.end(), person.begin(), person.end());
     goal.target_in_robot = {-2.0, 1.0};
@@ -114,8 +140,13 @@ void BM_DynamicWindowChooseExact(benchmark::State& state) {
 BENCHMARK(BM_DynamicWindowChooseExact)->Unit(benchmark::kMicrosecond);
 
 void BM_DynamicWindowChooseEscape(benchmark::State& state) {
-  RunChoose(state, nav::ClearanceGeometry::kLookupTable, true);
+  RunChoose(state, nav::ClearanceGeometry::kLookupTable, Scene::kTouched);
 }
 BENCHMARK(BM_DynamicWindowChooseEscape)->Unit(benchmark::kMicrosecond);
+
+void BM_DynamicWindowChooseBesideVitrine(benchmark::State& state) {
+  RunChoose(state, nav::ClearanceGeometry::kLookupTable, Scene::kBesideVitrine);
+}
+BENCHMARK(BM_DynamicWindowChooseBesideVitrine)->Unit(benchmark::kMicrosecond);
 
 }  // namespace

@@ -26,6 +26,25 @@ TEST(CommandQueueTest, ViaNodesPassInsideTheirDisk) {
   EXPECT_EQ(q.remaining().size(), 1u);
 }
 
+// With the map's walls, a via node in front of a door counts as passed only
+// once the room's station behind it is in sight: the robot 1.9 m east of the
+// door's via node, in the hallway, still works towards the via node.
+TEST(CommandQueueTest, ViaNodePassesOnlyWhenItsSuccessorIsInSight) {
+  CommandQueue q{CommandQueueOptions{}};
+  // The room's wall along y = 1 with a door between x = -0.5 and 0.5.
+  q.SetWalls({{{-10.0, 1.0}, {-0.5, 1.0}}, {{0.5, 1.0}, {10.0, 1.0}}});
+  q.Load({{"via_door", {0.0, 0.5}}, {"station", {0.5, 4.0}}}, {0.5, 4.0, 0.0});
+  q.Update({1.9, 0.3, 0.0});
+  EXPECT_EQ(q.current().id, "via_door");  // in the disk, the station behind the wall
+  q.Update({0.1, 0.4, 0.0});
+  EXPECT_EQ(q.current().id, "station");  // in front of the door: in sight
+  // Without walls the disk alone passes it (the thesis' rule).
+  CommandQueue open{CommandQueueOptions{}};
+  open.Load({{"via_door", {0.0, 0.5}}, {"station", {0.5, 4.0}}}, {0.5, 4.0, 0.0});
+  open.Update({1.9, 0.3, 0.0});
+  EXPECT_EQ(open.current().id, "station");
+}
+
 // The goal node is never passed by its disk: it needs the full pose.
 TEST(CommandQueueTest, GoalNeedsTheFullPose) {
   CommandQueue q{CommandQueueOptions{}};

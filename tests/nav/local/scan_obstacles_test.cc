@@ -1,0 +1,224 @@
+// The obstacle points of the local planner and the dynamic window
+// (nav/local/scan_obstacles.h): readings kept in the odometry frame, the
+// robot's own outline dropped, the blind-zone memory, and ghost barriers
+// filled so that a polygon corner cannot slip between two ghost points.
+#include "nav/local/scan_obstacles.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <vector>
+
+#include "core/geometry/polygon.h"
+#include "core/geometry/segment2.h"
+#include "core/types/pose2.h"
+#include "core/types/sensor_data.h"
+
+namespace pavilion::nav {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kMapSpacingM = 0.25;  // the derived maps' ghost spacing
+constexpr double kMarginM = 0.02;      // the dynamic window's default safety margin
+
+// A regular polygon of `corners` vertices on a circle of `radius_m`, one
+// vertex pointing along -y (towards a barrier below it).
+core::Polygon2 CornerDown(int corners, double radius_m, const Eigen::Vector2d& at) {
+  core::Polygon2 p;
+  for (int k = 0; k < corners; ++k) {
+    const double a = -kPi / 2.0 + 2.0 * kPi * k / corners;
+    p.push_back(at + radius_m * Eigen::Vector2d(std::cos(a), std::sin(a)));
+  }
+  return p;
+}
+
+// A 1 m straight barrier along y = 0 with ghost points every kMapSpacingM.
+std::vector<Eigen::Vector2d> BarrierRow() {
+  std::vector<Eigen::Vector2d> ghosts;
+  for (int k = 0; k <= 4; ++k) ghosts.emplace_back(k * kMapSpacingM, 0.0);
+  return ghosts;
+}
+
+bool AnyInside(const core::Polygon2& polygon, const std::vector<Eigen::Vector2d>& points) {
+  return std::any_of(points.begin(), points.end(),
+                     [&](const Eigen::Vector2d& p) { return core::Contains(polygon, p); });
+}
+
+// The barrier alone, without the clearance rows and rings.
+GhostBarrier Thin() {
+  GhostBarrier b;  // link 0.3 m, fill 0.03 m
+  b.clearance_m = 0.0;
+  return b;
+}
+
+TEST(FillGhostBarriers, JoinsNeighboursAtTheFillSpacing) {
+  const std::vector<Eigen::Vector2d> row = BarrierRow();
+  const GhostBarrier barrier = Thin();
+  const std::vector<Eigen::Vector2d> filled = FillGhostBarriers(row, barrier);
+  // Four joins of 0.25 m, each cut into ceil(0.25 / 0.03) = 9 pieces.
+  ASSERT_EQ(filled.size(), row.size() + 4 * 8);
+  // The map's points come first and unchanged.
+  for (std::size_t i = 0; i < row.size(); ++i) EXPECT_EQ(filled[i], row[i]);
+  // Every point of the barrier is within fill_m / 2 of a filled point.
+  for (double x = 0.0; x <= 1.0; x += 0.001) {
+    double nearest = 1e9;
+    for (const Eigen::Vector2d& p : filled)
+      nearest = std::min(nearest, (p - Eigen::Vector2d(x, 0)).norm());
+    EXPECT_LE(nearest, 0.5 * barrier.fill_m + 1e-9) << "x " << x;
+  }
+}
+
+TEST(FillGhostBarriers, LeavesFarPointsAndZeroLinkAlone) {
+  // Two points 0.5 m apart are two obstacles, not a barrier (a robot's width
+  // is not between them, but the map says nothing of what is).
+  const std::vector<Eigen::Vector2d> far = {{0.0, 0.0}, {0.5, 0.0}};
+  EXPECT_EQ(FillGhostBarriers(far, Thin()).size(), 2u);
+  GhostBarrier off = Thin();
+  off.link_m = 0.0;
+  EXPECT_EQ(FillGhostBarriers(BarrierRow(), off).size(), BarrierRow().size());
+}
+
+// With clearance_m, every point within clearance_m of the barrier line (its
+// joins and the ghost points' discs) has a filled point within reach of the
+// dynamic window's margin: the window keeps about margin + clearance_m from
+// the line. Checked on the 1 m row: points clearance_m off the line and off
+// its ends lie within fill_m / 2 (rows) or half a ring arc's chord of a filled point.
+TEST(FillGhostBarriers, DrawsTheBarrierClearanceThickOnEitherSide) {
+  const GhostBarrier barrier;  // clearance 0.02 m
+  const std::vector<Eigen::Vector2d> filled = FillGhostBarriers(BarrierRow(), barrier);
+  const double c = barrier.clearance_m;
+  auto nearest = [&](const Eigen::Vector2d& q) {
+    double d = 1e9;
+    for (const Eigen::Vector2d& p : filled) d = std::min(d, (p - q).norm());
+    return d;
+  };
+  for (double x = 0.0; x <= 1.0; x += 0.001) {
+    EXPECT_LE(nearest({x, c}), 0.5 * barrier.fill_m + 1e-9) << "x " << x;
+    EXPECT_LE(nearest({x, -c}), 0.5 * barrier.fill_m + 1e-9) << "x " << x;
+  }
+  // Around the ends: from mid-arc to a ring point, 2 c sin(π / (2 kGhostRingPoints)).
+  const double half_arc_chord = 2.0 * c * std::sin(kPi / (2 * kGhostRingPoints));
+  for (double a = 0.0; a < 2.0 * kPi; a += 0.01) {
+    const Eigen::Vector2d around(c * std::cos(a), c * std::sin(a));
+    EXPECT_LE(nearest(around), half_arc_chord + 1e-9);
+    EXPECT_LE(nearest(Eigen::Vector2d(1.0, 0.0) + around), half_arc_chord + 1e-9);
+  }
+}
+
+TEST(FillGhostBarriers, RejectsOutOfRangeOptions) {
+  GhostBarrier b;
+  b.fill_m = 0.0;
+  EXPECT_THROW(FillGhostBarriers(BarrierRow(), b), std::invalid_argument);
+  b = GhostBarrier{};
+  b.link_m = -0.1;
+  EXPECT_THROW(FillGhostBarriers(BarrierRow(), b), std::invalid_argument);
+  b = GhostBarrier{};
+  b.clearance_m = 0.5;
+  EXPECT_THROW(FillGhostBarriers(BarrierRow(), b), std::invalid_argument);
+}
+
+// The glass-vitrine contacts of issue 14's expo_tour: an octagon's corner
+// (Robox, 0.37 m to its corners) slides along a ghost-pointed barrier with its
+// corner one safety margin past the line. Between the map's points it finds
+// places where no ghost point is inside it (the dynamic window would see
+// nothing to avoid); with the barrier filled it never does. The same for a
+// square's 90° corner (Pygmalion).
+TEST(FillGhostBarriers, NoCornerSlipsPastTheMarginBetweenGhostPoints) {
+  const std::vector<Eigen::Vector2d> sparse = BarrierRow();
+  const std::vector<Eigen::Vector2d> filled = FillGhostBarriers(sparse, GhostBarrier{});
+  for (int corners : {8, 4}) {
+    constexpr double kRadiusM = 0.37;
+    bool sparse_slips = false;
+    for (double x = 0.0; x <= 1.0; x += 0.002) {
+      const core::Polygon2 robot = CornerDown(corners, kRadiusM, {x, kRadiusM - kMarginM});
+      sparse_slips = sparse_slips || !AnyInside(robot, sparse);
+      EXPECT_TRUE(AnyInside(robot, filled)) << corners << " corners at x " << x;
+    }
+    EXPECT_TRUE(sparse_slips) << corners << " corners: the map's points alone never let it in";
+  }
+}
+
+// A scan whose readings lie on a wall 1 m ahead, from a laser at the origin
+// looking forward over `fov_rad`.
+core::LaserScan WallAhead(const char* id, double stamp_s, double fov_rad) {
+  core::LaserScan scan;
+  scan.sensor_id = id;
+  scan.stamp_s = stamp_s;
+  scan.max_range_m = 8.0;
+  for (int k = 0; k <= 20; ++k) {
+    const double bearing = -0.5 * fov_rad + fov_rad * k / 20.0;
+    core::LaserReading r;
+    r.bearing_rad = bearing;
+    r.range_m = 1.0 / std::cos(bearing);
+    r.valid = true;
+    scan.readings.push_back(r);
+  }
+  return scan;
+}
+
+const std::vector<Eigen::Vector2d> kSquareFootprint = {
+    {-0.3, -0.3}, {0.3, -0.3}, {0.3, 0.3}, {-0.3, 0.3}};
+
+TEST(ScanObstacles, DropsReadingsOnTheRobotAndKeepsTheOthersInTheOdometryFrame) {
+  ScanObstacles obstacles(kSquareFootprint, {});
+  core::LaserScan scan = WallAhead("front", 0.0, 1.0);
+  core::LaserReading self;  // the robot's own body, 0.2 m ahead
+  self.bearing_rad = 0.0;
+  self.range_m = 0.2;
+  self.valid = true;
+  scan.readings.push_back(self);
+  obstacles.AddScan(scan, core::Pose2());
+  EXPECT_EQ(obstacles.laser_points(), 21u);
+  // The robot drove 0.5 m forward since: the wall is 0.5 m ahead now.
+  const core::Pose2 moved(0.5, 0.0, 0.0);
+  std::vector<Eigen::Vector2d> in_robot;
+  obstacles.InRobot(moved, moved, 5.0, &in_robot);
+  ASSERT_EQ(in_robot.size(), 21u);
+  for (const Eigen::Vector2d& p : in_robot) EXPECT_NEAR(p.x(), 0.5, 1e-12);
+}
+
+TEST(ScanObstacles, TheWindowGetsFilledBarriersAndTheGridTheMapsPoints) {
+  const std::vector<Eigen::Vector2d> ghosts = BarrierRow();  // y = 0, x 0..1
+  ScanObstacles obstacles(kSquareFootprint, ghosts);
+  const core::Pose2 robot(0.5, 1.0, 0.0);
+  std::vector<Eigen::Vector2d> window, grid;
+  obstacles.InRobot(robot, robot, 3.0, &window);
+  obstacles.InWorld(robot, robot, 3.0, &grid);
+  EXPECT_EQ(window.size(), FillGhostBarriers(ghosts, GhostBarrier{}).size());
+  EXPECT_EQ(grid.size(), ghosts.size());
+  // Reach applies to the filled points: within 1.05 m only the ones near x 0.5.
+  obstacles.InRobot(robot, robot, 1.05, &window);
+  for (const Eigen::Vector2d& p : window) EXPECT_LE(p.norm(), 1.05);
+  EXPECT_GT(window.size(), 3u);
+}
+
+// A reading that has left every laser's field of view stays for
+// blind_memory_s (the side of a robot with two lasers back to back); one a
+// laser still covers is not duplicated from memory.
+TEST(ScanObstacles, RemembersBlindZoneReadingsForTheMemoryTime) {
+  ScanObstacles obstacles(kSquareFootprint, {}, /*blind_memory_s=*/1.0);
+  const double fov = 1.0;
+  obstacles.AddScan(WallAhead("front", 0.0, fov), core::Pose2());
+  // Turned 90° on the spot: the wall is now on the robot's right, outside the
+  // laser's ±0.5 rad.
+  const core::Pose2 turned(0.0, 0.0, kPi / 2.0);
+  core::LaserScan empty = WallAhead("front", 0.2, fov);
+  for (core::LaserReading& r : empty.readings) r.valid = false;
+  obstacles.AddScan(empty, turned);
+  std::vector<Eigen::Vector2d> points;
+  obstacles.InRobot(turned, turned, 3.0, &points);
+  EXPECT_EQ(points.size(), 21u);  // the remembered wall
+  for (const Eigen::Vector2d& p : points) EXPECT_NEAR(p.y(), -1.0, 1e-9);
+  // More than a second later the memory has let it go.
+  core::LaserScan later = empty;
+  later.stamp_s = 1.5;
+  obstacles.AddScan(later, turned);
+  obstacles.InRobot(turned, turned, 3.0, &points);
+  EXPECT_TRUE(points.empty());
+}
+
+}  // namespace
+}  // namespace pavilion::nav
