@@ -50,9 +50,10 @@ using Clock = std::chrono::steady_clock;
 // Events are due when their time is reached up to this rounding of tick times (s).
 inline constexpr double kDueToleranceS = 1e-9;
 inline constexpr double kDegPerRad = 180.0 / std::numbers::pi;
-// A walker that touched a robot stands this long after the contact ends (s):
-// long enough for its random walk to give up the leg (RandomWalkOptions::
-// blocked_s) and turn elsewhere instead of walking straight back into it.
+// A walker that touches a robot stands this long from the contact's start and
+// again from its end (s): long enough for its random walk to give up the leg
+// (RandomWalkOptions::blocked_s) and turn elsewhere instead of walking
+// straight back into it.
 inline constexpr double kWalkerContactPauseS = 3.0;
 // A walker heading for a robot stops this far (m) from the robot's bounding
 // circle, as a person would in front of a moving machine: a blind walk into
@@ -153,7 +154,6 @@ class ScenarioRun {
   std::vector<BodyMetrics> body_tally_;
   std::unique_ptr<CollisionClassifier> collision_classes_;
   std::vector<bool> visitor_body_;                // random walkers: the crowd's stand-ins
-  std::vector<int> robot_contacts_;               // by body: contacts with a robot right now
   std::vector<double> walker_paused_until_s_;     // by body: stands until then after a contact
   std::vector<double> robot_radius_m_;            // by robot: its footprint\'s bounding circle
   std::vector<nav::NavigationEvent> nav_events_;  // scratch

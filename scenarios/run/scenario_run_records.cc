@@ -59,11 +59,11 @@ void ScenarioRun::RecordContacts(double t_after) {
 void ScenarioRun::ClassifyContact(const sim::ContactChange& c, double t_after) {
   const int ra = robot_of_element_[c.a];
   const int rb = robot_of_element_[c.b];
-  // Walkers touching a robot (they stop meanwhile).
+  // Walkers touching a robot stand for the pause, from the contact's start
+  // and again from its end.
   for (auto [robot, other] : {std::pair{ra, c.b}, std::pair{rb, c.a}}) {
     const int body = body_of_element_[other];
     if (robot >= 0 && body >= 0 && visitor_body_[body]) {
-      robot_contacts_[body] += c.began ? 1 : -1;
       walker_paused_until_s_[body] = t_after + kWalkerContactPauseS;
     }
   }

@@ -129,7 +129,6 @@ void ScenarioRun::BuildCollisionClasses() {
   }
   const auto& elements = world_->elements();
   visitor_body_.assign(world_->body_count(), false);
-  robot_contacts_.assign(world_->body_count(), 0);
   walker_paused_until_s_.assign(world_->body_count(), -1.0);
   for (const RobotRun& r : robots_) {
     robot_radius_m_.push_back(nav::Circumradius(r.entry->config.description.footprint_m));
@@ -288,10 +287,12 @@ void ScenarioRun::MoveBodies(double t) {
   for (int b = 0; b < world_->body_count(); ++b) {
     if (!motions_[b]) continue;
     // Until the crowd model, walkers stop when they meet a robot: they must not
-    // shove it into an exhibit (issue 14).
-    const bool stop =
-        visitor_body_[b] && (robot_contacts_[b] > 0 || t < walker_paused_until_s_[b] ||
-                             WalkerMeetsRobot(b, body_commands_[b].linear_mps));
+    // shove it into an exhibit (issue 14). A walker touching a robot stands
+    // for the pause, then walks on if its walk leads away from every robot:
+    // standing pressed against it for good pinned a Robox to a wall for the
+    // rest of a tour (expo_tour, seed 1), neither daring to move.
+    const bool stop = visitor_body_[b] && (t < walker_paused_until_s_[b] ||
+                                           WalkerMeetsRobot(b, body_commands_[b].linear_mps));
     if (stop && t >= walker_paused_until_s_[b]) {
       walker_paused_until_s_[b] = t + kWalkerContactPauseS;
     }

@@ -243,3 +243,48 @@ TEST(NavigationScenarios, UShapedCrowdReachedWithoutContact) {
 
 }  // namespace
 }  // namespace pavilion::scenarios
+
+namespace pavilion::scenarios {
+namespace {
+
+// A walker that touches a standing robot stands for the pause, then walks on
+// when its walk leads away (issue 14's walkers, until the crowd model): one
+// that stood as long as it touched pinned a Robox to a wall for the rest of a
+// tour. The walker starts 3 mm from the robot's front flat.
+TEST(NavigationScenarios, AWalkerTouchingARobotWalksOn) {
+  const fs::path dir = pavilion::testing::TestDir();
+  const std::string yaml =
+      "kind: scenario\n"
+      "name: walker_touching\n"
+      "world: expo_hall\n"
+      "seed: 3\n"
+      "duration_s: 40\n"
+      "outputs: {trajectory_rate_hz: 10, scan_log: false}\n"
+      "materials:\n"
+      "  visitor: {friction: 0.6, color: [0.85, 0.55, 0.35]}\n"
+      "bodies:\n"
+      "  - {id: walker_1, pose: [3.563, -0.6, 0], shape: {type: cylinder, radius: 0.22, "
+      "height: 1.7}, mass_kg: 70, material: visitor,\n"
+      "     motion: {type: random_walk, speed_mps: 0.8, mean_leg_s: 5}}\n"
+      "robots:\n"
+      "  - {id: robox_1, model: robox, pose: [3.0, -0.6, 0.0]}\n";
+  const SceneRun run = RunScene(dir, "walker_touching", yaml);
+  std::ifstream in(run.dir / "trajectories.csv");
+  std::string line;
+  std::getline(in, line);  // header: time_s,id,true_x_m,true_y_m,...
+  double farthest_m = 0.0;
+  int rows = 0;
+  while (std::getline(in, line)) {
+    if (line.find(",walker_1,") == std::string::npos) continue;
+    double t = 0.0, x = 0.0, y = 0.0;
+    ASSERT_EQ(std::sscanf(line.c_str(), "%lf,walker_1,%lf,%lf", &t, &x, &y), 3) << line;
+    farthest_m = std::max(farthest_m, std::hypot(x - 3.563, y + 0.6));
+    ++rows;
+  }
+  EXPECT_GT(rows, 100);
+  RecordProperty("walker_farthest_m", std::to_string(farthest_m));
+  EXPECT_GT(farthest_m, 2.0);  // it walked on (standing for good: 0)
+}
+
+}  // namespace
+}  // namespace pavilion::scenarios
