@@ -43,8 +43,15 @@ void CommandQueue::Load(std::vector<QueuedNode> nodes, const core::Pose2& goal_p
 }
 
 bool CommandQueue::Sees(const Eigen::Vector2d& from, const Eigen::Vector2d& to) const {
-  for (const auto& [a, b] : walls_) {
-    if (core::SegmentsCross(from, to, a, b)) return false;
+  const Eigen::Vector2d d = to - from;
+  Eigen::Vector2d side = Eigen::Vector2d::Zero();
+  if (d.squaredNorm() > 0.0)
+    side = Eigen::Vector2d(-d.y(), d.x()).normalized() * sight_clearance_m_;
+  for (const double k : {0.0, 1.0, -1.0}) {
+    if (k != 0.0 && sight_clearance_m_ == 0.0) break;
+    for (const auto& [a, b] : walls_) {
+      if (core::SegmentsCross(from + k * side, to + k * side, a, b)) return false;
+    }
   }
   return true;
 }

@@ -8,7 +8,10 @@
 // controller to settle on the goal.
 //
 // With the map's walls given (SetWalls), a via node counts as passed only
-// when the robot also sees the node after it over those walls. 2 m from the
+// when the robot also sees the node after it over those walls with room for
+// its body: the straight line and its two parallels `clearance_m` to either
+// side cross no wall (a square robot that heads for a door's far side from
+// beside the door enters it askew and jams in it). 2 m from the
 // via node in front of a door, the room's station behind the wall is out of
 // sight; the local grid, which holds only what the lasers see now, would
 // lead through the next room's door and a wall it has not seen yet, and the
@@ -52,9 +55,12 @@ class CommandQueue {
   void Load(std::vector<QueuedNode> nodes, const core::Pose2& goal_pose);
   void Clear();
   // The walls (endpoint pairs, world frame) a via node's successor must be
-  // seen over before the via node counts as passed; none: the disk alone.
-  void SetWalls(std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> walls) {
+  // seen over, `clearance_m` (>= 0) to either side of the line, before the
+  // via node counts as passed; none: the disk alone.
+  void SetWalls(std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> walls,
+                double clearance_m = 0.0) {
     walls_ = std::move(walls);
+    sight_clearance_m_ = clearance_m;
   }
 
   // Advances past every via node whose disk holds the robot's belief (and
@@ -78,11 +84,13 @@ class CommandQueue {
 
  private:
   CommandQueueOptions options_;
-  // The straight line from `from` to `to` crosses none of walls_.
+  // The straight line from `from` to `to`, and its parallels
+  // sight_clearance_m_ to either side, cross none of walls_.
   bool Sees(const Eigen::Vector2d& from, const Eigen::Vector2d& to) const;
 
   std::vector<QueuedNode> nodes_;
   std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> walls_;
+  double sight_clearance_m_ = 0.0;
   std::size_t next_ = 0;
   core::Pose2 goal_pose_;
   bool paused_ = false;

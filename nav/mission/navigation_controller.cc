@@ -122,7 +122,7 @@ NavigationController::NavigationController(core::RobotMap map,
       queue_(options.queue),
       blocked_(options.blocked) {
   options_.Validate();
-  queue_.SetWalls(MapWalls(map_));
+  queue_.SetWalls(MapWalls(map_), options_.local.band.robot_radius_m);
   local_ = std::make_unique<LocalPlanner>(options_.local, MakeInitialPlanner(options_));
   dwa_period_ticks_ = PeriodTicks(options_.step_s, options_.dwa_rate_hz);
   band_period_ticks_ = PeriodTicks(options_.step_s, options_.band_rate_hz);

@@ -45,6 +45,21 @@ TEST(CommandQueueTest, ViaNodePassesOnlyWhenItsSuccessorIsInSight) {
   EXPECT_EQ(open.current().id, "station");
 }
 
+// With a clearance, the robot must see the next node with room for its body:
+// from beside the door the centre line passes the opening but one of its
+// parallels 0.3 m aside hits the wall (a square robot would enter askew and
+// jam); from in front of the door all three pass.
+TEST(CommandQueueTest, SightNeedsRoomForTheBody) {
+  CommandQueue q{CommandQueueOptions{}};
+  // A 0.9 m door between x = -0.45 and 0.45 in a wall along y = 1.
+  q.SetWalls({{{-10.0, 1.0}, {-0.45, 1.0}}, {{0.45, 1.0}, {10.0, 1.0}}}, 0.3);
+  q.Load({{"via_door", {0.0, 0.0}}, {"station", {0.0, 4.0}}}, {0.0, 4.0, 0.0});
+  q.Update({-0.4, 0.2, 0.0});  // the centre line crosses y = 1 at x = -0.33: in the door
+  EXPECT_EQ(q.current().id, "via_door");
+  q.Update({0.02, 0.1, 0.0});
+  EXPECT_EQ(q.current().id, "station");
+}
+
 // The goal node is never passed by its disk: it needs the full pose.
 TEST(CommandQueueTest, GoalNeedsTheFullPose) {
   CommandQueue q{CommandQueueOptions{}};
