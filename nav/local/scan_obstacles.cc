@@ -19,6 +19,13 @@ constexpr double kMemoryReachM = 3.0;
 
 }  // namespace
 
+std::vector<Eigen::Vector2d> GhostPositions(const core::RobotMap& map) {
+  std::vector<Eigen::Vector2d> ghosts;
+  ghosts.reserve(map.ghost_points.size());
+  for (const core::MapGhostPoint& g : map.ghost_points) ghosts.push_back(g.position_m);
+  return ghosts;
+}
+
 void GhostBarrier::Validate() const {
   if (!(link_m >= 0.0 && link_m <= 2.0)) {
     throw std::invalid_argument("GhostBarrier.link_m must be in [0, 2] m");

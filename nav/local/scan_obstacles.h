@@ -32,6 +32,7 @@
 #include <string>
 #include <vector>
 
+#include "core/map/robot_map.h"
 #include "core/types/pose2.h"
 #include "core/types/sensor_data.h"
 
@@ -59,6 +60,9 @@ struct GhostBarrier {
 // points every `barrier.fill_m` or less (each join once, in index order): on
 // the join or, with clearance_m > 0, on its two sides clearance_m away
 // instead, with a ring of kGhostRingPoints around each ghost point.
+// The positions of the map's ghost points, in map order.
+std::vector<Eigen::Vector2d> GhostPositions(const core::RobotMap& map);
+
 inline constexpr int kGhostRingPoints = 8;
 std::vector<Eigen::Vector2d> FillGhostBarriers(std::span<const Eigen::Vector2d> ghosts,
                                                const GhostBarrier& barrier);

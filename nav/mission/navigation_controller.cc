@@ -76,12 +76,6 @@ Eigen::Vector2d OutlineAt(const std::vector<Eigen::Vector2d>& outline, double be
   return std::max(0.0, t * end.norm() - kInsideM) * dir;
 }
 
-std::vector<Eigen::Vector2d> GhostPoints(const core::RobotMap& map) {
-  std::vector<Eigen::Vector2d> ghosts;
-  for (const core::MapGhostPoint& g : map.ghost_points) ghosts.push_back(g.position_m);
-  return ghosts;
-}
-
 }  // namespace
 
 void NavigationControllerOptions::Validate() const {
@@ -117,7 +111,7 @@ NavigationController::NavigationController(core::RobotMap map,
       footprint_(std::move(footprint_in_robot)),
       missions_(std::move(missions)),
       graph_(map_),
-      obstacles_(footprint_, GhostPoints(map_), /*blind_memory_s=*/1.0, options.ghost_barrier),
+      obstacles_(footprint_, GhostPositions(map_), /*blind_memory_s=*/1.0, options.ghost_barrier),
       dwa_(options.dwa, footprint_),
       queue_(options.queue),
       blocked_(options.blocked) {

@@ -276,11 +276,9 @@ std::unique_ptr<nav::Navigator> MakeNavigator(const Scenario& scenario, std::siz
   if (entry.localization.enabled && entry.localization.global && entry.mission &&
       !entry.config.lasers.empty()) {
     auto wander = MakeWander(scenario, entry, entry.config.lasers.front().id, {});
-    std::vector<Eigen::Vector2d> ghosts;
-    for (const core::MapGhostPoint& g : map->ghost_points) ghosts.push_back(g.position_m);
-    wander->SetGhostReadings(
-        nav::GhostReadings(nav::FillGhostBarriers(ghosts, entry.mission->navigation.ghost_barrier),
-                           nav::Circumradius(entry.config.description.OutlineWithWheels())));
+    wander->SetGhostReadings(nav::GhostReadings(
+        nav::FillGhostBarriers(nav::GhostPositions(*map), entry.mission->navigation.ghost_barrier),
+        nav::Circumradius(entry.config.description.OutlineWithWheels())));
     navigator->SetFallback(std::move(wander));
   }
   if (entry.localization.enabled && entry.localization.shadow_mcl) {
