@@ -30,6 +30,12 @@ const char* ToString(NavigationEvent::Type type) {
       return "blocked";
     case NavigationEvent::Type::kReplanned:
       return "replanned";
+    case NavigationEvent::Type::kDeadlockDetected:
+      return "deadlock_detected";
+    case NavigationEvent::Type::kDeadlockResolved:
+      return "deadlock_resolved";
+    case NavigationEvent::Type::kDeadlockUnresolved:
+      return "deadlock_unresolved";
   }
   return "unknown";
 }

@@ -30,16 +30,28 @@ inline constexpr std::array<AbortReason, 4> kAbortReasons = {
 const char* ToString(AbortReason reason);
 
 // What the navigation reports up (events.jsonl: mission_started,
-// mission_completed, mission_aborted, blocked, replanned).
+// mission_completed, mission_aborted, blocked, replanned, deadlock_detected,
+// deadlock_resolved, deadlock_unresolved).
 struct NavigationEvent {
-  enum class Type { kMissionStarted, kMissionCompleted, kMissionAborted, kBlocked, kReplanned };
+  enum class Type {
+    kMissionStarted,
+    kMissionCompleted,
+    kMissionAborted,
+    kBlocked,
+    kReplanned,
+    kDeadlockDetected,
+    kDeadlockResolved,
+    kDeadlockUnresolved
+  };
   Type type = Type::kMissionStarted;
   double at_s = 0.0;
   int mission = 0;                                 // index in the robot's sequence of missions
   std::string goal;                                // the mission's goal node
   AbortReason reason = AbortReason::kUnreachable;  // kMissionAborted
-  std::string cause;                               // kReplanned: "band_snap" or "blocked"
-  double duration_s = 0.0;                         // kMissionCompleted/Aborted: since its start
+  // kReplanned: "band_snap", "blocked", "relocalized" or "fleet"
+  std::string cause;
+  // kMissionCompleted/Aborted: since its start; kDeadlockResolved: since detection
+  double duration_s = 0.0;
   double path_length_m = 0;  // kMissionCompleted/Aborted: travelled since its start (odometry)
 };
 const char* ToString(NavigationEvent::Type type);
@@ -65,6 +77,15 @@ struct NavigationFigures {
   std::int64_t dwa_cycles = 0;
   std::int64_t band_updates = 0;
   std::int64_t no_admissible_cycles = 0;  // the dynamic window found nothing but stop
+  // Fleet (§6.3.5): replans because the others' weights or a deviation made
+  // another way cheaper; cycles waiting because every remaining station was taken.
+  int fleet_replans = 0;
+  std::int64_t station_waits = 0;
+  // The overlap deadlock of §6.5 (nav/fleet/deadlock_monitor.h).
+  int deadlocks_detected = 0;
+  int deadlocks_resolved = 0;
+  int deadlocks_unresolved = 0;
+  double longest_deadlock_s = 0.0;  // detection to resolution, s
 
   int missions_aborted_total() const;
 };

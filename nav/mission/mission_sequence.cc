@@ -47,4 +47,24 @@ std::optional<std::string> MissionSequence::Next() {
   return last_;
 }
 
+MissionSequence::Proposal MissionSequence::NextFree(
+    const std::function<bool(const std::string&)>& taken) {
+  if (pending_.empty() && random_ && (!drawn_ || repeat_) && per_round_ > 0) DrawRound();
+  if (pending_.empty()) return {};
+  if (!random_) {  // a fixed list: in order
+    if (taken(pending_.back())) return {std::nullopt, true};
+    return {Next(), false};
+  }
+  std::vector<std::size_t> free;
+  for (std::size_t i = 0; i < pending_.size(); ++i) {
+    if (!taken(pending_[i])) free.push_back(i);
+  }
+  if (free.empty()) return {std::nullopt, true};
+  const auto pick = free[static_cast<std::size_t>(
+      random_->UniformInt(0, static_cast<std::int64_t>(free.size()) - 1))];
+  last_ = pending_[pick];
+  pending_.erase(pending_.begin() + static_cast<std::ptrdiff_t>(pick));
+  return {last_, false};
+}
+
 }  // namespace pavilion::nav

@@ -5,6 +5,7 @@
 // of the candidate stations once in a random order, rounds repeating when
 // asked, and a round never starts where the last one ended.
 
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -25,6 +26,16 @@ class MissionSequence {
 
   // The next goal, none when the sequence is done.
   std::optional<std::string> Next();
+
+  // Goal coordination (thesis §6.3.5): the robot proposes the stations of the
+  // round not yet visited that no other robot reserved or occupies (`taken`),
+  // and the visitors choose one — a uniform draw from the sequence's stream.
+  // A fixed list keeps its order and waits while its next station is taken.
+  struct Proposal {
+    std::optional<std::string> goal;  // none: done, or wait (all remaining taken)
+    bool wait = false;                // try again later: every remaining station is taken
+  };
+  Proposal NextFree(const std::function<bool(const std::string&)>& taken);
 
  private:
   MissionSequence() = default;

@@ -18,6 +18,13 @@ constexpr double kMaxStartS = 1e7;
 constexpr double kMaxTimeoutS = 1e6;
 // How long (s) the chosen dynamic-window arc is drawn ahead.
 constexpr double kArcDrawS = 2.0;
+// A clipped contour keeps this much more than the window's safety margin from
+// the hull, so that its points are not on the margin's edge, m.
+constexpr double kClipSlackM = 0.01;
+// Another robot's published pose is this old at most (one cycle), s; its
+// swept hull is drawn in copies this far apart, m.
+constexpr double kPoseAgeS = 0.1;
+constexpr double kSweepStepM = 0.1;
 // A station goal is looked up in the map; this node id means none.
 constexpr int kNoNode = -1;
 
@@ -93,6 +100,16 @@ void NavigationControllerOptions::Validate() const {
   Require(relocalization_timeout_s >= 0.0 && relocalization_timeout_s <= 3600.0,
           "relocalization_timeout_s", "in [0, 3600] s");
   Require(bumper_hold_s >= 0.0 && bumper_hold_s <= 60.0, "bumper_hold_s", "in [0, 60] s");
+  Require(contour_hold_s >= 0.0 && contour_hold_s <= 10.0, "contour_hold_s", "in [0, 10] s");
+  Require(mapped_beacon_m >= 0.0 && mapped_beacon_m <= 2.0, "mapped_beacon_m", "in [0, 2] m");
+  Require(explained_m >= 0.0 && explained_m <= 2.0, "explained_m", "in [0, 2] m");
+  robot_contours.Validate();
+  deadlock.Validate();
+  Require(fleet_replan_s >= 0.1 && fleet_replan_s <= 600.0, "fleet_replan_s", "in [0.1, 600] s");
+  Require(fleet_replan_gain_m >= 0.0 && fleet_replan_gain_m <= 1e4, "fleet_replan_gain_m",
+          "in [0, 1e4] m");
+  Require(fleet_hull_margin_m >= 0.0 && fleet_hull_margin_m <= 0.5, "fleet_hull_margin_m",
+          "in [0, 0.5] m");
   ghost_barrier.Validate();
   ompl.Validate();
   local.Validate();
@@ -114,9 +131,12 @@ NavigationController::NavigationController(core::RobotMap map,
       obstacles_(footprint_, GhostPositions(map_), /*blind_memory_s=*/1.0, options.ghost_barrier),
       dwa_(options.dwa, footprint_),
       queue_(options.queue),
-      blocked_(options.blocked) {
+      blocked_(options.blocked),
+      deadlock_(options.deadlock, options.seed) {
   options_.Validate();
-  queue_.SetWalls(MapWalls(map_), options_.local.band.robot_radius_m);
+  walls_ = MapWalls(map_);
+  for (const core::MapBeacon& b : map_.beacons) map_beacons_.push_back(b.point.position_m);
+  queue_.SetWalls(walls_, options_.local.band.robot_radius_m);
   local_ = std::make_unique<LocalPlanner>(options_.local, MakeInitialPlanner(options_));
   dwa_period_ticks_ = PeriodTicks(options_.step_s, options_.dwa_rate_hz);
   band_period_ticks_ = PeriodTicks(options_.step_s, options_.band_rate_hz);
@@ -128,6 +148,24 @@ NavigationController::~NavigationController() = default;
 std::optional<WheelSpeeds> NavigationController::OnScan(const core::LaserScan& scan,
                                                         const ScanContext& context) {
   obstacles_.AddScan(scan, context.odometry);
+  if (!options_.see_robots) return std::nullopt;
+  // This laser's new view replaces what it saw before; markers it saw that
+  // now lie in a blind zone (outside its bearings) are held a while.
+  const std::vector<SeenRobot> seen = SeeRobots(scan, options_.robot_contours);
+  const core::Pose2 sensor_from_odom = (context.odometry * scan.robot_from_sensor).Inverse();
+  const double first = scan.readings.empty() ? 0.0 : scan.readings.front().bearing_rad;
+  const double last = scan.readings.empty() ? 0.0 : scan.readings.back().bearing_rad;
+  std::erase_if(markers_, [&](const SeenMarker& m) {
+    if (context.now_s - m.seen_s > options_.contour_hold_s) return true;
+    if (m.laser != scan.sensor_id) return false;
+    const Eigen::Vector2d p = sensor_from_odom * m.marker_in_odom;
+    const double bearing = std::atan2(p.y(), p.x());
+    return bearing >= std::min(first, last) && bearing <= std::max(first, last);
+  });
+  for (const SeenRobot& r : seen) {
+    markers_.push_back({context.odometry * r.marker_in_robot, context.odometry * r.centre_in_robot,
+                        scan.sensor_id, context.now_s});
+  }
   return std::nullopt;
 }
 
@@ -153,6 +191,7 @@ std::optional<WheelSpeeds> NavigationController::OnTick(const ControlTick& tick)
   if (tick.tick % dwa_period_ticks_ != 0) return std::nullopt;
   held_ = command_;
   Cycle(tick);
+  if (fleet_.coordinator) Publish(tick);
   if (cycled_ && command_.left_mps == held_.left_mps && command_.right_mps == held_.right_mps) {
     return std::nullopt;
   }
@@ -195,12 +234,30 @@ void NavigationController::Cycle(const ControlTick& tick) {
   }
   CheckProgress(tick);
   if (state_ != State::kDriving) return;
+  if (fleet_.coordinator && tick.now_s + 1e-9 >= next_fleet_check_s_) {
+    next_fleet_check_s_ = tick.now_s + options_.fleet_replan_s;
+    FleetReplan(tick);
+  }
   if (tick.tick % band_period_ticks_ == 0) UpdateBand(tick);
   Drive(tick);
 }
 
 void NavigationController::StartNextMission(const ControlTick& tick) {
-  const std::optional<std::string> goal = missions_.Next();
+  std::optional<std::string> goal;
+  if (fleet_.coordinator) {
+    const FleetBoard& board = fleet_.coordinator->board();
+    const MissionSequence::Proposal p = missions_.NextFree([&](const std::string& id) {
+      const std::optional<int> n = graph_.FindIndex(id);
+      return n && board.StationTaken(*n, fleet_.robot);
+    });
+    if (p.wait) {  // every remaining station is taken: ask again next cycle
+      ++figures_.station_waits;
+      return;
+    }
+    goal = p.goal;
+  } else {
+    goal = missions_.Next();
+  }
   if (!goal) {
     state_ = State::kDone;
     status_.done = true;
@@ -213,6 +270,8 @@ void NavigationController::StartNextMission(const ControlTick& tick) {
                      options_.dwell_s, options_.timeout_s};
   mission_start_s_ = tick.now_s;
   mission_start_odometer_m_ = odometer_m_;
+  reserved_node_ = node;
+  next_fleet_check_s_ = tick.now_s + options_.fleet_replan_s;
   ++figures_.missions_started;
   Emit(NavigationEvent::Type::kMissionStarted, tick.now_s);
   state_ = State::kDriving;
@@ -224,8 +283,7 @@ void NavigationController::StartNextMission(const ControlTick& tick) {
 }
 
 bool NavigationController::PlanGlobal(const ControlTick& tick, int avoid_node) {
-  std::vector<double> extra(map_.nodes.size(), 0.0);
-  if (avoid_node != kNoNode) extra[avoid_node] = options_.blocked_node_cost_m;
+  const std::vector<double> extra = NodeCosts(avoid_node);
   const std::optional<GraphPath> path =
       PlanFromPosition(graph_, map_, tick.belief.translation(),
                        graph_.FindIndex(current_.goal).value_or(kNoNode), options_.graph, extra);
@@ -241,6 +299,7 @@ bool NavigationController::PlanGlobal(const ControlTick& tick, int avoid_node) {
 void NavigationController::PlanLocal(const ControlTick& tick, bool replan, const char* cause) {
   if (queue_.empty()) return;
   obstacles_.InWorld(tick.odometry, tick.belief, GridReachM(), &points_);
+  AppendOtherRobots(tick.belief, core::Pose2{}, GridReachM(), &points_);
   local_target_ = queue_.current().id;
   local_->Plan(tick.belief.translation(), queue_.current().position_m, points_,
                PlanSeed(options_.seed, plans_++));
@@ -262,6 +321,7 @@ void NavigationController::UpdateBand(const ControlTick& tick) {
     return;
   }
   obstacles_.InWorld(tick.odometry, tick.belief, GridReachM(), &points_);
+  AppendOtherRobots(tick.belief, core::Pose2{}, GridReachM(), &points_);
   ++figures_.band_updates;
   switch (local_->Update(tick.belief.translation(), points_)) {
     case LocalPlanner::Status::kOk:
@@ -338,6 +398,8 @@ void NavigationController::Drive(const ControlTick& tick) {
     goal.target_in_robot = robot_from_world * target;
   }
   obstacles_.InRobot(tick.odometry, tick.belief, options_.dwa_reach_m, &points_);
+  AppendOtherRobots(tick.belief, robot_from_world, options_.dwa_reach_m, &points_);
+  AppendContours(tick, clip_contours_, &points_);
   if (tick.now_s <= bumper_until_s_) {
     points_.insert(points_.end(), bumper_points_.begin(), bumper_points_.end());
   }
@@ -351,6 +413,10 @@ void NavigationController::Drive(const ControlTick& tick) {
   ++figures_.dwa_cycles;
   if (!result.admissible_found) ++figures_.no_admissible_cycles;
   command_ = result.command;
+  constexpr double kStoppedMps = 0.01;
+  UpdateDeadlock(
+      tick, !result.admissible_found ||
+                std::max(std::abs(command_.left_mps), std::abs(command_.right_mps)) < kStoppedMps);
   arc_in_world_.clear();
   for (const Eigen::Vector2d& p : dwa_.ChosenArc(result, kArcDrawS)) {
     arc_in_world_.push_back(tick.belief * p);
@@ -367,7 +433,9 @@ void NavigationController::EndMission(const ControlTick& tick, bool completed, A
   e.reason = reason;
   e.duration_s = tick.now_s - mission_start_s_;
   e.path_length_m = odometer_m_ - mission_start_odometer_m_;
+  reserved_node_ = kNoNode;
   if (completed) {
+    occupied_node_ = graph_.FindIndex(current_.goal).value_or(kNoNode);
     ++figures_.missions_completed;
     figures_.mission_time_s += e.duration_s;
     figures_.mission_path_length_m += e.path_length_m;
@@ -382,6 +450,197 @@ void NavigationController::EndMission(const ControlTick& tick, bool completed, A
   blocked_.Reset();
   command_ = {};
   arc_in_world_.clear();
+  UpdateDeadlock(tick, false);  // no goal: an open deadlock episode ends
+}
+
+void NavigationController::SetFleet(FleetLink link) {
+  fleet_ = link;
+  if (fleet_.coordinator) fleet_.coordinator->Join(fleet_.robot, footprint_);
+}
+
+std::vector<double> NavigationController::NodeCosts(int avoid_node) const {
+  std::vector<double> costs(map_.nodes.size(), 0.0);
+  if (avoid_node != kNoNode) costs[avoid_node] = options_.blocked_node_cost_m;
+  if (fleet_.coordinator) {
+    fleet_.coordinator->board().AddOthersCosts(
+        fleet_.robot, fleet_.coordinator->options().occupied_station_cost_m, &costs);
+  }
+  return costs;
+}
+
+void NavigationController::Publish(const ControlTick& tick) {
+  const FleetOptions& o = fleet_.coordinator->options();
+  // The station it stood at is free once the robot is well away from it.
+  if (occupied_node_ != kNoNode && !tick.localization_lost &&
+      (tick.belief.translation() - graph_.position(occupied_node_)).norm() > o.release_distance_m) {
+    occupied_node_ = kNoNode;
+  }
+  FleetMessage m;
+  m.reserved_station = reserved_node_;
+  m.occupied_station = occupied_node_;
+  if (!tick.localization_lost) m.pose = tick.belief;
+  m.speed_mps = 0.5 * (command_.left_mps + command_.right_mps);
+  if (state_ == State::kDriving && !queue_.empty()) {
+    std::vector<int> nodes;
+    std::vector<Eigen::Vector2d> positions;
+    for (const QueuedNode& n : queue_.remaining()) {
+      if (const std::optional<int> i = graph_.FindIndex(n.id)) {
+        nodes.push_back(*i);
+        positions.push_back(n.position_m);
+      }
+    }
+    m.path = PlanWeights(tick.belief.translation(), nodes, positions, o);
+  }
+  fleet_.coordinator->Send(fleet_.robot, std::move(m));
+}
+
+double NavigationController::RemainingPathCost(const Eigen::Vector2d& position,
+                                               const std::vector<double>& costs) const {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  const std::span<const QueuedNode> rest = queue_.remaining();
+  if (rest.empty()) return kInf;
+  // The straight leg to the next node, as PlanFromPosition joins a position.
+  for (const auto& [a, b] : walls_) {
+    if (core::SegmentsCross(position, rest.front().position_m, a, b)) return kInf;
+  }
+  double cost = (rest.front().position_m - position).norm();
+  std::optional<int> from = graph_.FindIndex(rest.front().id);
+  if (!from) return kInf;
+  cost += graph_.node_cost(*from) + costs[*from];
+  for (std::size_t i = 1; i < rest.size(); ++i) {
+    const std::optional<int> to = graph_.FindIndex(rest[i].id);
+    if (!to) return kInf;
+    double arc = kInf;
+    for (const GraphArc& a : graph_.arcs_from(*from)) {
+      if (a.to == *to && !a.blocked) arc = std::min(arc, a.weight);
+    }
+    cost += arc + graph_.node_cost(*to) + costs[*to];
+    from = to;
+  }
+  return cost;
+}
+
+void NavigationController::FleetReplan(const ControlTick& tick) {
+  const std::vector<double> costs = NodeCosts(kNoNode);
+  const int goal = graph_.FindIndex(current_.goal).value_or(kNoNode);
+  if (goal == kNoNode) return;
+  const std::optional<GraphPath> path =
+      PlanFromPosition(graph_, map_, tick.belief.translation(), goal, options_.graph, costs);
+  if (!path) return;
+  const double current = RemainingPathCost(tick.belief.translation(), costs);
+  if (!(path->cost + options_.fleet_replan_gain_m < current)) return;
+  const std::span<const QueuedNode> rest = queue_.remaining();
+  const bool same =
+      rest.size() == path->nodes.size() &&
+      std::equal(rest.begin(), rest.end(), path->nodes.begin(),
+                 [&](const QueuedNode& q, int n) { return q.id == map_.nodes[n].id; });
+  if (same) return;
+  ++figures_.global_plans;
+  ++figures_.fleet_replans;
+  std::vector<QueuedNode> nodes;
+  for (int n : path->nodes) nodes.push_back({map_.nodes[n].id, map_.nodes[n].pose.translation()});
+  queue_.Load(std::move(nodes), current_.goal_pose);
+  queue_.Update(tick.belief);
+  PlanLocal(tick, true, "fleet");
+}
+
+void NavigationController::AppendOtherRobots(const core::Pose2& belief,
+                                             const core::Pose2& frame_from_world, double reach_m,
+                                             std::vector<Eigen::Vector2d>* points) const {
+  if (!fleet_.coordinator) return;
+  // Outline points at most this far apart (the ghost barriers' fill).
+  const double spacing_m = options_.ghost_barrier.fill_m;
+  const FleetBoard& board = fleet_.coordinator->board();
+  for (int r = 0; r < board.robots(); ++r) {
+    const FleetMessage& m = board.message(r);
+    const std::vector<Eigen::Vector2d>& hull = board.footprint(r);
+    if (r == fleet_.robot || !m.pose || hull.empty()) continue;
+    const double radius_m = Circumradius(hull) + options_.fleet_hull_margin_m;
+    if ((m.pose->translation() - belief.translation()).norm() > reach_m + radius_m) continue;
+    const core::Pose2 frame_from_robot = frame_from_world * *m.pose;
+    const core::Polygon2 grown = InflateConvexPolygon(hull, options_.fleet_hull_margin_m);
+    // A moving robot is drawn also where it will be when it has stopped
+    // (its braking distance plus a cycle of latency), so two robots closing
+    // in on each other do not each brake only for where the other is now.
+    const double v = std::abs(m.speed_mps);
+    const double ahead_m = v * v / (2.0 * options_.dwa.max_wheel_accel_mps2) +
+                           v * (1.0 / options_.dwa_rate_hz + kPoseAgeS);
+    const int copies = 1 + static_cast<int>(std::ceil(ahead_m / kSweepStepM));
+    for (int c = 0; c < copies; ++c) {
+      const double shift = std::copysign(std::min(ahead_m, c * kSweepStepM), m.speed_mps);
+      for (std::size_t i = 0; i < grown.size(); ++i) {
+        const Eigen::Vector2d a = grown[i] + Eigen::Vector2d(shift, 0.0);
+        const Eigen::Vector2d b = grown[(i + 1) % grown.size()] + Eigen::Vector2d(shift, 0.0);
+        const int steps = std::max(1, static_cast<int>(std::ceil((b - a).norm() / spacing_m)));
+        for (int k = 0; k < steps; ++k) {
+          points->push_back(frame_from_robot * (a + (b - a) * (static_cast<double>(k) / steps)));
+        }
+      }
+    }
+  }
+}
+
+void NavigationController::AppendContours(const ControlTick& tick, bool clip,
+                                          std::vector<Eigen::Vector2d>* points) {
+  contour_overlap_ = false;
+  if (markers_.empty()) return;
+  const core::Pose2 robot_from_odom = tick.odometry.Inverse();
+  const core::Pose2 robot_from_world = tick.belief.Inverse();
+  std::vector<Eigen::Vector2d> known;  // robots whose poses the coordinator has
+  if (fleet_.coordinator) {
+    const FleetBoard& board = fleet_.coordinator->board();
+    for (int r = 0; r < board.robots(); ++r) {
+      if (r != fleet_.robot && board.message(r).pose) {
+        known.push_back(robot_from_world * board.message(r).pose->translation());
+      }
+    }
+  }
+  const RobotContourOptions& o = options_.robot_contours;
+  for (const SeenMarker& m : markers_) {
+    const Eigen::Vector2d marker = robot_from_odom * m.marker_in_odom;
+    const Eigen::Vector2d centre = robot_from_odom * m.centre_in_odom;
+    const bool mapped = std::any_of(map_beacons_.begin(), map_beacons_.end(), [&](const auto& b) {
+      return (robot_from_world * b - marker).norm() <= options_.mapped_beacon_m;
+    });
+    const bool explained = std::any_of(known.begin(), known.end(), [&](const auto& k) {
+      return (k - centre).norm() <= options_.explained_m;
+    });
+    if (mapped || explained) continue;
+    const bool overlap = ContourOverlapsHull(centre, o.contour_radius_m, footprint_, 0.0);
+    contour_overlap_ = contour_overlap_ || overlap;
+    // The deadlock rule's model correction: the other robot cannot be inside
+    // this one's hull, so its contour is shrunk to keep a margin from it.
+    const double radius_m = clip && overlap ? ClipRadius(centre, o.contour_radius_m, footprint_,
+                                                         options_.dwa.safety_margin_m + kClipSlackM)
+                                            : o.contour_radius_m;
+    AppendContour(centre, radius_m, o.point_spacing_m, points);
+  }
+}
+
+void NavigationController::UpdateDeadlock(const ControlTick& tick, bool stalled) {
+  if (!options_.see_robots) return;
+  const bool driving = state_ == State::kDriving;
+  const DeadlockMonitor::Step step = deadlock_.Update(
+      tick.now_s, driving, driving && contour_overlap_, driving && stalled, odometer_m_);
+  clip_contours_ = step.clip;
+  figures_.deadlocks_detected = deadlock_.detected();
+  figures_.deadlocks_resolved = deadlock_.resolved();
+  figures_.deadlocks_unresolved = deadlock_.unresolved();
+  figures_.longest_deadlock_s = deadlock_.longest_resolution_s();
+  if (step.detected) Emit(NavigationEvent::Type::kDeadlockDetected, tick.now_s);
+  if (deadlock_.unresolved() > unresolved_reported_) {
+    unresolved_reported_ = deadlock_.unresolved();
+    Emit(NavigationEvent::Type::kDeadlockUnresolved, tick.now_s);
+  }
+  if (step.resolved) {
+    NavigationEvent e;
+    e.type = NavigationEvent::Type::kDeadlockResolved;
+    e.at_s = tick.now_s;
+    e.mission = mission_index_;
+    e.goal = current_.goal;
+    e.duration_s = step.resolution_s;
+    events_.push_back(std::move(e));
+  }
 }
 
 void NavigationController::Emit(NavigationEvent::Type type, double at_s) {

@@ -18,8 +18,11 @@
 #include "core/localization/encoder_odometry.h"
 #include "core/map/robot_map.h"
 #include "nav/control/controller.h"
+#include "nav/fleet/coordinator.h"
+#include "nav/fleet/deadlock_monitor.h"
 #include "nav/local/local_planner.h"
 #include "nav/local/ompl_path_planner.h"
+#include "nav/local/robot_contours.h"
 #include "nav/local/scan_obstacles.h"
 #include "nav/mission/blocked_monitor.h"
 #include "nav/mission/command_queue.h"
@@ -57,6 +60,29 @@ struct NavigationControllerOptions {
   // mission is aborted as lost only when this long passes first. 0: aborted
   // at once. s, [0, 3600]. Chosen: the kidnap recovery bound of 30 s.
   double relocalization_timeout_s = 30.0;
+  // Fleet (§6.3.5), with a coordinator only: every this often while driving
+  // the robot plans again on the others' current weights from where it is —
+  // pushed aside, blocked or merely crossed by another's plan — and takes the
+  // new plan when it is cheaper than the rest of the current one (its leg
+  // from here included) by more than fleet_replan_gain_m. s, [0.1, 600].
+  double fleet_replan_s = 2.0;
+  double fleet_replan_gain_m = 2.0;  // m of path, [0, 1e4]
+  // The others' hulls, placed at their published poses, are drawn this much
+  // larger: the estimates' errors and the 0.1 s a pose is old at most, m, [0, 0.5].
+  double fleet_hull_margin_m = 0.03;
+  // Robots seeing robots (§6.3.5.1): the markers of other robots in the scans
+  // become virtual robot contours for the dynamic window and the band, held
+  // `contour_hold_s` after their laser last saw them (the blind zones). Off
+  // for a lone robot. Markers within `mapped_beacon_m` of a beacon of the map
+  // are the map's (a foil-wrapped column), not a robot. With a coordinator, a
+  // marker explained by a robot whose pose it publishes (its implied centre
+  // within `explained_m`) gives way to that robot's hull.
+  bool see_robots = false;
+  RobotContourOptions robot_contours;
+  double contour_hold_s = 1.0;   // s, [0, 10]
+  double mapped_beacon_m = 0.3;  // m, [0, 2]
+  double explained_m = 0.5;      // m, [0, 2]. Chosen: marker_offset_m and a marker seen obliquely
+  DeadlockOptions deadlock;      // the overlap deadlock of §6.5
   InitialPlanner initial_planner = InitialPlanner::kNf1;
   GhostBarrier ghost_barrier;  // the dynamic window's filled ghost barriers (scan_obstacles.h)
   OmplPlannerOptions ompl;
@@ -97,6 +123,12 @@ class NavigationController : public Controller {
   const NavigationFigures* navigation() const override;
   std::optional<NavigationPicture> picture() const override;
 
+  // Joins the fleet (§6.3.5): the robot reserves its stations, plans on the
+  // others' weights, publishes its plan, stations and pose each cycle, and its
+  // dynamic window sees the others' hulls at their published poses. The
+  // coordinator must outlive the controller; all robots share one map.
+  void SetFleet(FleetLink link);
+
  private:
   // kRelocalizing: the mission is held while the estimator relocalizes
   // (relocalization_timeout_s); kLost: no mission, waiting to be localized.
@@ -110,6 +142,18 @@ class NavigationController : public Controller {
   void UpdateBand(const ControlTick& tick);
   void Drive(const ControlTick& tick);
   void EndMission(const ControlTick& tick, bool completed, AbortReason reason);
+  // Fleet: the others' costs per node, publishing, the periodic replan and
+  // the others' hulls as obstacle points in the frame `frame_from_world`.
+  std::vector<double> NodeCosts(int avoid_node) const;
+  void Publish(const ControlTick& tick);
+  void FleetReplan(const ControlTick& tick);
+  double RemainingPathCost(const Eigen::Vector2d& position, const std::vector<double>& costs) const;
+  void AppendOtherRobots(const core::Pose2& belief, const core::Pose2& frame_from_world,
+                         double reach_m, std::vector<Eigen::Vector2d>* points) const;
+  // The others' markers blown up into contours (§6.3.5.1), robot frame; sets
+  // contour_overlap_ when one reaches into the own hull.
+  void AppendContours(const ControlTick& tick, bool clip, std::vector<Eigen::Vector2d>* points);
+  void UpdateDeadlock(const ControlTick& tick, bool stalled);
   void CheckProgress(const ControlTick& tick);
   void Emit(NavigationEvent::Type type, double at_s);
   WheelSpeeds ToWheels(const WheelVelocity& rim) const;
@@ -153,6 +197,24 @@ class NavigationController : public Controller {
   std::vector<NavigationEvent> events_;
   mutable NavigationFigures figures_;  // blocked figures filled in on reading
   MissionStatus status_;
+  FleetLink fleet_;
+  std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> walls_;  // the map's, for sight
+  int reserved_node_ = -1;  // the station this robot heads for
+  int occupied_node_ = -1;  // the station it stands at or is leaving
+  double next_fleet_check_s_ = 0.0;
+  // Markers seen (odometry frame), the laser and when.
+  struct SeenMarker {
+    Eigen::Vector2d marker_in_odom;
+    Eigen::Vector2d centre_in_odom;
+    std::string laser;
+    double seen_s = 0.0;
+  };
+  std::vector<SeenMarker> markers_;
+  std::vector<Eigen::Vector2d> map_beacons_;  // world frame
+  DeadlockMonitor deadlock_;
+  bool contour_overlap_ = false;
+  bool clip_contours_ = false;
+  int unresolved_reported_ = 0;
 };
 
 }  // namespace pavilion::nav

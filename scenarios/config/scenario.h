@@ -8,6 +8,7 @@
 #include "nav/control/drive_profile.h"
 #include "nav/control/path_follower.h"
 #include "nav/control/wander_controller.h"
+#include "nav/fleet/coordinator.h"
 #include "nav/mission/navigation_controller.h"
 #include "scenarios/events/event.h"
 #include "scenarios/expect/expectation.h"
@@ -153,6 +154,20 @@ enum class LaserBackend { kPlanar, kBullet };
 const char* ToString(LaserBackend backend);
 
 // A fully loaded, validated scenario.
+// The scenario's `fleet:` block (issue 15, thesis §6.3.5): multi-robot
+// planning through a coordinator shared by the robots with missions.
+struct FleetEntry {
+  // `coordination: on | off`. Off: no coordinator — each robot plans alone
+  // and sees the others only through their markers (§6.3.5.1), as on the
+  // days Expo.02's server was down (§6.5). A coordinator runs only with at
+  // least two mission robots.
+  bool coordination = true;
+  // `deadlock_resolution: on | off`: the robots resolve overlap deadlocks
+  // (nav/fleet/deadlock_monitor.h); off, they are only detected.
+  bool deadlock_resolution = true;
+  nav::FleetOptions options;
+};
+
 struct Scenario {
   std::string name;
   std::string description;
@@ -180,6 +195,7 @@ struct Scenario {
   // shorter --duration), one line each; the command line prints them.
   std::vector<std::string> notes;
   OutputOptions outputs;
+  FleetEntry fleet;
 };
 
 // Command-line adjustments applied before validation.

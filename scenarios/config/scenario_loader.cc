@@ -652,6 +652,22 @@ void ReadPhysicsAndOutputs(YamlDocument* doc, MapReader& top, Scenario* s) {
   outputs.Finish();
 }
 
+// fleet: {coordination, deadlock_resolution, peak_weight_m, falloff_m,
+// horizon_m, occupied_station_cost_m, release_distance_m}.
+void ReadFleet(YamlDocument* doc, MapReader& top, Scenario* s) {
+  MapReader fleet = OptionalSection(doc, top, "fleet");
+  s->fleet.coordination = fleet.Choice("coordination", {"on", "off"}, "on") == "on";
+  s->fleet.deadlock_resolution = fleet.Choice("deadlock_resolution", {"on", "off"}, "on") == "on";
+  using Fleet = nav::FleetOptions;
+  ReadOptions(fleet, &s->fleet.options,
+              {{"peak_weight_m", &Fleet::peak_weight_m},
+               {"falloff_m", &Fleet::falloff_m},
+               {"horizon_m", &Fleet::horizon_m},
+               {"occupied_station_cost_m", &Fleet::occupied_station_cost_m},
+               {"release_distance_m", &Fleet::release_distance_m}});
+  fleet.Finish();
+}
+
 // world (loaded from its own file, its problems reported against it; throws
 // with every diagnostic so far when it has any), the scenario's materials
 // added to the world's (bodies such as visitors) and door_states.
@@ -723,6 +739,7 @@ Scenario LoadScenarioFile(const std::string& path, const ScenarioOverrides& over
   if (!top.valid()) doc.ThrowIfErrors();
   const double file_duration_s = ReadHeader(&doc, top, overrides, &s);
   ReadPhysicsAndOutputs(&doc, top, &s);
+  ReadFleet(&doc, top, &s);
   const std::string base = std::filesystem::path(path).parent_path().string();
   ReadWorldAndAdditions(&doc, top, base, &s);
   ReadBodies(&doc, top, s.world, &s);

@@ -6,11 +6,13 @@
 namespace pavilion::scenarios {
 
 std::set<std::string> KnownEventTypes() {
-  std::set<std::string> types{kRunStarted, kRunFinished, kCollision,   kBumper,    kLost,
-                              kHypotheses, kLocalized,   kRelocalized, kRouteDone, kScanLogStopped};
+  std::set<std::string> types{kRunStarted, kRunFinished,    kCollision, kBumper,
+                              kLost,       kHypotheses,     kLocalized, kRelocalized,
+                              kRouteDone,  kScanLogStopped, kNearMiss};
   using Type = nav::NavigationEvent::Type;
   for (Type t : {Type::kMissionStarted, Type::kMissionCompleted, Type::kMissionAborted,
-                 Type::kBlocked, Type::kReplanned}) {
+                 Type::kBlocked, Type::kReplanned, Type::kDeadlockDetected, Type::kDeadlockResolved,
+                 Type::kDeadlockUnresolved}) {
     types.insert(nav::ToString(t));
   }
   for (const std::string& t : EventRegistry::Global().types()) types.insert(t);

@@ -21,6 +21,7 @@ inline constexpr const char* kLocalized = "localized";
 inline constexpr const char* kRelocalized = "relocalized";
 inline constexpr const char* kRouteDone = "route_done";
 inline constexpr const char* kScanLogStopped = "scan_log_stopped";
+inline constexpr const char* kNearMiss = "near_miss";  // two robots' hulls < 0.2 m apart
 
 std::set<std::string> KnownEventTypes();
 

@@ -1,5 +1,7 @@
 #include "scenarios/metrics/run_metrics.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <string>
 
@@ -126,6 +128,14 @@ Json NavigationJson(const nav::NavigationFigures& f, const CollisionCounts& coll
       {"dwa_cycles", f.dwa_cycles},
       {"dwa_no_admissible_cycles", f.no_admissible_cycles},
       {"band_updates", f.band_updates}};
+  if (f.fleet_replans > 0 || f.station_waits > 0 || f.deadlocks_detected > 0) {
+    j["fleet_replans"] = f.fleet_replans;
+    j["station_wait_cycles"] = f.station_waits;
+    j["deadlocks_detected"] = f.deadlocks_detected;
+    j["deadlocks_resolved"] = f.deadlocks_resolved;
+    j["deadlocks_unresolved"] = f.deadlocks_unresolved;
+    j["longest_deadlock_s"] = n(f.longest_deadlock_s);
+  }
   j["collisions"] = CollisionCountsToJson(collisions);
   return j;
 }
@@ -162,6 +172,64 @@ Json CrowdJson(const CrowdFigures& f) {
           {"episodes", episodes}};
 }
 
+Json ProximityJson(const ProximityFigures& f) {
+  return {{"min_robot_distance_m",
+           std::isfinite(f.min_distance_m) ? Json(RoundForJson(f.min_distance_m, 4)) : Json()},
+          {"near_misses", f.near_misses},
+          {"time_near_s", RoundForJson(f.time_near_s, 3)}};
+}
+
+// Issue 15's fleet figures: missions per hour, nearness, deadlocks, blocked
+// time, stuck robots (blocked longer than kStuckS) and the bytes exchanged.
+Json FleetCoordinationJson(const RunMetrics& m) {
+  constexpr double kStuckS = 120.0;
+  const FleetRunFigures& f = *m.fleet;
+  int completed = 0, robots = 0, detected = 0, resolved = 0, unresolved = 0, stuck = 0;
+  int fleet_replans = 0;
+  double longest_deadlock_s = 0.0, blocked_s = 0.0, longest_blocked_s = 0.0, distance_m = 0.0;
+  std::int64_t up = 0, down = 0;
+  for (const RobotMetrics& r : m.robots) {
+    if (!r.navigation) continue;
+    const nav::NavigationFigures& n = *r.navigation;
+    ++robots;
+    completed += n.missions_completed;
+    detected += n.deadlocks_detected;
+    resolved += n.deadlocks_resolved;
+    unresolved += n.deadlocks_unresolved;
+    fleet_replans += n.fleet_replans;
+    longest_deadlock_s = std::max(longest_deadlock_s, n.longest_deadlock_s);
+    blocked_s += n.time_blocked_s;
+    longest_blocked_s = std::max(longest_blocked_s, n.longest_blocked_s);
+    stuck += n.longest_blocked_s > kStuckS ? 1 : 0;
+    distance_m += r.distance_m;
+    if (r.fleet) up += r.fleet->bytes_up;
+    if (r.fleet) down += r.fleet->bytes_down;
+  }
+  const double hours = m.sim_duration_s / 3600.0;
+  const auto per = [](double a, double b) { return b > 0.0 ? RoundForJson(a / b, 4) : 0.0; };
+  Json j = {{"coordination", f.coordination},
+            {"robots", robots},
+            {"missions_per_hour", per(completed, hours)},
+            {"missions_per_robot_hour", per(completed, hours * robots)},
+            {"distance_m", RoundForJson(distance_m, 3)}};
+  j.update(ProximityJson(f.proximity));
+  j.update(
+      Json{{"deadlocks_detected", detected},
+           {"deadlocks_resolved", resolved},
+           {"deadlocks_unresolved", unresolved},
+           {"longest_deadlock_s", RoundForJson(longest_deadlock_s, 3)},
+           {"time_blocked_s", RoundForJson(blocked_s, 3)},
+           {"longest_blocked_s", RoundForJson(longest_blocked_s, 3)},
+           {"stuck_robots", stuck},
+           {"fleet_replans", fleet_replans},
+           {"bytes_up", up},
+           {"bytes_down", down},
+           {"bytes_per_robot_tick",
+            per(static_cast<double>(up + down), static_cast<double>(f.ticks) * robots)},
+           {"bytes_per_robot_s", per(static_cast<double>(up + down), m.sim_duration_s * robots)}});
+  return j;
+}
+
 Json FleetJson(const RunMetrics& m) {
   int started = 0;
   int completed = 0;
@@ -182,13 +250,15 @@ Json FleetJson(const RunMetrics& m) {
     if (r.localization) lost += r.localization->lost_situations;
     if (r.localization) declared_lost += r.localization->declared_lost_situations;
   }
-  return {{"missions_started", started},
-          {"missions_completed", completed},
-          {"missions_completed_ratio",
-           started > 0 ? RoundForJson(static_cast<double>(completed) / started, 4) : 0.0},
-          {"collisions", CollisionCountsToJson(collisions)},
-          {"lost_situations", lost},
-          {"declared_lost_situations", declared_lost}};
+  Json j = {{"missions_started", started},
+            {"missions_completed", completed},
+            {"missions_completed_ratio",
+             started > 0 ? RoundForJson(static_cast<double>(completed) / started, 4) : 0.0},
+            {"collisions", CollisionCountsToJson(collisions)},
+            {"lost_situations", lost},
+            {"declared_lost_situations", declared_lost}};
+  if (m.fleet) j["coordination"] = FleetCoordinationJson(m);
+  return j;
 }
 
 Json RobotJson(const RobotMetrics& r) {
@@ -224,6 +294,13 @@ Json RobotJson(const RobotMetrics& r) {
         {"done_at_s", r.route->done ? RoundForJson(r.route->done_at_s, 3) : r.route->done_at_s}};
   }
   if (r.navigation) j["navigation"] = NavigationJson(*r.navigation, r.collisions_by_class);
+  if (r.fleet) {
+    Json fleet = ProximityJson(r.fleet->proximity);
+    fleet["bytes_up"] = r.fleet->bytes_up;
+    fleet["bytes_down"] = r.fleet->bytes_down;
+    fleet["messages"] = r.fleet->messages;
+    j["fleet"] = fleet;
+  }
   if (r.social) j["social"] = SocialJson(*r.social);
   return j;
 }

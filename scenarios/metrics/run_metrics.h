@@ -16,6 +16,7 @@
 #include "scenarios/metrics/collision_classes.h"
 #include "scenarios/metrics/localization_tracker.h"
 #include "scenarios/metrics/relocalization_tracker.h"
+#include "scenarios/metrics/robot_proximity.h"
 #include "scenarios/metrics/social_navigation.h"
 
 namespace pavilion::scenarios {
@@ -31,6 +32,22 @@ struct RouteMetrics {
   double length_m = 0.0;
   bool done = false;
   double done_at_s = 0.0;  // the run's end when not done
+};
+
+// A fleet robot's share of the coordination (issue 15): how near it came to
+// the others and the bytes it exchanged with the coordinator.
+struct RobotFleetFigures {
+  ProximityFigures proximity;
+  std::int64_t bytes_up = 0;    // sent to the coordinator
+  std::int64_t bytes_down = 0;  // received: the others' changed messages
+  std::int64_t messages = 0;
+};
+
+// The fleet's (runs with two or more mission robots).
+struct FleetRunFigures {
+  bool coordination = false;  // a coordinator ran
+  ProximityFigures proximity;
+  std::int64_t ticks = 0;  // physics ticks, for bytes per robot and tick
 };
 
 struct RobotMetrics {
@@ -57,6 +74,7 @@ struct RobotMetrics {
   std::optional<Shadow> shadow;
   std::optional<RouteMetrics> route;
   std::optional<nav::NavigationFigures> navigation;  // robots with a mission
+  std::optional<RobotFleetFigures> fleet;            // robots of a fleet run
   // Runs with a crowd, once a visitor was on the floor (social_navigation.h).
   std::optional<SocialNavigationFigures> social;
   // The estimator's own counts (global localization: tree nodes, limit hits,
@@ -80,6 +98,7 @@ struct RunMetrics {
   std::string laser_backend;
   std::map<std::string, std::int64_t> event_counts;  // by type
   std::optional<CrowdFigures> crowd;                 // runs with a crowd
+  std::optional<FleetRunFigures> fleet;              // runs with two or more mission robots
 
   double bodies_distance_m() const;
   std::int64_t bodies_collisions() const;

@@ -16,7 +16,7 @@ namespace {
 // Timeline lanes in this order (what went wrong first), unknown kinds after
 // them by name. Run start and end and mission starts and completions stay
 // off the timeline: the missions chart shows those.
-constexpr std::array<std::string_view, 21> kLaneOrder{
+constexpr std::array<std::string_view, 25> kLaneOrder{
     "collision: visible wall or exhibit",
     "collision: invisible object",
     "collision: visitor",
@@ -36,6 +36,10 @@ constexpr std::array<std::string_view, 21> kLaneOrder{
     "mission_aborted",
     "blocked",
     "replanned",
+    "deadlock_detected",
+    "deadlock_resolved",
+    "deadlock_unresolved",
+    "near_miss",
     "bumper",
     "route_done",
 };

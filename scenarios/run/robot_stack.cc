@@ -160,7 +160,8 @@ double PlanningRadius(const std::vector<Eigen::Vector2d>& footprint) {
 // The chapter 6 navigation of a `mission:` robot: its options completed from
 // the robot (shape, wheels, calibrated odometry), the physics step and the seed.
 std::unique_ptr<nav::Controller> MakeNavigationController(const Scenario& scenario,
-                                                          std::size_t index, core::RobotMap map) {
+                                                          std::size_t index, core::RobotMap map,
+                                                          nav::FleetLink fleet) {
   const RobotEntry& entry = scenario.robots[index];
   const MissionEntry& mission = *entry.mission;
   const sim::RobotDescription& robot = entry.config.description;
@@ -187,6 +188,12 @@ std::unique_ptr<nav::Controller> MakeNavigationController(const Scenario& scenar
   o.dwa.max_wheel_accel_mps2 =
       std::min(o.dwa.max_wheel_accel_mps2, robot.max_wheel_accel_radps2 * wheel_radius_m);
   o.dwa.max_speed_mps = std::min(o.dwa.max_speed_mps, o.dwa.max_wheel_speed_mps);
+  // A fleet's robots see each other's markers (§6.3.5.1) and resolve overlap
+  // deadlocks unless the scenario turns that off (issue 15).
+  const auto missions = std::count_if(scenario.robots.begin(), scenario.robots.end(),
+                                      [](const RobotEntry& r) { return r.mission.has_value(); });
+  o.see_robots = missions >= 2;
+  o.deadlock.resolve = scenario.fleet.deadlock_resolution;
   RemoveEdgesThroughClosedDoors(scenario.world.doors, &map);
   std::vector<std::string> among = mission.tour_among;
   if (among.empty()) {  // a derived map: every station node it has
@@ -202,8 +209,10 @@ std::unique_ptr<nav::Controller> MakeNavigationController(const Scenario& scenar
                                    core::RandomStream::StreamId((entry.id + "/tour").c_str())))
           : nav::MissionSequence::List(mission.stations);
   try {
-    return std::make_unique<nav::NavigationController>(std::move(map), outline, std::move(sequence),
-                                                       o);
+    auto controller = std::make_unique<nav::NavigationController>(std::move(map), outline,
+                                                                  std::move(sequence), o);
+    controller->SetFleet(fleet);
+    return controller;
   } catch (const std::invalid_argument& e) {
     throw InputError(Diagnostic{scenario.source_file, 0,
                                 "robots[" + std::to_string(index) + "].mission", e.what()});
@@ -211,7 +220,8 @@ std::unique_ptr<nav::Controller> MakeNavigationController(const Scenario& scenar
 }
 
 std::unique_ptr<nav::Controller> MakeController(const Scenario& scenario, std::size_t index,
-                                                const std::optional<core::RobotMap>& map) {
+                                                const std::optional<core::RobotMap>& map,
+                                                nav::FleetLink fleet) {
   const RobotEntry& entry = scenario.robots[index];
   const core::EncoderOdometryOptions& odometry = entry.config.odometry;
   if (entry.route) {
@@ -224,7 +234,7 @@ std::unique_ptr<nav::Controller> MakeController(const Scenario& scenario, std::s
     options.odometry = odometry;
     return std::make_unique<nav::RouteController>(RoutePath(scenario, index, *map), options);
   }
-  if (entry.mission) return MakeNavigationController(scenario, index, *map);
+  if (entry.mission) return MakeNavigationController(scenario, index, *map, fleet);
   if (entry.wander) return MakeWander(scenario, entry, entry.wander->laser, entry.wander->options);
   if (!entry.drive.empty()) return std::make_unique<nav::DriveProfileController>(entry.drive);
   return nullptr;
@@ -260,7 +270,8 @@ core::RobotMap LoadRobotMap(const RobotEntry& robot, const Scenario& scenario,
 }
 
 std::unique_ptr<nav::Navigator> MakeNavigator(const Scenario& scenario, std::size_t index,
-                                              const std::optional<core::RobotMap>& map) {
+                                              const std::optional<core::RobotMap>& map,
+                                              nav::FleetLink fleet) {
   const RobotEntry& entry = scenario.robots[index];
   nav::NavigatorOptions options;
   options.odometry = entry.config.odometry;
@@ -268,7 +279,7 @@ std::unique_ptr<nav::Navigator> MakeNavigator(const Scenario& scenario, std::siz
   std::unique_ptr<nav::PoseEstimator> estimator;
   if (entry.localization.enabled) estimator = MakeEstimator(entry, *map);
   auto navigator = std::make_unique<nav::Navigator>(options, std::move(estimator),
-                                                    MakeController(scenario, index, map));
+                                                    MakeController(scenario, index, map, fleet));
   // A navigating robot with global localization wanders while it is not
   // localized (issue 18), on its first laser.
   // It sees the map's ghost barriers in its scans, placed by its belief, as

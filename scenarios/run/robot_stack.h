@@ -10,6 +10,7 @@
 #include <optional>
 
 #include "core/map/robot_map.h"
+#include "nav/fleet/coordinator.h"
 #include "nav/stack/navigator.h"
 #include "scenarios/config/scenario.h"
 
@@ -28,8 +29,10 @@ bool NeedsMap(const RobotEntry& robot);
 
 // The robot stack of `scenario.robots[index]`; `map` is its LoadRobotMap()
 // when NeedsMap(). Throws InputError naming the scenario key for a route
-// through stops the map does not have.
+// through stops the map does not have. A mission robot joins `fleet` when it
+// has a coordinator (issue 15).
 std::unique_ptr<nav::Navigator> MakeNavigator(const Scenario& scenario, std::size_t index,
-                                              const std::optional<core::RobotMap>& map);
+                                              const std::optional<core::RobotMap>& map,
+                                              nav::FleetLink fleet = {});
 
 }  // namespace pavilion::scenarios

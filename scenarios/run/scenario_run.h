@@ -27,6 +27,7 @@
 #include "scenarios/metrics/collision_classes.h"
 #include "scenarios/metrics/localization_tracker.h"
 #include "scenarios/metrics/relocalization_tracker.h"
+#include "scenarios/metrics/robot_proximity.h"
 #include "scenarios/metrics/social_navigation.h"
 #include "scenarios/metrics/stride_buffer.h"
 #include "scenarios/output/crowd_strip.h"
@@ -146,6 +147,14 @@ class ScenarioRun {
   std::vector<RobotRun> robots_;
   std::vector<TickWork> work_;
   std::unique_ptr<sim::WorkerPool> pool_;
+  // Issue 15: the fleet's coordinator (scenario `fleet:`), merged at the end
+  // of each tick; none with coordination off or fewer than two mission robots.
+  std::unique_ptr<nav::FleetCoordinator> fleet_;
+  // Runs with two or more mission robots: their true hulls' distances.
+  std::optional<RobotProximity> proximity_;
+  std::vector<RobotProximity::NearMiss> near_misses_;  // scratch: one tick's
+  std::vector<core::Pose2> robot_poses_;               // scratch: one tick's true poses
+  void RecordProximity(double t_after);
   // Body (robot) index of each world element, -1 for others.
   std::vector<int> body_of_element_;
   std::vector<int> robot_of_element_;

@@ -205,6 +205,16 @@ RunMetrics ScenarioRun::CollectMetrics(double sim_s) const {
     }
     const nav::Controller* controller = r.navigator->controller();
     if (controller && controller->navigation()) robot.navigation = *controller->navigation();
+    if (proximity_) {
+      RobotFleetFigures fleet;
+      fleet.proximity = proximity_->robot(static_cast<int>(k));
+      if (fleet_) {
+        fleet.bytes_up = fleet_->bytes_up(static_cast<int>(k));
+        fleet.bytes_down = fleet_->bytes_down(static_cast<int>(k));
+        fleet.messages = fleet_->messages(static_cast<int>(k));
+      }
+      robot.fleet = fleet;
+    }
     if (r.entry->route) {
       const nav::MissionStatus mission = *r.navigator->controller()->mission();
       robot.route = RouteMetrics{r.entry->route->stops, mission.path_length_m, mission.done,
@@ -213,6 +223,7 @@ RunMetrics ScenarioRun::CollectMetrics(double sim_s) const {
     m.robots.push_back(std::move(robot));
   }
   if (crowd_tracker_) m.crowd = crowd_tracker_->Figures();
+  if (proximity_) m.fleet = FleetRunFigures{fleet_ != nullptr, proximity_->fleet(), ticks_run_};
   return m;
 }
 

@@ -54,6 +54,19 @@ ScenarioRun::ScenarioRun(const Scenario& scenario, const RunOptions& options,
 void ScenarioRun::BuildRobots(std::vector<sim::RobotConfig> configs,
                               const std::vector<std::optional<core::RobotMap>>& maps) {
   robots_.resize(scenario_.robots.size());
+  const auto missions = std::count_if(scenario_.robots.begin(), scenario_.robots.end(),
+                                      [](const RobotEntry& r) { return r.mission.has_value(); });
+  if (scenario_.fleet.coordination && missions >= 2) {
+    fleet_ = std::make_unique<nav::FleetCoordinator>(static_cast<int>(scenario_.robots.size()),
+                                                     scenario_.fleet.options);
+  }
+  if (missions >= 2) {
+    std::vector<core::Polygon2> hulls;
+    for (const RobotEntry& r : scenario_.robots) {
+      hulls.push_back(r.config.description.OutlineWithWheels());
+    }
+    proximity_.emplace(std::move(hulls));
+  }
   for (std::size_t k = 0; k < scenario_.robots.size(); ++k) {
     const RobotEntry& entry = scenario_.robots[k];
     RobotRun& run = robots_[k];
@@ -69,7 +82,8 @@ void ScenarioRun::BuildRobots(std::vector<sim::RobotConfig> configs,
     }
     if (extensions_.add_sensors) extensions_.add_sensors(entry, run.robot.get());
     robot_index_[entry.id] = run.robot->index();
-    run.navigator = MakeNavigator(scenario_, k, maps[k]);
+    run.navigator =
+        MakeNavigator(scenario_, k, maps[k], nav::FleetLink{fleet_.get(), static_cast<int>(k)});
     if (run.navigator->estimator()) {
       run.tracker.emplace();
       run.relocalization.emplace();
@@ -199,6 +213,8 @@ void ScenarioRun::Run() {
     SenseRobots(next, t_after);
     for (std::size_t k = 0; k < robots_.size(); ++k) MergeRobot(k, next, t_after);
     summary_.sensors_s += Seconds(Clock::now() - t_sensors);
+    if (fleet_) fleet_->Merge();  // seen by every robot from the next tick on
+    if (proximity_) RecordProximity(t_after);
     snapshot_ = std::move(next);
     if (crowd_strip_ && crowd_strip_->Due(t_after)) {
       crowd_strip_->Capture(*world_, CrowdStripCentre(*world_), t_after);
@@ -422,6 +438,19 @@ void ScenarioRun::MergeRobot(std::size_t k, const sim::TickSnapshot& next, doubl
   }
   for (RunObserver* observer : extensions_.observers) {
     observer->OnRobotOutputs(*r.entry, w.outputs, t_after);
+  }
+}
+
+void ScenarioRun::RecordProximity(double t_after) {
+  robot_poses_.clear();
+  for (const sim::RobotState& r : snapshot_.robots) robot_poses_.push_back(r.pose);
+  near_misses_.clear();
+  proximity_->Update(world_->step_s(), robot_poses_, &near_misses_);
+  for (const RobotProximity::NearMiss& n : near_misses_) {
+    events_->Emit(t_after, kNearMiss,
+                  EventFields{{"robot", robots_[n.a].entry->id},
+                              {"with", robots_[n.b].entry->id},
+                              {"distance_m", RoundForJson(n.distance_m, 4)}});
   }
 }
 

@@ -89,11 +89,12 @@ class DynamicRay : public btBroadphaseRayCallback {
             int element) {
     if (shape->getShapeType() == COMPOUND_SHAPE_PROXYTYPE) {
       const auto* compound = static_cast<const btCompoundShape*>(shape);
-      const int first_attachment = object->getUserIndex2();
+      // A child whose shape carries an element as its user index is that
+      // element (a robot's marker); the others are the object's.
       for (int k = 0; k < compound->getNumChildShapes(); ++k) {
-        const int child_element =
-            first_attachment >= 0 && k >= 1 ? first_attachment + k - 1 : element;
-        Test(object, compound->getChildShape(k), t * compound->getChildTransform(k), child_element);
+        const btCollisionShape* child = compound->getChildShape(k);
+        const int child_element = child->getUserIndex() >= 0 ? child->getUserIndex() : element;
+        Test(object, child, t * compound->getChildTransform(k), child_element);
       }
       return;
     }

@@ -35,11 +35,16 @@ class FilteredClosestRay : public btCollisionWorld::ClosestRayResultCallback {
   btScalar addSingleResult(btCollisionWorld::LocalRayResult& result,
                            bool normal_in_world_space) override {
     element_ = result.m_collisionObject->getUserIndex();
-    // A robot chassis compound: child k >= 1 is an attachment with its own element.
-    const int first_attachment = result.m_collisionObject->getUserIndex2();
-    if (first_attachment >= 0 && result.m_localShapeInfo != nullptr &&
-        result.m_localShapeInfo->m_triangleIndex >= 1) {
-      element_ = first_attachment + result.m_localShapeInfo->m_triangleIndex - 1;
+    // A compound (a robot's chassis): a child whose shape carries an element
+    // as its user index is that element (a marker).
+    const btCollisionShape* shape = result.m_collisionObject->getCollisionShape();
+    if (shape->isCompound() && result.m_localShapeInfo != nullptr) {
+      const auto* compound = static_cast<const btCompoundShape*>(shape);
+      const int child = result.m_localShapeInfo->m_triangleIndex;
+      if (child >= 0 && child < compound->getNumChildShapes() &&
+          compound->getChildShape(child)->getUserIndex() >= 0) {
+        element_ = compound->getChildShape(child)->getUserIndex();
+      }
     }
     return ClosestRayResultCallback::addSingleResult(result, normal_in_world_space);
   }

@@ -136,17 +136,14 @@ RobotBody::PartLayout RobotBody::LayOutParts() const {
   return layout;
 }
 
-// The chassis: the footprint prism and the attachments in one compound whose
-// origin is the centre of mass. Child 0 is the prism (the chassis element);
-// child k >= 1 is attachment k - 1, its own element.
-std::unique_ptr<btCompoundShape> RobotBody::BuildChassisShape() {
-  const RobotDescription& m = model_;
-  auto compound = std::make_unique<btCompoundShape>();
+// A slab of the chassis as a Bullet hull in the chassis compound's frame
+// (origin at the centre of mass, com_z_m above the floor), its cached bounds
+// as the wheel model wants them.
+std::unique_ptr<btConvexHullShape> RobotBody::PrismHull(const ChassisPrism& prism) const {
   auto hull = std::make_unique<btConvexHullShape>();
-  for (const Eigen::Vector2d& p : m.footprint_m) {
-    hull->addPoint(btVector3(p.x(), p.y(), m.chassis_base_z_m - com_z_m_), false);
-    hull->addPoint(btVector3(p.x(), p.y(), m.chassis_base_z_m + m.chassis_height_m - com_z_m_),
-                   false);
+  for (const Eigen::Vector2d& p : prism.outline_m) {
+    hull->addPoint(btVector3(p.x(), p.y(), prism.z0_m - com_z_m_), false);
+    hull->addPoint(btVector3(p.x(), p.y(), prism.z1_m - com_z_m_), false);
   }
   if (placement_.wheel_model == WheelModel::kRaycast) {
     hull->setMargin(0.0);  // the true outline, as walls (rays and contacts agree)
@@ -161,34 +158,77 @@ std::unique_ptr<btCompoundShape> RobotBody::BuildChassisShape() {
     hull->recalcLocalAabb();
     hull->setMargin(0.0);
   }
-  (*world_.prisms)[hull.get()] = {m.footprint_m, m.chassis_base_z_m - com_z_m_,
-                                  m.chassis_base_z_m + m.chassis_height_m - com_z_m_};
-  btTransform identity;
-  identity.setIdentity();
-  compound->addChildShape(identity, hull.get());
-  world_.physics->KeepShape(std::move(hull));
-  for (const MarkerSpec& a : model_.markers) {
+  return hull;
+}
+
+// Adds the markers' cylinders to `compound` (kept alive in `shapes`); each
+// cylinder's shape carries its marker's element as its user index (-1: none).
+void RobotBody::AddMarkerCylinders(btCompoundShape* compound, int first_marker_element,
+                                   std::vector<std::unique_ptr<btCollisionShape>>* shapes) const {
+  for (std::size_t k = 0; k < model_.markers.size(); ++k) {
+    const MarkerSpec& a = model_.markers[k];
     auto cylinder =
         std::make_unique<btCylinderShapeZ>(btVector3(a.radius_m, a.radius_m, 0.5 * a.height_m));
+    cylinder->setUserIndex(first_marker_element < 0 ? -1
+                                                    : first_marker_element + static_cast<int>(k));
     btTransform t;
     t.setIdentity();
     t.setOrigin(
         btVector3(a.position_m.x(), a.position_m.y(), a.base_z_m + 0.5 * a.height_m - com_z_m_));
     compound->addChildShape(t, cylinder.get());
-    world_.physics->KeepShape(std::move(cylinder));
+    shapes->push_back(std::move(cylinder));
   }
+}
+
+// The chassis: its slabs (RobotDescription::ChassisPrisms, bottom to top) and
+// the markers in one compound whose origin is the centre of mass. Children
+// 0 .. chassis_prisms_ - 1 are the slabs (the chassis element, registered as
+// prisms); the rest are the markers, each child's shape carrying its element.
+std::unique_ptr<btCompoundShape> RobotBody::BuildChassisShape(int first_marker_element) {
+  auto compound = std::make_unique<btCompoundShape>();
+  btTransform identity;
+  identity.setIdentity();
+  for (const ChassisPrism& prism : model_.ChassisPrisms()) {
+    std::unique_ptr<btConvexHullShape> hull = PrismHull(prism);
+    (*world_.prisms)[hull.get()] = {prism.outline_m, prism.z0_m - com_z_m_, prism.z1_m - com_z_m_};
+    compound->addChildShape(identity, hull.get());
+    world_.physics->KeepShape(std::move(hull));
+  }
+  chassis_prisms_ = compound->getNumChildShapes();
+  std::vector<std::unique_ptr<btCollisionShape>> markers;
+  AddMarkerCylinders(compound.get(), first_marker_element, &markers);
+  for (auto& shape : markers) world_.physics->KeepShape(std::move(shape));
   return compound;
 }
 
+// The chassis' inertia about its centre of mass as Bullet gives a compound (a
+// solid box of its bounds), taken from its envelope: one prism of the
+// footprint over the chassis' height range, and the markers. So it does not
+// depend on the slabs the chassis is built of (a recess at scanner height
+// leaves it as it was), nor do the dynamics and the calibrations made with them.
+btVector3 RobotBody::ChassisInertia(double mass_kg) const {
+  const RobotDescription& m = model_;
+  btCompoundShape envelope;
+  btTransform identity;
+  identity.setIdentity();
+  const std::unique_ptr<btConvexHullShape> hull =
+      PrismHull({m.footprint_m, m.chassis_base_z_m, m.chassis_base_z_m + m.chassis_height_m});
+  envelope.addChildShape(identity, hull.get());
+  std::vector<std::unique_ptr<btCollisionShape>> markers;
+  AddMarkerCylinders(&envelope, -1, &markers);
+  btVector3 inertia(0, 0, 0);
+  envelope.calculateLocalInertia(mass_kg, inertia);
+  return inertia;
+}
+
 // The inertia of the reference's bodies welded together, about their common
-// centre of mass: the chassis' as the reference computes it (its compound's)
+// centre of mass: the chassis' as the reference computes it (ChassisInertia)
 // plus each wheel and caster as a solid sphere, by the parallel-axis theorem.
-btVector3 RobotBody::WeldedInertia(btCompoundShape* compound, const PartLayout& layout) const {
+btVector3 RobotBody::WeldedInertia(const PartLayout& layout) const {
   const RobotDescription& m = model_;
   const PartMasses& masses = layout.masses;
   const double com_z = com_z_m_;
-  btVector3 inertia(0, 0, 0);
-  compound->calculateLocalInertia(masses.chassis_kg, inertia);
+  btVector3 inertia = ChassisInertia(masses.chassis_kg);
   const double dz = layout.chassis_com_z_m - com_z;
   inertia += masses.chassis_kg * btVector3(dz * dz, dz * dz, 0.0);
   const auto add_sphere = [&](double mass, const btVector3& centre, double r) {
@@ -218,15 +258,14 @@ btVector3 RobotBody::WeldedInertia(btCompoundShape* compound, const PartLayout& 
 // make it bottom-heavy), and the contact solver of its wheels and casters.
 void RobotBody::AddRaycastParts(std::unique_ptr<btCompoundShape> compound,
                                 const btTransform& base_from_chassis, const PartLayout& layout,
-                                const Material& material, int first_attachment) {
+                                const Material& material) {
   const RobotDescription& m = model_;
-  const btVector3 inertia = WeldedInertia(compound.get(), layout);
+  const btVector3 inertia = WeldedInertia(layout);
   // Pushes act where they act on the reference: at its chassis' centre of mass.
   push_height_m_ = layout.chassis_com_z_m - com_z_m_;
   btRigidBody* body =
       world_.physics->AddDynamic(std::move(compound), m.total_mass_kg(), base_from_chassis,
                                  material.friction, material.restitution, element_, &inertia);
-  body->setUserIndex2(model_.markers.empty() ? -1 : first_attachment);
   parts_.push_back({body, base_from_chassis});
   AddRaycastDrive(layout);
 }
@@ -264,13 +303,13 @@ void RobotBody::AddRaycastDrive(const PartLayout& layout) {
 // (nearly frictionless spheres) on ball joints.
 void RobotBody::AddArticulatedParts(std::unique_ptr<btCompoundShape> compound,
                                     const btTransform& base_from_chassis, const PartLayout& layout,
-                                    const Material& material, int first_attachment) {
+                                    const Material& material) {
   const RobotDescription& m = model_;
   PhysicsWorld& physics = *world_.physics;
+  const btVector3 inertia = ChassisInertia(layout.masses.chassis_kg);
   btRigidBody* body =
       physics.AddDynamic(std::move(compound), layout.masses.chassis_kg, base_from_chassis,
-                         material.friction, material.restitution, element_);
-  body->setUserIndex2(model_.markers.empty() ? -1 : first_attachment);
+                         material.friction, material.restitution, element_, &inertia);
   parts_.push_back({body, base_from_chassis});
   const WheelSpec* wheel_specs[2] = {&m.left_wheel, &m.right_wheel};
   for (int side = 0; side < 2; ++side) {
@@ -380,21 +419,21 @@ RobotBody::RobotBody(const RobotDescription& model, const SystematicErrors& syst
   const Material& material = world.description->MaterialNamed(m.material);
   const PartLayout layout = LayOutParts();
   com_z_m_ = layout.com_z_m;
-  std::unique_ptr<btCompoundShape> compound = BuildChassisShape();
   element_ = world.elements->Add(placement_.id, m.material, true, group);
   const int first_attachment = world.elements->size();
   for (const MarkerSpec& a : m.markers) {
     world.elements->Add(placement_.id + "/" + a.id, a.material, true, group);
   }
+  std::unique_ptr<btCompoundShape> compound = BuildChassisShape(first_attachment);
   btTransform base_from_chassis;
   base_from_chassis.setIdentity();
   base_from_chassis.setOrigin(btVector3(0, 0, com_z_m_));
   if (placement_.wheel_model == WheelModel::kRaycast) {
-    AddRaycastParts(std::move(compound), base_from_chassis, layout, material, first_attachment);
+    AddRaycastParts(std::move(compound), base_from_chassis, layout, material);
     Place(placement_.pose);
     return;
   }
-  AddArticulatedParts(std::move(compound), base_from_chassis, layout, material, first_attachment);
+  AddArticulatedParts(std::move(compound), base_from_chassis, layout, material);
   Place(placement_.pose);
   // The parts entered the broadphase at their base-frame transforms, around the
   // origin; move their bounding boxes to the robot's pose now. Left to the next
@@ -545,19 +584,22 @@ void RobotBody::AfterStep(double dt) {
 
 void RobotBody::AppendSection(double z, double max_cylinder_tilt_rad, const PrismRegistry& prisms,
                               core::PlanarSection* out, std::vector<UncutElement>* uncut) const {
-  // The chassis compound (origin at the centre of mass): child 0 the
-  // footprint prism, child k >= 1 attachment k - 1.
+  // The chassis compound (origin at the centre of mass): its slabs, then the
+  // markers (BuildChassisShape).
   const btRigidBody* body = chassis();
   const btTransform& t = body->getWorldTransform();
   const auto* compound = static_cast<const btCompoundShape*>(body->getCollisionShape());
-  const RayPrism& prism = prisms.at(compound->getChildShape(0));
-  CutPrism(t * compound->getChildTransform(0), prism.polygon, prism.z0, prism.z1, z, element_, out,
-           uncut);
-  for (std::size_t k = 0; k < model_.markers.size(); ++k) {
-    const MarkerSpec& a = model_.markers[k];
-    const int child = static_cast<int>(k) + 1;
-    CutCylinder(t * compound->getChildTransform(child), a.radius_m, 0.5 * a.height_m, z,
-                max_cylinder_tilt_rad, body->getUserIndex2() + static_cast<int>(k), out, uncut);
+  for (int c = 0; c < compound->getNumChildShapes(); ++c) {
+    const btCollisionShape* child = compound->getChildShape(c);
+    if (c < chassis_prisms_) {
+      const RayPrism& prism = prisms.at(child);
+      CutPrism(t * compound->getChildTransform(c), prism.polygon, prism.z0, prism.z1, z, element_,
+               out, uncut);
+      continue;
+    }
+    const MarkerSpec& a = model_.markers[c - chassis_prisms_];
+    CutCylinder(t * compound->getChildTransform(c), a.radius_m, 0.5 * a.height_m, z,
+                max_cylinder_tilt_rad, child->getUserIndex(), out, uncut);
   }
   for (std::size_t p = 1; p < parts_.size(); ++p) {
     const btRigidBody* rb = parts_[p].rigid;

@@ -16,7 +16,9 @@
 
 // Bullet types are only declared here (the layer lint keeps Bullet includes out
 // of every sim/ header); robot_body.cc and its users include Bullet.
+class btCollisionShape;
 class btCompoundShape;
+class btConvexHullShape;
 class btHingeConstraint;
 class btRigidBody;
 
@@ -29,13 +31,13 @@ struct RobotBodyContext {
   const WorldOptions* options = nullptr;
   ElementTable* elements = nullptr;
   PhysicsWorld* physics = nullptr;
-  PrismRegistry* prisms = nullptr;  // the chassis hull is registered here
+  PrismRegistry* prisms = nullptr;  // the chassis' slabs are registered here
 };
 
 // One robot of a sim::World in its physics world (internal to the world): the
-// chassis (a convex prism of the footprint with its attachments), two sphere
-// wheels on hinge motors and caster spheres on ball joints, or with
-// WheelModel::kRaycast the chassis alone on ray-cast wheels (RaycastDrive).
+// chassis (a stack of convex prisms, RobotDescription::ChassisPrisms, with its
+// attachments), two sphere wheels on hinge motors and caster spheres on ball
+// joints, or with WheelModel::kRaycast the chassis alone on ray-cast wheels (RaycastDrive).
 // Its parts share one element group; the chassis is its element and the
 // attachments follow it. The physics world owns the Bullet objects; the body
 // holds its state by value, so that a world's robots lie side by side in
@@ -112,15 +114,19 @@ class RobotBody {
 
   static PartMasses ReferencePartMasses(const RobotDescription& m);
   PartLayout LayOutParts() const;
-  std::unique_ptr<btCompoundShape> BuildChassisShape();
-  btVector3 WeldedInertia(btCompoundShape* compound, const PartLayout& layout) const;
+  std::unique_ptr<btConvexHullShape> PrismHull(const ChassisPrism& prism) const;
+  void AddMarkerCylinders(btCompoundShape* compound, int first_marker_element,
+                          std::vector<std::unique_ptr<btCollisionShape>>* shapes) const;
+  std::unique_ptr<btCompoundShape> BuildChassisShape(int first_marker_element);
+  btVector3 ChassisInertia(double mass_kg) const;
+  btVector3 WeldedInertia(const PartLayout& layout) const;
   void AddRaycastParts(std::unique_ptr<btCompoundShape> compound,
                        const btTransform& base_from_chassis, const PartLayout& layout,
-                       const Material& material, int first_attachment);
+                       const Material& material);
   void AddRaycastDrive(const PartLayout& layout);
   void AddArticulatedParts(std::unique_ptr<btCompoundShape> compound,
                            const btTransform& base_from_chassis, const PartLayout& layout,
-                           const Material& material, int first_attachment);
+                           const Material& material);
   void Place(const core::Pose2& pose);
   btTransform WorldFromBase() const;
   void SolveRaycastContacts(double dt);
@@ -135,6 +141,7 @@ class RobotBody {
   RobotPlacement placement_;
   int group_ = -1;
   int element_ = -1;         // chassis (and attachments' object)
+  int chassis_prisms_ = 1;   // the chassis compound's slabs, its first children
   std::vector<Part> parts_;  // chassis first, then left, right wheel, casters
   btHingeConstraint* hinge_[2] = {nullptr, nullptr};
   double com_z_m_ = 0.0;  // chassis centre of mass above the base origin

@@ -7,6 +7,13 @@
 #include "core/geometry/polygon.h"
 
 namespace pavilion::sim {
+namespace {
+
+// Two outlines' corners closer than this are the same corner (m): the
+// footprint and the slabs come from the same hull computation.
+constexpr double kSameCornerM = 1e-9;
+
+}  // namespace
 
 const MountSpec& RobotDescription::Mount(const std::string& link) const {
   for (const MountSpec& m : mounts) {
@@ -30,6 +37,24 @@ std::vector<Eigen::Vector2d> RobotDescription::OutlineWithWheels() const {
   add_disc(right_wheel.position_m, right_wheel.radius_m);
   for (const CasterSpec& c : casters) add_disc(c.position_m, c.radius_m);
   return core::ConvexHull(std::move(points));
+}
+
+std::vector<ChassisPrism> RobotDescription::ChassisPrisms() const {
+  const std::vector<ChassisPrism> whole{
+      {footprint_m, chassis_base_z_m, chassis_base_z_m + chassis_height_m}};
+  if (chassis_prisms.empty()) return whole;
+  std::vector<Eigen::Vector2d> corners;
+  for (const ChassisPrism& p : chassis_prisms) {
+    corners.insert(corners.end(), p.outline_m.begin(), p.outline_m.end());
+  }
+  const core::Polygon2 hull = core::ConvexHull(std::move(corners));
+  if (hull.size() != footprint_m.size()) return whole;
+  for (const Eigen::Vector2d& f : footprint_m) {
+    bool found = false;
+    for (const Eigen::Vector2d& h : hull) found = found || (h - f).norm() <= kSameCornerM;
+    if (!found) return whole;
+  }
+  return chassis_prisms;
 }
 
 }  // namespace pavilion::sim

@@ -65,6 +65,14 @@ struct MarkerSpec {
   std::string material;  // a material of `RobotDescription::materials` (or, scoped, of the world)
 };
 
+// A horizontal slab of the chassis assembly: a vertical prism over a convex
+// counter-clockwise outline (base frame), from z0_m to z1_m above the floor.
+struct ChassisPrism {
+  std::vector<Eigen::Vector2d> outline_m;
+  double z0_m = 0.0;
+  double z1_m = 0.0;
+};
+
 struct RobotDescription {
   std::string model;                         // e.g. "robox"
   std::vector<Eigen::Vector2d> footprint_m;  // convex chassis outline, counter-clockwise
@@ -88,6 +96,10 @@ struct RobotDescription {
   Eigen::Vector3d chassis_com_m{0.0, 0.0, 0.3};
   Eigen::Matrix3d chassis_inertia_kgm2 = Eigen::Matrix3d::Identity();
   std::vector<CollisionShape> chassis_shapes;  // the URDF's collision geometry, base frame
+  // The chassis as slabs stacked bottom to top (LoadUrdfRobot): a new slab
+  // wherever a collision shape begins or ends, each the hull seen from above of
+  // the shapes it crosses. Empty for robots built in code.
+  std::vector<ChassisPrism> chassis_prisms;
   std::vector<MarkerSpec> markers;
   // Materials the robot's parts name (chassis `material`, markers), defined by
   // the robot file so that a robot looks the same in every world.
@@ -98,6 +110,12 @@ struct RobotDescription {
   // discs, as 16-gons) and casters: what must clear an obstacle at any
   // height, counter-clockwise, convex (the navigation's robot polygon).
   std::vector<Eigen::Vector2d> OutlineWithWheels() const;
+  // The slabs the simulator builds the chassis of (collisions, laser rays,
+  // sections): chassis_prisms while footprint_m is the hull of their outlines;
+  // otherwise (none, or a footprint given in place of the derived one, as
+  // robot.yaml's chassis.footprint) one prism of footprint_m over the chassis'
+  // height range.
+  std::vector<ChassisPrism> ChassisPrisms() const;
   // Chassis assembly plus both wheels (kg).
   double total_mass_kg() const {
     return chassis_mass_kg + left_wheel.mass_kg + right_wheel.mass_kg;

@@ -29,6 +29,9 @@ constexpr double kPlacementToleranceM = 1e-3;
 constexpr double kAxisTolerance = 1e-6;
 // Vertices of the polygon circumscribing a cylinder or sphere in the footprint.
 constexpr int kCircleVertices = 32;
+// Collision shapes' tops and bottoms closer than this are one slab boundary of
+// the chassis (m); also the corner tolerance when merging equal slabs.
+constexpr double kSameHeightM = 1e-9;
 
 // Where elements of the XML text are, and what urdfdom hides (a joint's
 // missing <axis> is replaced by (1, 0, 0)).
@@ -573,25 +576,76 @@ void ReadMassProperties(const Context& ctx, const std::vector<RigidLink>& rigid,
   }
 }
 
+// The chassis as slabs stacked bottom to top: a slab boundary wherever a shape
+// (its hull points, `shape_points`) begins or ends; each slab the hull seen from
+// above of the shapes reaching into it (exact for upright prisms, boxes and
+// cylinders; a conservative prism for anything else), neighbours with the same
+// outline merged. Heights below the floor count as the floor.
+std::vector<ChassisPrism> StackChassisPrisms(
+    const std::vector<std::vector<Eigen::Vector3d>>& shape_points) {
+  struct Range {
+    double z0, z1;
+  };
+  std::vector<Range> ranges;
+  std::vector<double> heights;
+  for (const std::vector<Eigen::Vector3d>& points : shape_points) {
+    Range r{points.front().z(), points.front().z()};
+    for (const Eigen::Vector3d& p : points) {
+      r.z0 = std::min(r.z0, p.z());
+      r.z1 = std::max(r.z1, p.z());
+    }
+    r.z0 = std::max(0.0, r.z0);
+    ranges.push_back(r);
+    heights.push_back(r.z0);
+    heights.push_back(r.z1);
+  }
+  std::sort(heights.begin(), heights.end());
+  heights.erase(std::unique(heights.begin(), heights.end(),
+                            [](double a, double b) { return b - a <= kSameHeightM; }),
+                heights.end());
+  std::vector<ChassisPrism> stack;
+  for (std::size_t i = 0; i + 1 < heights.size(); ++i) {
+    const double z0 = heights[i], z1 = heights[i + 1];
+    std::vector<Eigen::Vector2d> planar;
+    for (std::size_t s = 0; s < shape_points.size(); ++s) {
+      if (ranges[s].z0 >= z1 - kSameHeightM || ranges[s].z1 <= z0 + kSameHeightM) continue;
+      for (const Eigen::Vector3d& p : shape_points[s]) planar.push_back(p.head<2>());
+    }
+    std::vector<Eigen::Vector2d> outline = core::ConvexHull(std::move(planar));
+    if (outline.size() < 3) continue;  // a gap between shapes, or no area
+    if (!stack.empty() && std::abs(stack.back().z1_m - z0) <= kSameHeightM &&
+        stack.back().outline_m.size() == outline.size() &&
+        std::equal(outline.begin(), outline.end(), stack.back().outline_m.begin(),
+                   [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+                     return (a - b).norm() <= kSameHeightM;
+                   })) {
+      stack.back().z1_m = z1;
+      continue;
+    }
+    stack.push_back({std::move(outline), z0, z1});
+  }
+  return stack;
+}
+
 // Mounts and collision shapes of the rigid assembly (casters apart), and the
-// footprint and height range of the chassis they make.
+// footprint, height range and slabs of the chassis they make.
 void ReadChassisShape(const Context& ctx, const std::vector<RigidLink>& rigid,
                       const std::set<std::string>& caster_names, const UrdfDriveNames& names,
                       RobotDescription* out) {
   RobotDescription& d = *out;
-  std::vector<Eigen::Vector3d> hull_points;
+  std::vector<std::vector<Eigen::Vector3d>> shape_points;
   for (const RigidLink& rl : rigid) {
     d.mounts.push_back(ToMount(rl.link->name, rl.base_from_link));
     if (caster_names.contains(rl.link->name)) continue;
     for (const urdf::CollisionSharedPtr& c : rl.link->collision_array) {
       if (!c) continue;
       d.chassis_shapes.push_back(ToShape(ctx, rl.link->name, rl.base_from_link, *c));
-      const std::size_t before = hull_points.size();
-      AppendHullPoints(d.chassis_shapes.back(), &hull_points);
-      for (std::size_t i = before; i < hull_points.size(); ++i) {
-        if (hull_points[i].z() < -kPlacementToleranceM) {
-          ctx.Fail(ctx.AtLink(rl.link->name) + "collision geometry reaches below the floor (z = " +
-                   Fmt(hull_points[i].z()) + " m)");
+      shape_points.emplace_back();
+      AppendHullPoints(d.chassis_shapes.back(), &shape_points.back());
+      for (const Eigen::Vector3d& p : shape_points.back()) {
+        if (p.z() < -kPlacementToleranceM) {
+          ctx.Fail(ctx.AtLink(rl.link->name) +
+                   "collision geometry reaches below the floor (z = " + Fmt(p.z()) + " m)");
         }
       }
     }
@@ -600,12 +654,14 @@ void ReadChassisShape(const Context& ctx, const std::vector<RigidLink>& rigid,
     ctx.Fail(ctx.AtLink(names.chassis_link) +
              "the chassis has no collision geometry (nor any link fixed to it)");
   }
-  double z_min = hull_points.front().z(), z_max = z_min;
+  double z_min = shape_points.front().front().z(), z_max = z_min;
   std::vector<Eigen::Vector2d> planar;
-  for (const Eigen::Vector3d& p : hull_points) {
-    z_min = std::min(z_min, p.z());
-    z_max = std::max(z_max, p.z());
-    planar.push_back(p.head<2>());
+  for (const std::vector<Eigen::Vector3d>& points : shape_points) {
+    for (const Eigen::Vector3d& p : points) {
+      z_min = std::min(z_min, p.z());
+      z_max = std::max(z_max, p.z());
+      planar.push_back(p.head<2>());
+    }
   }
   d.footprint_m = core::ConvexHull(planar);
   if (d.footprint_m.size() < 3) {
@@ -614,6 +670,7 @@ void ReadChassisShape(const Context& ctx, const std::vector<RigidLink>& rigid,
   }
   d.chassis_base_z_m = std::max(0.0, z_min);
   d.chassis_height_m = z_max - d.chassis_base_z_m;
+  d.chassis_prisms = StackChassisPrisms(shape_points);
 }
 
 }  // namespace

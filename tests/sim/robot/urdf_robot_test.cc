@@ -198,6 +198,36 @@ TEST(UrdfRobotTest, RoboxMatchesTheThesis) {
   EXPECT_TRUE(core::Contains(d.footprint_m, d.chassis_com_m.head<2>()));
 }
 
+// Confirms the chassis is stacked in slabs where its collision shapes begin and
+// end: Robox's base recessed to a 0.48 m octagon at scanner height (0.40–0.60 m,
+// §6.3.5.1), the 0.68 m octagon below and above, then the column and the face;
+// the footprint stays the 0.68 m octagon, and the simulator builds these slabs.
+TEST(UrdfRobotTest, RoboxIsRecessedAtScannerHeight) {
+  const RobotDescription d = LoadShipped("robox");
+  struct Slab {
+    double z0, z1, apothem;  // apothem: half the width across flats (m)
+  };
+  const Slab expected[] = {{0.03, 0.40, 0.34}, {0.40, 0.60, 0.24}, {0.60, 0.75, 0.34}};
+  ASSERT_EQ(d.chassis_prisms.size(), 5u);  // three base slabs, the column, the face
+  for (int k = 0; k < 3; ++k) {
+    const ChassisPrism& p = d.chassis_prisms[k];
+    EXPECT_NEAR(p.z0_m, expected[k].z0, 1e-9) << k;
+    EXPECT_NEAR(p.z1_m, expected[k].z1, 1e-9) << k;
+    ASSERT_EQ(p.outline_m.size(), 8u) << k;
+    for (const Eigen::Vector2d& v : p.outline_m) {
+      EXPECT_NEAR(v.norm(), expected[k].apothem / std::cos(kPi / 8), 1e-6) << k;
+    }
+  }
+  EXPECT_NEAR(d.chassis_prisms[3].z1_m, 1.45, 1e-9);  // the column
+  EXPECT_NEAR(d.chassis_prisms[4].z1_m, 1.65, 1e-9);  // the face
+  EXPECT_EQ(d.ChassisPrisms().size(), 5u);            // footprint = hull of the slabs
+  // A footprint given in place of the derived one makes the chassis its prism.
+  RobotDescription given = d;
+  given.footprint_m = {{-0.4, -0.4}, {0.4, -0.4}, {0.4, 0.4}, {-0.4, 0.4}};
+  ASSERT_EQ(given.ChassisPrisms().size(), 1u);
+  EXPECT_EQ(given.ChassisPrisms()[0].outline_m, given.footprint_m);
+}
+
 // Confirms Pygmalion matches appendix A.1: about 45 × 45 × 70 cm and 55 kg.
 TEST(UrdfRobotTest, PygmalionMatchesTheThesis) {
   const RobotDescription d = LoadShipped("pygmalion");

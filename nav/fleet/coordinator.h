@@ -1,0 +1,153 @@
+#pragma once
+
+// Multi-robot planning of thesis §6.3.5 as the central server of Expo.02
+// (§6.5: "a central server for multi-robot planning"):
+//
+// - Path coordination, a topological potential field: each robot publishes
+//   (i, w_i) for the nodes i of its current plan, the weights falling with the
+//   distance along the plan from the robot; the planner of every robot plans
+//   on the superposed weights of the others, so it picks nodes "currently
+//   unused by other robots".
+// - Goal coordination: a robot proposes its next station among the
+//   unoccupied ones of its tour not yet visited, and the chosen one is
+//   reserved for it; the station it stands at stays occupied until it has
+//   left it.
+// - Robot positions: each robot's believed pose, so that the others' dynamic
+//   windows see its true hull where their lasers see a recessed body
+//   (§6.3.5.1; the markers are the fall-back when coordination is down).
+//
+// Time and determinism (architecture.md): a robot writes only its own
+// outbox while it is controlled; Merge() — called once per tick after the
+// tick's parallel phase — copies the outboxes into the board in robot order,
+// and everybody reads the board during the next tick. The board is therefore
+// the same for any thread count. Messages are counted in the bytes of a
+// compact encoding (a node index and a weight: "a matter of a few bytes").
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "core/types/pose2.h"
+
+namespace pavilion::nav {
+
+// One element (i, w_i) of a robot's path message (§6.3.5).
+struct PathWeight {
+  int node = 0;         // node index of the shared map
+  double weight = 0.0;  // cost the others add to the node, m of path, >= 0
+};
+
+struct FleetOptions {
+  // Weight of the node the robot stands at or heads for first, m of path
+  // (0, 1e4]. Chosen: the length of a typical hall detour (two or three
+  // arcs of the expo_hall graph), so that a free alternative wins over a
+  // shared node but a long way round does not.
+  double peak_weight_m = 8.0;
+  // The weights fall as exp(-d / falloff_m) with the distance d along the
+  // plan, m, (0, 1000]. Chosen: nodes further than ~3 falloffs ahead (the
+  // robot needs ~40 s to get there) hardly count.
+  double falloff_m = 4.0;
+  // Nodes further along the plan than this are not published, m, (0, 1000].
+  double horizon_m = 12.0;
+  // A station another robot reserved or occupies costs this much to enter, m
+  // of path, [0, 1e6]: the planner passes through it only without a way round.
+  double occupied_station_cost_m = 200.0;
+  // A station stays occupied until its robot is this far from it, m, [0, 10].
+  // Chosen: the acceptance's 1 m around a station node plus half a Robox.
+  double release_distance_m = 1.5;
+
+  void Validate() const;  // throws std::invalid_argument naming the field
+};
+
+// What one robot sends (its outbox), once per dynamic-window cycle.
+struct FleetMessage {
+  std::vector<PathWeight> path;     // its plan's nodes with weights, robot first
+  std::optional<core::Pose2> pose;  // its believed pose (none while lost)
+  double speed_mps = 0.0;           // its commanded forward speed (with the pose)
+  int reserved_station = -1;        // node index of the station it heads for, -1: none
+  int occupied_station = -1;        // the station it stands at or is leaving, -1: none
+};
+
+// Bytes of the compact encoding of a message (a 2-byte robot index; per path
+// element a 2-byte node index and a 4-byte float weight, plus a 2-byte count;
+// the pose and speed as four 4-byte floats, a 1-byte flag; two 2-byte stations).
+std::int64_t EncodedBytes(const FleetMessage& message);
+
+// What every robot reads: the last merged messages of the fleet.
+class FleetBoard {
+ public:
+  explicit FleetBoard(int robots)
+      : messages_(static_cast<std::size_t>(robots)),
+        footprints_(static_cast<std::size_t>(robots)) {}
+  int robots() const { return static_cast<int>(messages_.size()); }
+  const FleetMessage& message(int robot) const { return messages_.at(robot); }
+  // The robot's outline (robot frame, convex), sent once when it joins.
+  const std::vector<Eigen::Vector2d>& footprint(int robot) const { return footprints_.at(robot); }
+
+  // Adds the weights of every robot but `self` to `costs` (one per node;
+  // nodes beyond its size are ignored), and occupied_cost_m to every station
+  // another robot reserved or occupies.
+  void AddOthersCosts(int self, double occupied_cost_m, std::vector<double>* costs) const;
+  // True when a robot other than `self` reserved or occupies station `node`.
+  bool StationTaken(int node, int self) const;
+
+ private:
+  friend class FleetCoordinator;
+  std::vector<FleetMessage> messages_;
+  std::vector<std::vector<Eigen::Vector2d>> footprints_;
+};
+
+class FleetCoordinator {
+ public:
+  FleetCoordinator(int robots, const FleetOptions& options);
+
+  const FleetOptions& options() const { return options_; }
+  int robots() const { return board_.robots(); }
+
+  // A robot joins with its outline (robot frame, convex, counter-clockwise);
+  // counted as 8 bytes per vertex sent once to each of the others.
+  void Join(int robot, std::vector<Eigen::Vector2d> footprint);
+
+  // The board as of the last Merge(): read by every robot during a tick.
+  const FleetBoard& board() const { return board_; }
+  // Robot `robot`'s outbox: written only by that robot, at most once per tick
+  // (a later write in the tick replaces the earlier one).
+  void Send(int robot, FleetMessage message);
+
+  // Publishes the tick's outboxes in robot order (end of the tick).
+  void Merge();
+
+  // Bytes robot `robot` sent, and that the server sent back (the board's
+  // changed messages, to each of the others), since the start.
+  std::int64_t bytes_up(int robot) const { return bytes_up_.at(robot); }
+  std::int64_t bytes_down(int robot) const { return bytes_down_.at(robot); }
+  std::int64_t messages(int robot) const { return messages_.at(robot); }
+  std::int64_t merges() const { return merges_; }
+
+ private:
+  FleetOptions options_;
+  FleetBoard board_;
+  std::vector<std::optional<FleetMessage>> outbox_;
+  std::vector<std::int64_t> bytes_up_;
+  std::vector<std::int64_t> bytes_down_;
+  std::vector<std::int64_t> messages_;
+  std::int64_t merges_ = 0;
+};
+
+// The weights a robot publishes for its plan (§6.3.5): `plan` the remaining
+// nodes (positions in the map frame, node indices alongside), `position` the
+// robot's; the distance to a node is the robot's straight leg to the plan's
+// first node plus the plan's arcs up to it.
+std::vector<PathWeight> PlanWeights(const Eigen::Vector2d& position, std::span<const int> nodes,
+                                    std::span<const Eigen::Vector2d> positions,
+                                    const FleetOptions& options);
+
+// A robot's link to the coordinator: its index among the fleet.
+struct FleetLink {
+  FleetCoordinator* coordinator = nullptr;
+  int robot = 0;
+};
+
+}  // namespace pavilion::nav

@@ -1,0 +1,94 @@
+#include "scenarios/metrics/robot_proximity.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/geometry/segment2.h"
+
+namespace pavilion::scenarios {
+namespace {
+
+double Circumradius(const core::Polygon2& polygon) {
+  double r = 0.0;
+  for (const Eigen::Vector2d& v : polygon) r = std::max(r, v.norm());
+  return r;
+}
+
+void Place(const core::Polygon2& outline, const core::Pose2& pose, core::Polygon2* out) {
+  out->resize(outline.size());
+  for (std::size_t i = 0; i < outline.size(); ++i) (*out)[i] = pose * outline[i];
+}
+
+// Index of the pair (a, b), a < b, among n robots.
+std::size_t PairIndex(int a, int b, int n) { return static_cast<std::size_t>(a * n + b); }
+
+}  // namespace
+
+double ConvexPolygonDistance(const core::Polygon2& a, const core::Polygon2& b) {
+  for (const Eigen::Vector2d& v : a) {
+    if (core::Contains(b, v)) return 0.0;
+  }
+  for (const Eigen::Vector2d& v : b) {
+    if (core::Contains(a, v)) return 0.0;
+  }
+  double d = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const Eigen::Vector2d& a0 = a[i];
+    const Eigen::Vector2d& a1 = a[(i + 1) % a.size()];
+    for (std::size_t j = 0; j < b.size(); ++j) {
+      const Eigen::Vector2d& b0 = b[j];
+      const Eigen::Vector2d& b1 = b[(j + 1) % b.size()];
+      if (core::SegmentsCross(a0, a1, b0, b1)) return 0.0;
+      d = std::min(
+          {d, core::PointSegmentDistance(a0, b0, b1), core::PointSegmentDistance(b0, a0, a1)});
+    }
+  }
+  return d;
+}
+
+RobotProximity::RobotProximity(std::vector<core::Polygon2> footprints, double near_m)
+    : footprints_(std::move(footprints)),
+      near_m_(near_m),
+      near_(footprints_.size() * footprints_.size(), 0),
+      robots_(footprints_.size()) {
+  for (const core::Polygon2& f : footprints_) radii_m_.push_back(Circumradius(f));
+}
+
+void RobotProximity::Update(double dt_s, std::span<const core::Pose2> poses,
+                            std::vector<NearMiss>* began) {
+  const int n = static_cast<int>(footprints_.size());
+  for (int a = 0; a < n; ++a) {
+    for (int b = a + 1; b < n; ++b) {
+      const double centres_m = (poses[a].translation() - poses[b].translation()).norm();
+      const double bound_m = centres_m - radii_m_[a] - radii_m_[b];
+      char& near = near_[PairIndex(a, b, n)];
+      // Far apart: neither a new minimum of interest nor near (a lower bound).
+      if (bound_m > near_m_ + kNearHysteresisM && !near &&
+          bound_m > std::min(robots_[a].min_distance_m, robots_[b].min_distance_m)) {
+        continue;
+      }
+      Place(footprints_[a], poses[a], &scratch_a_);
+      Place(footprints_[b], poses[b], &scratch_b_);
+      const double d = ConvexPolygonDistance(scratch_a_, scratch_b_);
+      for (ProximityFigures* f : {&robots_[a], &robots_[b], &fleet_}) {
+        f->min_distance_m = std::min(f->min_distance_m, d);
+      }
+      if (!near && d < near_m_) {
+        near = 1;
+        ++robots_[a].near_misses;
+        ++robots_[b].near_misses;
+        ++fleet_.near_misses;
+        began->push_back({a, b, d});
+      } else if (near && d > near_m_ + kNearHysteresisM) {
+        near = 0;
+      }
+      if (near) {
+        robots_[a].time_near_s += dt_s;
+        robots_[b].time_near_s += dt_s;
+        fleet_.time_near_s += dt_s;
+      }
+    }
+  }
+}
+
+}  // namespace pavilion::scenarios
