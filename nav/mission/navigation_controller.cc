@@ -25,6 +25,8 @@ constexpr double kClipSlackM = 0.01;
 // swept hull is drawn in copies this far apart, m.
 constexpr double kPoseAgeS = 0.1;
 constexpr double kSweepStepM = 0.1;
+// A robot that moved less than this stood still (the longest_still_s figure), m.
+constexpr double kStillMoveM = 0.3;
 // A station goal is looked up in the map; this node id means none.
 constexpr int kNoNode = -1;
 
@@ -219,6 +221,13 @@ void NavigationController::Cycle(const ControlTick& tick) {
     state_ = State::kWaiting;
   }
   if (state_ == State::kWaiting) StartNextMission(tick);
+  if (odometer_m_ - still_anchor_m_ > kStillMoveM) {
+    still_anchor_m_ = odometer_m_;
+    still_since_s_ = tick.now_s;
+  } else if (state_ == State::kDriving || state_ == State::kWaiting ||
+             state_ == State::kRelocalizing) {
+    figures_.longest_still_s = std::max(figures_.longest_still_s, tick.now_s - still_since_s_);
+  }
   if (state_ != State::kDriving) return;
   if (dt_s > 0.0) {
     const BlockedMonitor::Step step =

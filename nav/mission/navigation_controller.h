@@ -215,6 +215,8 @@ class NavigationController : public Controller {
   bool contour_overlap_ = false;
   bool clip_contours_ = false;
   int unresolved_reported_ = 0;
+  double still_anchor_m_ = 0.0;  // odometer when the robot last moved kStillMoveM
+  double still_since_s_ = 0.0;
 };
 
 }  // namespace pavilion::nav

@@ -54,9 +54,23 @@ RobotProximity::RobotProximity(std::vector<core::Polygon2> footprints, double ne
   for (const core::Polygon2& f : footprints_) radii_m_.push_back(Circumradius(f));
 }
 
+void RobotProximity::WatchStations(std::vector<Eigen::Vector2d> stations, double radius_m) {
+  stations_ = std::move(stations);
+  station_shared_.assign(stations_.size(), 0);
+  station_radius_m_ = radius_m;
+}
+
 void RobotProximity::Update(double dt_s, std::span<const core::Pose2> poses,
                             std::vector<NearMiss>* began) {
   const int n = static_cast<int>(footprints_.size());
+  for (std::size_t s = 0; s < stations_.size(); ++s) {
+    int at = 0;
+    for (const core::Pose2& p : poses) {
+      at += (p.translation() - stations_[s]).norm() <= station_radius_m_ ? 1 : 0;
+    }
+    if (at >= 2 && !station_shared_[s]) ++fleet_.station_conflicts;
+    station_shared_[s] = at >= 2 ? 1 : 0;
+  }
   for (int a = 0; a < n; ++a) {
     for (int b = a + 1; b < n; ++b) {
       const double centres_m = (poses[a].translation() - poses[b].translation()).norm();

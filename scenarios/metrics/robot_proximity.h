@@ -21,6 +21,9 @@ struct ProximityFigures {
   double min_distance_m = std::numeric_limits<double>::infinity();  // hull to hull
   int near_misses = 0;
   double time_near_s = 0.0;  // inside near-miss episodes (a pair counts its time once)
+  // Episodes of two or more robot centres within the station radius of the
+  // same station node (goal coordination's bound; fleet figures only).
+  int station_conflicts = 0;
 };
 
 // The distance between two convex polygons (0 when they touch or overlap).
@@ -41,6 +44,10 @@ class RobotProximity {
   // miss are appended to `began`.
   void Update(double dt_s, std::span<const core::Pose2> poses, std::vector<NearMiss>* began);
 
+  // The station nodes (world frame) watched for two robots at once within
+  // `radius_m` of their centres.
+  void WatchStations(std::vector<Eigen::Vector2d> stations, double radius_m = 1.0);
+
   const ProximityFigures& robot(int k) const { return robots_.at(static_cast<std::size_t>(k)); }
   const ProximityFigures& fleet() const { return fleet_; }
 
@@ -51,6 +58,9 @@ class RobotProximity {
   std::vector<char> near_;  // per pair (a, b), a < b: inside an episode
   std::vector<ProximityFigures> robots_;
   ProximityFigures fleet_;
+  std::vector<Eigen::Vector2d> stations_;
+  std::vector<char> station_shared_;  // per station: inside a conflict episode
+  double station_radius_m_ = 1.0;
   core::Polygon2 scratch_a_;
   core::Polygon2 scratch_b_;
 };

@@ -135,6 +135,7 @@ Json NavigationJson(const nav::NavigationFigures& f, const CollisionCounts& coll
     j["deadlocks_resolved"] = f.deadlocks_resolved;
     j["deadlocks_unresolved"] = f.deadlocks_unresolved;
     j["longest_deadlock_s"] = n(f.longest_deadlock_s);
+    j["longest_still_with_mission_s"] = n(f.longest_still_s);
   }
   j["collisions"] = CollisionCountsToJson(collisions);
   return j;
@@ -180,13 +181,14 @@ Json ProximityJson(const ProximityFigures& f) {
 }
 
 // Issue 15's fleet figures: missions per hour, nearness, deadlocks, blocked
-// time, stuck robots (blocked longer than kStuckS) and the bytes exchanged.
+// time, stuck robots (still with a mission longer than kStuckS) and the bytes exchanged.
 Json FleetCoordinationJson(const RunMetrics& m) {
   constexpr double kStuckS = 120.0;
   const FleetRunFigures& f = *m.fleet;
   int completed = 0, robots = 0, detected = 0, resolved = 0, unresolved = 0, stuck = 0;
   int fleet_replans = 0;
   double longest_deadlock_s = 0.0, blocked_s = 0.0, longest_blocked_s = 0.0, distance_m = 0.0;
+  double longest_still_s = 0.0;
   std::int64_t up = 0, down = 0;
   for (const RobotMetrics& r : m.robots) {
     if (!r.navigation) continue;
@@ -200,7 +202,8 @@ Json FleetCoordinationJson(const RunMetrics& m) {
     longest_deadlock_s = std::max(longest_deadlock_s, n.longest_deadlock_s);
     blocked_s += n.time_blocked_s;
     longest_blocked_s = std::max(longest_blocked_s, n.longest_blocked_s);
-    stuck += n.longest_blocked_s > kStuckS ? 1 : 0;
+    stuck += n.longest_still_s > kStuckS ? 1 : 0;
+    longest_still_s = std::max(longest_still_s, n.longest_still_s);
     distance_m += r.distance_m;
     if (r.fleet) up += r.fleet->bytes_up;
     if (r.fleet) down += r.fleet->bytes_down;
@@ -213,6 +216,7 @@ Json FleetCoordinationJson(const RunMetrics& m) {
             {"missions_per_robot_hour", per(completed, hours * robots)},
             {"distance_m", RoundForJson(distance_m, 3)}};
   j.update(ProximityJson(f.proximity));
+  j["station_conflicts"] = f.proximity.station_conflicts;
   j.update(
       Json{{"deadlocks_detected", detected},
            {"deadlocks_resolved", resolved},

@@ -333,6 +333,35 @@ void NavigationTable(std::ostringstream& html, const RunMetrics& m) {
           "aborts by reason, band snaps and who moved into whom are in metrics.json.</p>\n";
 }
 
+// Issue 15: the fleet's nearness, deadlocks and bytes per robot.
+void FleetTable(std::ostringstream& html, const RunMetrics& m) {
+  html << "<h2>Fleet</h2>\n<p>Coordination " << (m.fleet->coordination ? "on" : "off")
+       << "; minimum robot–robot distance "
+       << (std::isfinite(m.fleet->proximity.min_distance_m)
+               ? H(m.fleet->proximity.min_distance_m) + " m"
+               : std::string("–"))
+       << ", " << Int(m.fleet->proximity.near_misses) << " near misses, "
+       << Int(m.fleet->proximity.station_conflicts) << " station conflicts.</p>\n"
+       << "<table>\n<tr><th>robot</th><th>min robot distance (m)</th><th>near misses</th>"
+          "<th>deadlocks detected</th><th>resolved</th><th>longest (s)</th>"
+          "<th>longest still with a mission (s)</th><th>fleet replans</th><th>bytes up</th>"
+          "<th>bytes down</th></tr>\n";
+  for (const RobotMetrics& r : m.robots) {
+    if (!r.navigation || !r.fleet) continue;
+    const nav::NavigationFigures& n = *r.navigation;
+    const ProximityFigures& p = r.fleet->proximity;
+    html << "<tr><td>" << E(r.id) << "</td>"
+         << Cells({std::isfinite(p.min_distance_m) ? H(p.min_distance_m) : "–", Int(p.near_misses),
+                   Int(n.deadlocks_detected), Int(n.deadlocks_resolved), H(n.longest_deadlock_s),
+                   H(n.longest_still_s), Int(n.fleet_replans), Int(r.fleet->bytes_up),
+                   Int(r.fleet->bytes_down)})
+         << "</tr>\n";
+  }
+  html << "</table>\n<p class=\"note\">Thesis §6.3.5 and §6.5 (docs/navigation.md, "
+          "\"Fleet\"): near miss = hulls closer than 0.2 m (ground truth); a deadlock is a "
+          "marker's virtual contour inside the robot's own hull while it stands.</p>\n";
+}
+
 void EventCountTable(std::ostringstream& html, const RunMetrics& m) {
   html << "<h2>Events</h2>\n<table>\n<tr><th>type</th><th>count</th></tr>\n";
   for (const auto& [type, n] : m.event_counts) {
@@ -549,6 +578,7 @@ std::string RenderReportHtml(const Scenario& scenario, const RunMetrics& metrics
     if (any_localization) LocalizationTable(html, metrics);
     if (metrics.any_relocalization()) RelocalizationTable(html, metrics);
     if (metrics.any_navigation()) NavigationTable(html, metrics);
+    if (metrics.fleet) FleetTable(html, metrics);
   }
   EventCountTable(html, metrics);
   FilesSection(html, content.files);

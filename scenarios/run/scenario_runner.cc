@@ -66,6 +66,16 @@ void ScenarioRun::BuildRobots(std::vector<sim::RobotConfig> configs,
       hulls.push_back(r.config.description.OutlineWithWheels());
     }
     proximity_.emplace(std::move(hulls));
+    // The station nodes of the first mission robot's map (the fleet shares one).
+    for (std::size_t k = 0; k < scenario_.robots.size(); ++k) {
+      if (!scenario_.robots[k].mission || !maps[k]) continue;
+      std::vector<Eigen::Vector2d> stations;
+      for (const core::MapNode& n : maps[k]->nodes) {
+        if (n.station) stations.push_back(n.pose.translation());
+      }
+      proximity_->WatchStations(std::move(stations));
+      break;
+    }
   }
   for (std::size_t k = 0; k < scenario_.robots.size(); ++k) {
     const RobotEntry& entry = scenario_.robots[k];

@@ -120,5 +120,82 @@ TEST(NavigationController, AbortsAtOnceWithoutARelocalizationTimeout) {
   EXPECT_EQ(run.figures.missions_completed, 0);
 }
 
+// Issue 15, §6.5's overlap deadlock constructed: another robot stands with
+// its marker 5 cm off this robot's front-left corner, so the contour blown up
+// behind the marker reaches into this robot's hull and its dynamic window
+// finds nothing but stop. A scan from a front laser shows the marker (a run
+// of reflector readings) wherever the robot is.
+core::LaserScan MarkerScan(const core::Pose2& pose, const Eigen::Vector2d& marker_in_world,
+                           double now_s) {
+  core::LaserScan scan;
+  scan.sensor_id = "front";
+  scan.stamp_s = now_s;
+  scan.robot_from_sensor = {0.22, 0.0, 0.0};
+  const Eigen::Vector2d m = (pose * scan.robot_from_sensor).Inverse() * marker_in_world;
+  const double bearing = std::atan2(m.y(), m.x());
+  constexpr double kStepRad = 0.5 * M_PI / 180.0;
+  for (int i = 0; i <= 360; ++i) {
+    core::LaserReading r;
+    r.bearing_rad = -0.5 * M_PI + i * kStepRad;
+    r.range_m = scan.max_range_m;
+    if (std::abs(r.bearing_rad - bearing) <= 4.0 * kStepRad) {
+      r.range_m = m.norm();
+      r.valid = true;
+      r.reflector = true;
+    }
+    scan.readings.push_back(r);
+  }
+  return scan;
+}
+
+MissionRun DriveBesideAMarker(bool resolve, double duration_s) {
+  NavigationControllerOptions options;
+  options.step_s = kStepS;
+  options.see_robots = true;
+  options.deadlock.resolve = resolve;
+  NavigationController controller(TwoStations(), Square(), MissionSequence::List({"b"}), options);
+  const Eigen::Vector2d marker(0.35, 0.2);
+  MissionRun run;
+  const double b = options.odometry.wheelbase_m;
+  WheelSpeeds held;
+  for (std::int64_t tick = 0; tick * kStepS < duration_s; ++tick) {
+    const double now_s = tick * kStepS;
+    if (const std::optional<WheelSpeeds> w =
+            controller.OnTick(ControlTick{tick, now_s, run.pose, run.pose, false})) {
+      held = *w;
+    }
+    const core::WheelTravel travel{
+        held.left_radps * options.odometry.left_wheel_radius_m * kStepS,
+        held.right_radps * options.odometry.right_wheel_radius_m * kStepS};
+    run.pose = core::DiffDriveStep(run.pose, travel, b);
+    if (tick % 40 == 0) {  // 5 Hz
+      controller.OnScan(MarkerScan(run.pose, marker, now_s),
+                        ScanContext{now_s, run.pose, run.pose});
+    }
+    controller.TakeEvents(&run.events);
+  }
+  run.figures = *controller.navigation();
+  return run;
+}
+
+TEST(NavigationController, DetectsAndResolvesAnOverlapDeadlock) {
+  const MissionRun run = DriveBesideAMarker(true, 60.0);
+  EXPECT_EQ(run.figures.deadlocks_detected, 1);
+  EXPECT_EQ(run.figures.deadlocks_resolved, 1);
+  EXPECT_EQ(Count(run, NavigationEvent::Type::kDeadlockDetected), 1);
+  EXPECT_EQ(Count(run, NavigationEvent::Type::kDeadlockResolved), 1);
+  // Detected after DeadlockOptions::detect_s of standing, resolved within 30 s.
+  EXPECT_LE(run.figures.longest_deadlock_s, 30.0);
+  EXPECT_EQ(run.figures.missions_completed, 1);
+}
+
+TEST(NavigationController, StaysDeadlockedWithTheResolutionOff) {
+  const MissionRun run = DriveBesideAMarker(false, 60.0);
+  EXPECT_GE(run.figures.deadlocks_detected, 1);
+  EXPECT_EQ(run.figures.deadlocks_resolved, 0);
+  EXPECT_EQ(run.figures.missions_completed, 0);
+  EXPECT_LT(run.pose.translation().norm(), 0.05);  // it never got away
+}
+
 }  // namespace
 }  // namespace pavilion::nav

@@ -1,0 +1,70 @@
+// Robot-robot proximity from ground truth (issue 15's near misses and
+// minimum distance): exact hull distances and near-miss episodes.
+#include "scenarios/metrics/robot_proximity.h"
+
+#include <gtest/gtest.h>
+
+#include <vector>
+
+namespace pavilion::scenarios {
+namespace {
+
+core::Polygon2 Square(double half) {
+  return {{-half, -half}, {half, -half}, {half, half}, {-half, half}};
+}
+
+TEST(ConvexPolygonDistance, IsTheGapBetweenHullsAndZeroWhenTheyMeet) {
+  const core::Polygon2 a = Square(0.5);
+  core::Polygon2 b = Square(0.5);
+  for (auto& v : b) v.x() += 1.3;
+  EXPECT_NEAR(ConvexPolygonDistance(a, b), 0.3, 1e-12);
+  for (auto& v : b) v.x() -= 0.5;  // overlapping
+  EXPECT_EQ(ConvexPolygonDistance(a, b), 0.0);
+  // A cross: no vertex inside the other, edges crossing.
+  const core::Polygon2 wide{{-1, -0.1}, {1, -0.1}, {1, 0.1}, {-1, 0.1}};
+  const core::Polygon2 tall{{-0.1, -1}, {0.1, -1}, {0.1, 1}, {-0.1, 1}};
+  EXPECT_EQ(ConvexPolygonDistance(wide, tall), 0.0);
+}
+
+TEST(RobotProximity, CountsANearMissOncePerEpisode) {
+  RobotProximity p({Square(0.3), Square(0.3), Square(0.3)});
+  std::vector<RobotProximity::NearMiss> began;
+  std::vector<core::Pose2> poses{{0, 0, 0}, {5, 0, 0}, {0, 10, 0}};
+  const double dt = 0.1;
+  // Robot 1 comes to 0.1 m of robot 0, stays for 1 s, then leaves.
+  for (double x : {2.0, 1.0, 0.75, 0.7, 0.7, 0.7, 0.7, 0.7, 0.7, 0.7, 0.7, 0.74, 0.9, 2.0}) {
+    poses[1].x_m = x;
+    p.Update(dt, poses, &began);
+  }
+  ASSERT_EQ(began.size(), 1u);
+  EXPECT_EQ(began[0].a, 0);
+  EXPECT_EQ(began[0].b, 1);
+  EXPECT_NEAR(began[0].distance_m, 0.15, 1e-12);
+  EXPECT_EQ(p.fleet().near_misses, 1);
+  EXPECT_EQ(p.robot(0).near_misses, 1);
+  EXPECT_EQ(p.robot(2).near_misses, 0);
+  EXPECT_NEAR(p.fleet().min_distance_m, 0.1, 1e-12);
+  // Near from 0.75 (0.15 m) until 0.9 (0.3 m > 0.25): 10 steps of 0.1 s.
+  EXPECT_NEAR(p.fleet().time_near_s, 1.0, 1e-9);
+  // Back again: a second episode.
+  poses[1].x_m = 0.65;
+  p.Update(dt, poses, &began);
+  EXPECT_EQ(p.fleet().near_misses, 2);
+  EXPECT_NEAR(p.robot(2).min_distance_m, 10.0 - 0.6, 1e-12);
+}
+
+TEST(RobotProximity, CountsTwoRobotsAtOneStationOncePerEpisode) {
+  RobotProximity p({Square(0.3), Square(0.3)});
+  p.WatchStations({{0, 0}, {5, 0}});
+  std::vector<RobotProximity::NearMiss> began;
+  std::vector<core::Pose2> poses{{0.2, 0, 0}, {3, 0, 0}};
+  for (double x : {3.0, 1.5, 0.9, 0.9, 1.2, 0.8}) {  // within 1 m at 0.9, 0.9 and 0.8
+    poses[1].y_m = x;
+    poses[1].x_m = 0.0;
+    p.Update(0.1, poses, &began);
+  }
+  EXPECT_EQ(p.fleet().station_conflicts, 2);
+}
+
+}  // namespace
+}  // namespace pavilion::scenarios

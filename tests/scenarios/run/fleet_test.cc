@@ -1,0 +1,75 @@
+// Issue 15 in CI (shortened runs of the shipped fleet scenarios; the hour-long
+// acceptance over five seeds is fleet_acceptance_test, `make acceptance`):
+// ten coordinated Robox keep clear of each other and of the walls, never share
+// a station, exchange a few bytes per tick, and produce the same bytes for 1,
+// 2 and 8 threads; with the coordination off nothing is exchanged.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "tests/support/run_pavilion.h"
+#include "tests/support/test_files.h"
+
+namespace pavilion::scenarios {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+json RunFleet(const std::string& scenario, const std::string& tag, double duration_s, int threads) {
+  const fs::path out = pavilion::testing::TestDir() / tag;
+  const pavilion::testing::PavilionResult r = pavilion::testing::RunPavilion(
+      {"run", std::string(PAVILION_SOURCE_DIR) + "/scenarios/" + scenario + ".yaml", "--out",
+       out.string(), "--duration", std::to_string(duration_s), "--threads",
+       std::to_string(threads)},
+      pavilion::testing::TestDir());
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  return json::parse(pavilion::testing::ReadTextFile(out / "metrics.json"));
+}
+
+TEST(Fleet, TenCoordinatedRobotsKeepClearAndNeverShareAStation) {
+  const json m = RunFleet("expo_tours", "tours", 150.0, 2);
+  const json& fleet = m.at("fleet");
+  const json& c = fleet.at("coordination");
+  EXPECT_TRUE(c.at("coordination").get<bool>());
+  EXPECT_EQ(c.at("robots").get<int>(), 10);
+  EXPECT_EQ(fleet.at("collisions").at("robot").get<int>(), 0);
+  EXPECT_EQ(fleet.at("collisions").at("wall_or_exhibit_visible").get<int>(), 0);
+  EXPECT_EQ(c.at("station_conflicts").get<int>(), 0);
+  EXPECT_GE(fleet.at("missions_completed").get<int>(), 10);
+  EXPECT_LE(c.at("longest_blocked_s").get<double>(), 60.0);
+  // A message per robot and dynamic-window cycle of a few dozen bytes (§6.3.5:
+  // "a matter of a few bytes"), the server forwarding the changed ones.
+  EXPECT_GT(c.at("bytes_up").get<int>(), 0);
+  EXPECT_LT(c.at("bytes_per_robot_s").get<double>(), 10000.0);
+}
+
+TEST(Fleet, SameBytesForOneTwoAndEightThreads) {
+  const fs::path base = pavilion::testing::TestDir();
+  RunFleet("expo_tours", "threads_1", 20.0, 1);
+  for (const int threads : {2, 8}) {
+    const std::string tag = "threads_" + std::to_string(threads);
+    RunFleet("expo_tours", tag, 20.0, threads);
+    for (const char* name :
+         {"metrics.json", "events.jsonl", "trajectories.csv", "localization.csv"}) {
+      SCOPED_TRACE(std::string(name) + ", " + std::to_string(threads) + " threads");
+      const std::string a = pavilion::testing::ReadTextFile(base / "threads_1" / name);
+      EXPECT_FALSE(a.empty());
+      EXPECT_TRUE(a == pavilion::testing::ReadTextFile(base / tag / name));
+    }
+  }
+}
+
+TEST(Fleet, WithTheCoordinationOffNothingIsExchanged) {
+  const json m = RunFleet("expo_tours_fallback", "fallback", 30.0, 2);
+  const json& c = m.at("fleet").at("coordination");
+  EXPECT_FALSE(c.at("coordination").get<bool>());
+  EXPECT_EQ(c.at("bytes_up").get<int>(), 0);
+  EXPECT_EQ(c.at("bytes_down").get<int>(), 0);
+  EXPECT_EQ(c.at("fleet_replans").get<int>(), 0);
+}
+
+}  // namespace
+}  // namespace pavilion::scenarios
