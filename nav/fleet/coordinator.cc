@@ -81,6 +81,15 @@ bool FleetBoard::StationTaken(int node, int self) const {
   return false;
 }
 
+bool FleetBoard::ReservationLost(int node, int self) const {
+  for (int r = 0; r < robots(); ++r) {
+    if (r == self) continue;
+    const FleetMessage& m = messages_[static_cast<std::size_t>(r)];
+    if (m.occupied_station == node || (m.reserved_station == node && r < self)) return true;
+  }
+  return false;
+}
+
 FleetCoordinator::FleetCoordinator(int robots, const FleetOptions& options)
     : options_(options),
       board_(robots),

@@ -92,6 +92,10 @@ class FleetBoard {
   void AddOthersCosts(int self, double occupied_cost_m, std::vector<double>* costs) const;
   // True when a robot other than `self` reserved or occupies station `node`.
   bool StationTaken(int node, int self) const;
+  // True when `self`'s reservation of `node` loses to another robot's: one
+  // that occupies it, or reserved it too and comes first in robot order (two
+  // robots that chose in the same cycle; the rule every robot applies alike).
+  bool ReservationLost(int node, int self) const;
 
  private:
   friend class FleetCoordinator;

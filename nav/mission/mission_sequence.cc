@@ -67,4 +67,6 @@ MissionSequence::Proposal MissionSequence::NextFree(
   return {last_, false};
 }
 
+void MissionSequence::GiveBack(const std::string& goal) { pending_.push_back(goal); }
+
 }  // namespace pavilion::nav

@@ -36,6 +36,9 @@ class MissionSequence {
     bool wait = false;                // try again later: every remaining station is taken
   };
   Proposal NextFree(const std::function<bool(const std::string&)>& taken);
+  // Puts a proposed goal back among the round's remaining stations (another
+  // robot reserved it in the same cycle and kept it).
+  void GiveBack(const std::string& goal);
 
  private:
   MissionSequence() = default;

@@ -110,6 +110,10 @@ void NavigationControllerOptions::Validate() const {
   Require(fleet_replan_s >= 0.1 && fleet_replan_s <= 600.0, "fleet_replan_s", "in [0.1, 600] s");
   Require(fleet_replan_gain_m >= 0.0 && fleet_replan_gain_m <= 1e4, "fleet_replan_gain_m",
           "in [0, 1e4] m");
+  Require(fleet_station_clear_m >= 0.0 && fleet_station_clear_m <= 5.0, "fleet_station_clear_m",
+          "in [0, 5] m");
+  Require(fleet_station_near_m >= 0.0 && fleet_station_near_m <= 10.0, "fleet_station_near_m",
+          "in [0, 10] m");
   Require(fleet_hull_margin_m >= 0.0 && fleet_hull_margin_m <= 0.5, "fleet_hull_margin_m",
           "in [0, 0.5] m");
   ghost_barrier.Validate();
@@ -243,6 +247,11 @@ void NavigationController::Cycle(const ControlTick& tick) {
   }
   CheckProgress(tick);
   if (state_ != State::kDriving) return;
+  if (fleet_.coordinator && reserved_node_ != kNoNode &&
+      fleet_.coordinator->board().ReservationLost(reserved_node_, fleet_.robot)) {
+    SwitchGoal(tick);
+    if (state_ != State::kDriving) return;
+  }
   if (fleet_.coordinator && tick.now_s + 1e-9 >= next_fleet_check_s_) {
     next_fleet_check_s_ = tick.now_s + options_.fleet_replan_s;
     FleetReplan(tick);
@@ -462,6 +471,34 @@ void NavigationController::EndMission(const ControlTick& tick, bool completed, A
   UpdateDeadlock(tick, false);  // no goal: an open deadlock episode ends
 }
 
+void NavigationController::SwitchGoal(const ControlTick& tick) {
+  // Another robot chose the same station in the same cycle and keeps it: the
+  // station goes back to the round and the robot proposes another, the same
+  // mission driving on to a new goal (or waiting when none is free).
+  missions_.GiveBack(current_.goal);
+  const FleetBoard& board = fleet_.coordinator->board();
+  const MissionSequence::Proposal p = missions_.NextFree([&](const std::string& id) {
+    const std::optional<int> n = graph_.FindIndex(id);
+    return n && (board.StationTaken(*n, fleet_.robot) || *n == reserved_node_);
+  });
+  const int node = p.goal ? graph_.FindIndex(*p.goal).value_or(kNoNode) : kNoNode;
+  if (node == kNoNode) {  // nothing else free: stand until the board changes
+    if (p.goal) missions_.GiveBack(*p.goal);
+    reserved_node_ = kNoNode;
+    queue_.Clear();
+    command_ = {};
+    state_ = State::kWaiting;
+    --figures_.missions_started;  // started again when a station is free
+    --mission_index_;
+    return;
+  }
+  current_.goal = *p.goal;
+  current_.goal_pose = map_.nodes[node].pose;
+  reserved_node_ = node;
+  if (!PlanGlobal(tick, kNoNode)) return EndMission(tick, false, AbortReason::kUnreachable);
+  PlanLocal(tick, true, "station_taken");
+}
+
 void NavigationController::SetFleet(FleetLink link) {
   fleet_ = link;
   if (fleet_.coordinator) fleet_.coordinator->Join(fleet_.robot, footprint_);
@@ -563,7 +600,9 @@ void NavigationController::AppendOtherRobots(const core::Pose2& belief,
   for (int r = 0; r < board.robots(); ++r) {
     const FleetMessage& m = board.message(r);
     const std::vector<Eigen::Vector2d>& hull = board.footprint(r);
-    if (r == fleet_.robot || !m.pose || hull.empty()) continue;
+    if (r == fleet_.robot || !m.pose) continue;
+    AppendStationRings(m, belief, frame_from_world, reach_m, points);
+    if (hull.empty()) continue;
     const double radius_m = Circumradius(hull) + options_.fleet_hull_margin_m;
     if ((m.pose->translation() - belief.translation()).norm() > reach_m + radius_m) continue;
     const core::Pose2 frame_from_robot = frame_from_world * *m.pose;
@@ -586,6 +625,31 @@ void NavigationController::AppendOtherRobots(const core::Pose2& belief,
         }
       }
     }
+  }
+}
+
+void NavigationController::AppendStationRings(const FleetMessage& other, const core::Pose2& belief,
+                                              const core::Pose2& frame_from_world, double reach_m,
+                                              std::vector<Eigen::Vector2d>* points) const {
+  // The ring keeps this robot's centre fleet_station_clear_m from the node:
+  // its radius is that less the footprint's inradius (the hull's nearest side).
+  double inradius_m = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < footprint_.size(); ++i) {
+    inradius_m =
+        std::min(inradius_m, core::PointSegmentDistance(Eigen::Vector2d::Zero(), footprint_[i],
+                                                        footprint_[(i + 1) % footprint_.size()]));
+  }
+  const double ring_m = options_.fleet_station_clear_m - inradius_m;
+  if (ring_m <= 0.0) return;
+  for (int station : {other.reserved_station, other.occupied_station}) {
+    if (station < 0 || station >= graph_.node_count() || station == reserved_node_) continue;
+    const Eigen::Vector2d& at = graph_.position(station);
+    if ((other.pose->translation() - at).norm() > options_.fleet_station_near_m) continue;
+    if ((belief.translation() - at).norm() > reach_m + ring_m) continue;
+    const std::size_t first = points->size();
+    AppendContour(at, ring_m, options_.ghost_barrier.fill_m, points);
+    for (std::size_t i = first; i < points->size(); ++i)
+      (*points)[i] = frame_from_world * (*points)[i];
   }
 }
 

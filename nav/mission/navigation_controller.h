@@ -70,6 +70,13 @@ struct NavigationControllerOptions {
   // The others' hulls, placed at their published poses, are drawn this much
   // larger: the estimates' errors and the 0.1 s a pose is old at most, m, [0, 0.5].
   double fleet_hull_margin_m = 0.03;
+  // A station another robot reserved or occupies, while that robot is within
+  // fleet_station_near_m of it, is kept clear: this robot's centre stays this
+  // far from the node (a ring of virtual points its hull must not cross), m,
+  // [0, 5]. Chosen: the issue's "never two robots within 1 m of the same
+  // station node" plus 5 cm.
+  double fleet_station_clear_m = 1.05;
+  double fleet_station_near_m = 1.5;  // m, [0, 10]
   // Robots seeing robots (§6.3.5.1): the markers of other robots in the scans
   // become virtual robot contours for the dynamic window and the band, held
   // `contour_hold_s` after their laser last saw them (the blind zones). Off
@@ -146,10 +153,14 @@ class NavigationController : public Controller {
   // the others' hulls as obstacle points in the frame `frame_from_world`.
   std::vector<double> NodeCosts(int avoid_node) const;
   void Publish(const ControlTick& tick);
+  void SwitchGoal(const ControlTick& tick);
   void FleetReplan(const ControlTick& tick);
   double RemainingPathCost(const Eigen::Vector2d& position, const std::vector<double>& costs) const;
   void AppendOtherRobots(const core::Pose2& belief, const core::Pose2& frame_from_world,
                          double reach_m, std::vector<Eigen::Vector2d>* points) const;
+  void AppendStationRings(const FleetMessage& other, const core::Pose2& belief,
+                          const core::Pose2& frame_from_world, double reach_m,
+                          std::vector<Eigen::Vector2d>* points) const;
   // The others' markers blown up into contours (§6.3.5.1), robot frame; sets
   // contour_overlap_ when one reaches into the own hull.
   void AppendContours(const ControlTick& tick, bool clip, std::vector<Eigen::Vector2d>* points);

@@ -4,15 +4,10 @@
 #include <cmath>
 
 #include "core/geometry/segment2.h"
+#include "nav/reactive/swept_polygon.h"
 
 namespace pavilion::scenarios {
 namespace {
-
-double Circumradius(const core::Polygon2& polygon) {
-  double r = 0.0;
-  for (const Eigen::Vector2d& v : polygon) r = std::max(r, v.norm());
-  return r;
-}
 
 void Place(const core::Polygon2& outline, const core::Pose2& pose, core::Polygon2* out) {
   out->resize(outline.size());
@@ -51,7 +46,7 @@ RobotProximity::RobotProximity(std::vector<core::Polygon2> footprints, double ne
       near_m_(near_m),
       near_(footprints_.size() * footprints_.size(), 0),
       robots_(footprints_.size()) {
-  for (const core::Polygon2& f : footprints_) radii_m_.push_back(Circumradius(f));
+  for (const core::Polygon2& f : footprints_) radii_m_.push_back(nav::Circumradius(f));
 }
 
 void RobotProximity::WatchStations(std::vector<Eigen::Vector2d> stations, double radius_m) {
@@ -78,7 +73,7 @@ void RobotProximity::Update(double dt_s, std::span<const core::Pose2> poses,
       char& near = near_[PairIndex(a, b, n)];
       // Far apart: neither a new minimum of interest nor near (a lower bound).
       if (bound_m > near_m_ + kNearHysteresisM && !near &&
-          bound_m > std::min(robots_[a].min_distance_m, robots_[b].min_distance_m)) {
+          bound_m > std::max(robots_[a].min_distance_m, robots_[b].min_distance_m)) {
         continue;
       }
       Place(footprints_[a], poses[a], &scratch_a_);

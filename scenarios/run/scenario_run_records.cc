@@ -26,6 +26,9 @@ void ScenarioRun::EmitNavigationEvents(RobotRun& r) {
       fields["path_length_m"] = RoundForJson(e.path_length_m, 3);
     }
     if (e.type == nav::NavigationEvent::Type::kReplanned) fields["cause"] = e.cause;
+    if (e.type == nav::NavigationEvent::Type::kDeadlockResolved) {
+      fields["duration_s"] = RoundForJson(e.duration_s, 3);
+    }
     events_->Emit(e.at_s, nav::ToString(e.type), fields);
   }
 }

@@ -66,16 +66,24 @@ void ScenarioRun::BuildRobots(std::vector<sim::RobotConfig> configs,
       hulls.push_back(r.config.description.OutlineWithWheels());
     }
     proximity_.emplace(std::move(hulls));
-    // The station nodes of the first mission robot's map (the fleet shares one).
+    // The stations the missions name (a tour's candidates or a list), at
+    // their nodes in the first mission robot's map (the fleet shares one).
+    std::set<std::string> named;
+    const core::RobotMap* map = nullptr;
     for (std::size_t k = 0; k < scenario_.robots.size(); ++k) {
-      if (!scenario_.robots[k].mission || !maps[k]) continue;
-      std::vector<Eigen::Vector2d> stations;
-      for (const core::MapNode& n : maps[k]->nodes) {
-        if (n.station) stations.push_back(n.pose.translation());
-      }
-      proximity_->WatchStations(std::move(stations));
-      break;
+      const std::optional<MissionEntry>& mission = scenario_.robots[k].mission;
+      if (!mission || !maps[k]) continue;
+      if (!map) map = &*maps[k];
+      named.insert(mission->tour_among.begin(), mission->tour_among.end());
+      named.insert(mission->stations.begin(), mission->stations.end());
     }
+    std::vector<Eigen::Vector2d> stations;
+    for (const core::MapNode& n : map ? map->nodes : std::vector<core::MapNode>{}) {
+      if (n.station && (named.empty() || named.contains(n.id))) {
+        stations.push_back(n.pose.translation());
+      }
+    }
+    proximity_->WatchStations(std::move(stations));
   }
   for (std::size_t k = 0; k < scenario_.robots.size(); ++k) {
     const RobotEntry& entry = scenario_.robots[k];
