@@ -224,6 +224,7 @@ Json FleetCoordinationJson(const RunMetrics& m) {
            {"longest_deadlock_s", RoundForJson(longest_deadlock_s, 3)},
            {"time_blocked_s", RoundForJson(blocked_s, 3)},
            {"longest_blocked_s", RoundForJson(longest_blocked_s, 3)},
+           {"longest_still_with_mission_s", RoundForJson(longest_still_s, 3)},
            {"stuck_robots", stuck},
            {"fleet_replans", fleet_replans},
            {"bytes_up", up},
