@@ -67,14 +67,20 @@ struct NavigationControllerOptions {
   // from here included) by more than fleet_replan_gain_m. s, [0.1, 600].
   double fleet_replan_s = 2.0;
   double fleet_replan_gain_m = 2.0;  // m of path, [0, 1e4]
+  // A plan taken by that replan is kept at least this long, so that two robots
+  // reacting to each other's weights do not swap ways back and forth, s,
+  // [fleet_replan_s, 600]. Chosen: the time to drive about two graph arcs.
+  double fleet_commit_s = 10.0;
   // The others' hulls, placed at their published poses, are drawn this much
   // larger: the estimates' errors and the 0.1 s a pose is old at most, m, [0, 0.5].
   double fleet_hull_margin_m = 0.03;
   // A station another robot reserved or occupies, while that robot is within
   // fleet_station_near_m of it, is kept clear: this robot's centre stays this
   // far from the node (a ring of virtual points its hull must not cross), m,
-  // [0, 5]. Chosen: the issue's "never two robots within 1 m of the same
-  // station node" plus 5 cm.
+  // [0, 5]. A robot already inside a ring draws none (it leaves, never
+  // trapped), and a robot heading for its own station waits outside that
+  // station's ring while another robot is inside. Chosen: the issue's "never
+  // two robots within 1 m of the same station node" plus 5 cm.
   double fleet_station_clear_m = 1.05;
   double fleet_station_near_m = 1.5;  // m, [0, 10]
   // Robots seeing robots (§6.3.5.1): the markers of other robots in the scans
@@ -158,9 +164,10 @@ class NavigationController : public Controller {
   double RemainingPathCost(const Eigen::Vector2d& position, const std::vector<double>& costs) const;
   void AppendOtherRobots(const core::Pose2& belief, const core::Pose2& frame_from_world,
                          double reach_m, std::vector<Eigen::Vector2d>* points) const;
-  void AppendStationRings(const FleetMessage& other, const core::Pose2& belief,
-                          const core::Pose2& frame_from_world, double reach_m,
-                          std::vector<Eigen::Vector2d>* points) const;
+  // Rings of virtual points that keep this robot out of the stations the
+  // others hold (fleet_station_clear_m), in the frame `frame_from_world`.
+  void AppendStationRings(const core::Pose2& belief, const core::Pose2& frame_from_world,
+                          double reach_m, std::vector<Eigen::Vector2d>* points) const;
   // The others' markers blown up into contours (§6.3.5.1), robot frame; sets
   // contour_overlap_ when one reaches into the own hull.
   void AppendContours(const ControlTick& tick, bool clip, std::vector<Eigen::Vector2d>* points);
@@ -171,10 +178,12 @@ class NavigationController : public Controller {
   // Obstacle points this near the robot go to the local grid: its half-diagonal.
   double GridReachM() const { return kGridReachPerSide * options_.local.grid.size_m; }
   static constexpr double kGridReachPerSide = 0.75;  // > sqrt(2) / 2
+  static constexpr int kNoNode = -1;                 // a station goal the map does not name
 
   NavigationControllerOptions options_;
   core::RobotMap map_;
   std::vector<Eigen::Vector2d> footprint_;
+  double inradius_m_ = 0.0;  // the footprint's nearest side from the robot's origin
   MissionSequence missions_;
   TopologyGraph graph_;
   ScanObstacles obstacles_;

@@ -238,6 +238,7 @@ Json FleetCoordinationJson(const RunMetrics& m) {
 Json FleetJson(const RunMetrics& m) {
   int started = 0;
   int completed = 0;
+  int aborted = 0;
   CollisionCounts collisions;
   std::int64_t lost = 0;
   std::int64_t declared_lost = 0;
@@ -245,6 +246,7 @@ Json FleetJson(const RunMetrics& m) {
     if (!r.navigation) continue;
     started += r.navigation->missions_started;
     completed += r.navigation->missions_completed;
+    aborted += r.navigation->missions_aborted_total();
     for (std::size_t k = 0; k < kCollisionClasses; ++k) {
       collisions.by_class[k] += r.collisions_by_class.by_class[k];
     }
@@ -259,6 +261,13 @@ Json FleetJson(const RunMetrics& m) {
             {"missions_completed", completed},
             {"missions_completed_ratio",
              started > 0 ? RoundForJson(static_cast<double>(completed) / started, 4) : 0.0},
+            // Missions the run ended in the middle of are neither: the ratio
+            // of those it saw to an end is the fair one for a short run.
+            {"missions_in_progress", started - completed - aborted},
+            {"missions_completed_of_ended_ratio",
+             completed + aborted > 0
+                 ? RoundForJson(static_cast<double>(completed) / (completed + aborted), 4)
+                 : 0.0},
             {"collisions", CollisionCountsToJson(collisions)},
             {"lost_situations", lost},
             {"declared_lost_situations", declared_lost}};

@@ -1,0 +1,226 @@
+// The fleet part of the navigation controller (thesis §6.3.5): goal and path
+// coordination through the coordinator's board, the others' hulls at their
+// published poses, and the rings that keep the stations the others hold clear.
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <span>
+
+#include "core/geometry/segment2.h"
+#include "nav/mission/navigation_controller.h"
+#include "nav/reactive/swept_polygon.h"
+
+namespace pavilion::nav {
+namespace {
+
+// Another robot's published pose is this old at most (one cycle), s; its
+// swept hull is drawn in copies this far apart, m.
+constexpr double kPoseAgeS = 0.1;
+constexpr double kSweepStepM = 0.1;
+
+}  // namespace
+
+void NavigationController::SwitchGoal(const ControlTick& tick) {
+  // Another robot chose the same station in the same cycle and keeps it: the
+  // station goes back to the round and the robot proposes another, the same
+  // mission driving on to a new goal (or waiting when none is free).
+  missions_.GiveBack(current_.goal);
+  const FleetBoard& board = fleet_.coordinator->board();
+  const MissionSequence::Proposal p = missions_.NextFree([&](const std::string& id) {
+    const std::optional<int> n = graph_.FindIndex(id);
+    return n && (board.StationTaken(*n, fleet_.robot) || *n == reserved_node_);
+  });
+  const int node = p.goal ? graph_.FindIndex(*p.goal).value_or(kNoNode) : kNoNode;
+  if (node == kNoNode) {  // nothing else free: stand until the board changes
+    if (p.goal) missions_.GiveBack(*p.goal);
+    reserved_node_ = kNoNode;
+    queue_.Clear();
+    command_ = {};
+    state_ = State::kWaiting;
+    --figures_.missions_started;  // started again when a station is free
+    --mission_index_;
+    return;
+  }
+  current_.goal = *p.goal;
+  current_.goal_pose = map_.nodes[node].pose;
+  reserved_node_ = node;
+  if (!PlanGlobal(tick, kNoNode)) return EndMission(tick, false, AbortReason::kUnreachable);
+  PlanLocal(tick, true, "station_taken");
+}
+
+void NavigationController::SetFleet(FleetLink link) {
+  fleet_ = link;
+  if (fleet_.coordinator) fleet_.coordinator->Join(fleet_.robot, footprint_);
+}
+
+std::vector<double> NavigationController::NodeCosts(int avoid_node) const {
+  std::vector<double> costs(map_.nodes.size(), 0.0);
+  if (avoid_node != kNoNode) costs[avoid_node] = options_.blocked_node_cost_m;
+  if (fleet_.coordinator) {
+    fleet_.coordinator->board().AddOthersCosts(
+        fleet_.robot, fleet_.coordinator->options().occupied_station_cost_m, &costs);
+  }
+  return costs;
+}
+
+void NavigationController::Publish(const ControlTick& tick) {
+  const FleetOptions& o = fleet_.coordinator->options();
+  // The station it stood at is free once the robot is well away from it.
+  if (occupied_node_ != kNoNode && !tick.localization_lost &&
+      (tick.belief.translation() - graph_.position(occupied_node_)).norm() > o.release_distance_m) {
+    occupied_node_ = kNoNode;
+  }
+  FleetMessage m;
+  m.reserved_station = reserved_node_;
+  m.occupied_station = occupied_node_;
+  if (!tick.localization_lost) m.pose = tick.belief;
+  m.speed_mps = 0.5 * (command_.left_mps + command_.right_mps);
+  if (state_ == State::kDriving && !queue_.empty()) {
+    std::vector<int> nodes;
+    std::vector<Eigen::Vector2d> positions;
+    for (const QueuedNode& n : queue_.remaining()) {
+      if (const std::optional<int> i = graph_.FindIndex(n.id)) {
+        nodes.push_back(*i);
+        positions.push_back(n.position_m);
+      }
+    }
+    m.path = PlanWeights(tick.belief.translation(), nodes, positions, o);
+  }
+  fleet_.coordinator->Send(fleet_.robot, std::move(m));
+}
+
+double NavigationController::RemainingPathCost(const Eigen::Vector2d& position,
+                                               const std::vector<double>& costs) const {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  const std::span<const QueuedNode> rest = queue_.remaining();
+  if (rest.empty()) return kInf;
+  // The straight leg to the next node, as PlanFromPosition joins a position.
+  for (const auto& [a, b] : walls_) {
+    if (core::SegmentsCross(position, rest.front().position_m, a, b)) return kInf;
+  }
+  double cost = (rest.front().position_m - position).norm();
+  std::optional<int> from = graph_.FindIndex(rest.front().id);
+  if (!from) return kInf;
+  cost += graph_.node_cost(*from) + costs[*from];
+  for (std::size_t i = 1; i < rest.size(); ++i) {
+    const std::optional<int> to = graph_.FindIndex(rest[i].id);
+    if (!to) return kInf;
+    double arc = kInf;
+    for (const GraphArc& a : graph_.arcs_from(*from)) {
+      if (a.to == *to && !a.blocked) arc = std::min(arc, a.weight);
+    }
+    cost += arc + graph_.node_cost(*to) + costs[*to];
+    from = to;
+  }
+  return cost;
+}
+
+void NavigationController::FleetReplan(const ControlTick& tick) {
+  const std::vector<double> costs = NodeCosts(kNoNode);
+  const int goal = graph_.FindIndex(current_.goal).value_or(kNoNode);
+  if (goal == kNoNode) return;
+  const std::optional<GraphPath> path =
+      PlanFromPosition(graph_, map_, tick.belief.translation(), goal, options_.graph, costs);
+  if (!path) return;
+  const double current = RemainingPathCost(tick.belief.translation(), costs);
+  if (!(path->cost + options_.fleet_replan_gain_m < current)) return;
+  const std::span<const QueuedNode> rest = queue_.remaining();
+  const bool same =
+      rest.size() == path->nodes.size() &&
+      std::equal(rest.begin(), rest.end(), path->nodes.begin(),
+                 [&](const QueuedNode& q, int n) { return q.id == map_.nodes[n].id; });
+  if (same) return;
+  ++figures_.global_plans;
+  ++figures_.fleet_replans;
+  std::vector<QueuedNode> nodes;
+  for (int n : path->nodes) nodes.push_back({map_.nodes[n].id, map_.nodes[n].pose.translation()});
+  queue_.Load(std::move(nodes), current_.goal_pose);
+  queue_.Update(tick.belief);
+  next_fleet_check_s_ = tick.now_s + options_.fleet_commit_s;
+  PlanLocal(tick, true, "fleet");
+}
+
+void NavigationController::AppendOtherRobots(const core::Pose2& belief,
+                                             const core::Pose2& frame_from_world, double reach_m,
+                                             std::vector<Eigen::Vector2d>* points) const {
+  if (!fleet_.coordinator) return;
+  AppendStationRings(belief, frame_from_world, reach_m, points);
+  // Outline points at most this far apart (the ghost barriers' fill).
+  const double spacing_m = options_.ghost_barrier.fill_m;
+  const FleetBoard& board = fleet_.coordinator->board();
+  for (int r = 0; r < board.robots(); ++r) {
+    const FleetMessage& m = board.message(r);
+    const std::vector<Eigen::Vector2d>& hull = board.footprint(r);
+    if (r == fleet_.robot || !m.pose || hull.empty()) continue;
+    const double radius_m = Circumradius(hull) + options_.fleet_hull_margin_m;
+    if ((m.pose->translation() - belief.translation()).norm() > reach_m + radius_m) continue;
+    const core::Pose2 frame_from_robot = frame_from_world * *m.pose;
+    const core::Polygon2 grown = InflateConvexPolygon(hull, options_.fleet_hull_margin_m);
+    // A moving robot is drawn also where it will be when it has stopped
+    // (its braking distance plus a cycle of latency), so two robots closing
+    // in on each other do not each brake only for where the other is now.
+    const double v = std::abs(m.speed_mps);
+    const double ahead_m = v * v / (2.0 * options_.dwa.max_wheel_accel_mps2) +
+                           v * (1.0 / options_.dwa_rate_hz + kPoseAgeS);
+    const int copies = 1 + static_cast<int>(std::ceil(ahead_m / kSweepStepM));
+    for (int c = 0; c < copies; ++c) {
+      const double shift = std::copysign(std::min(ahead_m, c * kSweepStepM), m.speed_mps);
+      for (std::size_t i = 0; i < grown.size(); ++i) {
+        const Eigen::Vector2d a = grown[i] + Eigen::Vector2d(shift, 0.0);
+        const Eigen::Vector2d b = grown[(i + 1) % grown.size()] + Eigen::Vector2d(shift, 0.0);
+        const int steps = std::max(1, static_cast<int>(std::ceil((b - a).norm() / spacing_m)));
+        for (int k = 0; k < steps; ++k) {
+          points->push_back(frame_from_robot * (a + (b - a) * (static_cast<double>(k) / steps)));
+        }
+      }
+    }
+  }
+}
+
+void NavigationController::AppendStationRings(const core::Pose2& belief,
+                                              const core::Pose2& frame_from_world, double reach_m,
+                                              std::vector<Eigen::Vector2d>* points) const {
+  // The ring keeps this robot's centre fleet_station_clear_m from the node:
+  // its radius is that less the footprint's inradius (the hull's nearest side).
+  const double ring_m = options_.fleet_station_clear_m - inradius_m_;
+  if (ring_m <= 0.0) return;
+  const FleetBoard& board = fleet_.coordinator->board();
+  const auto inside = [&](int station, const Eigen::Vector2d& p) {
+    return (p - graph_.position(station)).norm() <= options_.fleet_station_clear_m;
+  };
+  const Eigen::Vector2d self = belief.translation();
+  std::vector<int> rings;
+  for (int r = 0; r < board.robots(); ++r) {
+    const FleetMessage& m = board.message(r);
+    if (r == fleet_.robot || !m.pose) continue;
+    for (int station : {m.reserved_station, m.occupied_station}) {
+      if (station < 0 || station >= graph_.node_count() || station == reserved_node_) continue;
+      if ((m.pose->translation() - graph_.position(station)).norm() >
+          options_.fleet_station_near_m) {
+        continue;  // its robot is not there yet: the planner's cost keeps others off
+      }
+      // A robot inside the ring (crossing the node when the other came) is
+      // not trapped in it: it sees no ring and leaves, the other waits.
+      if (!inside(station, self)) rings.push_back(station);
+    }
+    // The own station while another robot is inside its ring: wait outside.
+    if (reserved_node_ != kNoNode && inside(reserved_node_, m.pose->translation()) &&
+        !inside(reserved_node_, self)) {
+      rings.push_back(reserved_node_);
+    }
+  }
+  std::sort(rings.begin(), rings.end());
+  rings.erase(std::unique(rings.begin(), rings.end()), rings.end());
+  for (int station : rings) {
+    const Eigen::Vector2d& at = graph_.position(station);
+    if ((self - at).norm() > reach_m + ring_m) continue;
+    const std::size_t first = points->size();
+    AppendContour(at, ring_m, options_.ghost_barrier.fill_m, points);
+    for (std::size_t k = first; k < points->size(); ++k) {
+      (*points)[k] = frame_from_world * (*points)[k];
+    }
+  }
+}
+
+}  // namespace pavilion::nav

@@ -1,0 +1,125 @@
+// The station rings of the fleet (§6.3.5, NavigationControllerOptions::
+// fleet_station_clear_m): a robot keeps out of a station another robot holds,
+// a robot caught inside such a ring when the other arrives is not trapped but
+// leaves, and a robot heading for its own station waits outside while another
+// robot is inside. One controller drives an ideal robot (belief = truth); the
+// other robot is a fixed message on the coordinator's board.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <vector>
+
+#include "core/odometry/diff_drive.h"
+#include "nav/fleet/coordinator.h"
+#include "nav/mission/navigation_controller.h"
+
+namespace pavilion::nav {
+namespace {
+
+constexpr double kStepS = 0.005;
+constexpr int kStation = 1;  // node index of "s"
+const Eigen::Vector2d kStationAt(4.0, 0.0);
+
+// An empty floor: a -- s -- b on a line, s a station between the two ends.
+core::RobotMap Line() {
+  core::RobotMap map;
+  map.name = "line";
+  map.nodes.push_back({"a", {0.0, 0.0, 0.0}, true});
+  map.nodes.push_back({"s", {kStationAt.x(), kStationAt.y(), 0.0}, true});
+  map.nodes.push_back({"b", {8.0, 0.0, 0.0}, true});
+  map.edges.push_back({"a", "s", 4.0});
+  map.edges.push_back({"s", "b", 4.0});
+  return map;
+}
+
+std::vector<Eigen::Vector2d> Square() {
+  return {{-0.3, -0.3}, {0.3, -0.3}, {0.3, 0.3}, {-0.3, 0.3}};
+}
+
+struct RingRun {
+  NavigationFigures figures;
+  core::Pose2 pose;
+  double closest_to_station_m = std::numeric_limits<double>::infinity();
+  double completed_at_s = -1.0;
+};
+
+// Robot 0 (the controller) starts at `start` with `goal`; robot 1 stands at
+// `other` holding `other_station` (-1: none) until `other_leaves_s`, then is
+// published far away.
+RingRun Drive(const core::Pose2& start, const char* goal, const Eigen::Vector2d& other,
+              int other_station, double other_leaves_s, double duration_s) {
+  NavigationControllerOptions options;
+  options.step_s = kStepS;
+  FleetCoordinator coordinator(2, FleetOptions{});
+  NavigationController controller(Line(), Square(), MissionSequence::List({goal}), options);
+  controller.SetFleet({&coordinator, 0});
+  coordinator.Join(1, Square());
+  RingRun run;
+  run.pose = start;
+  const double b = options.odometry.wheelbase_m;
+  WheelSpeeds held;
+  std::vector<NavigationEvent> events;
+  for (std::int64_t tick = 0; tick * kStepS < duration_s; ++tick) {
+    const double now_s = tick * kStepS;
+    if (const std::optional<WheelSpeeds> w =
+            controller.OnTick(ControlTick{tick, now_s, run.pose, run.pose, false})) {
+      held = *w;
+    }
+    FleetMessage m;
+    const bool there = now_s < other_leaves_s;
+    m.pose = there ? core::Pose2{other.x(), other.y(), 0.0} : core::Pose2{-50.0, -50.0, 0.0};
+    m.reserved_station = there ? other_station : -1;
+    coordinator.Send(1, m);
+    coordinator.Merge();
+    const core::WheelTravel travel{
+        held.left_radps * options.odometry.left_wheel_radius_m * kStepS,
+        held.right_radps * options.odometry.right_wheel_radius_m * kStepS};
+    run.pose = core::DiffDriveStep(run.pose, travel, b);
+    run.closest_to_station_m =
+        std::min(run.closest_to_station_m, (run.pose.translation() - kStationAt).norm());
+    controller.TakeEvents(&events);
+    for (const NavigationEvent& e : events) {
+      if (e.type == NavigationEvent::Type::kMissionCompleted && run.completed_at_s < 0.0) {
+        run.completed_at_s = e.at_s;
+      }
+    }
+    events.clear();
+  }
+  run.figures = *controller.navigation();
+  return run;
+}
+
+TEST(NavigationControllerFleet, KeepsOutOfAStationAnotherRobotHolds) {
+  // The other stands at its station's edge; the way a -> b crosses the node.
+  const RingRun run = Drive({0.0, 0.0, 0.0}, "b", {4.0, 1.2}, kStation, 1e9, 60.0);
+  EXPECT_EQ(run.figures.missions_completed, 1);  // around the ring
+  // The ring's radius is the clear distance less the inradius; the hull's
+  // corners reach a little further in than its sides (0.42 vs 0.3 m).
+  EXPECT_GE(run.closest_to_station_m, 1.05 - 0.13);
+}
+
+TEST(NavigationControllerFleet, ARobotInsideTheRingWhenTheOtherComesLeaves) {
+  // Robot 0 is on the node's doorstep, heading on to b, when robot 1 arrives
+  // for the station: before the rule the ring closed around robot 0 for good.
+  const RingRun run = Drive({4.3, 0.0, 0.0}, "b", {4.0, 1.2}, kStation, 1e9, 30.0);
+  EXPECT_EQ(run.figures.missions_completed, 1);
+  EXPECT_GT(run.completed_at_s, 0.0);
+  EXPECT_LT(run.completed_at_s, 20.0);
+}
+
+TEST(NavigationControllerFleet, WaitsOutsideItsStationWhileAnotherRobotIsInside) {
+  // Robot 1, holding nothing, stands within the clear radius of robot 0's
+  // station until t = 25 s; robot 0 waits outside, then takes the station.
+  const RingRun waiting = Drive({0.0, 0.0, 0.0}, "s", {4.5, 0.4}, -1, 1e9, 25.0);
+  EXPECT_EQ(waiting.figures.missions_completed, 0);
+  EXPECT_GE(waiting.closest_to_station_m, 1.05 - 0.13);
+  const RingRun run = Drive({0.0, 0.0, 0.0}, "s", {4.5, 0.4}, -1, 25.0, 60.0);
+  EXPECT_EQ(run.figures.missions_completed, 1);
+  EXPECT_GT(run.completed_at_s, 25.0);
+}
+
+}  // namespace
+}  // namespace pavilion::nav
