@@ -258,7 +258,9 @@ TEST(SweepTest, ResumesAfterARunIsKilled) {
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
   while (child < 0 && std::chrono::steady_clock::now() < deadline) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    child = FindProcess("c00-s0001.tmp");
+    // The full path: another sweep test running beside this one (ctest -j)
+    // has a c00-s0001.tmp of its own, which must not be the one killed.
+    child = FindProcess((out / "runs" / "c00-s0001.tmp").string());
   }
   ASSERT_GT(child, 0);
   ::kill(child, SIGKILL);
