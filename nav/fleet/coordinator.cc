@@ -1,5 +1,6 @@
 #include "nav/fleet/coordinator.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -24,7 +25,8 @@ constexpr std::int64_t kVertexBytes = 2 * 4;
 
 bool SameMessage(const FleetMessage& a, const FleetMessage& b) {
   if (a.reserved_station != b.reserved_station || a.occupied_station != b.occupied_station ||
-      a.pose.has_value() != b.pose.has_value() || a.path.size() != b.path.size()) {
+      a.pose.has_value() != b.pose.has_value() || a.path.size() != b.path.size() ||
+      a.claims != b.claims) {
     return false;
   }
   if (a.pose && (a.pose->x_m != b.pose->x_m || a.pose->y_m != b.pose->y_m ||
@@ -47,12 +49,15 @@ void FleetOptions::Validate() const {
           "occupied_station_cost_m", "in [0, 1e6] m");
   Require(release_distance_m >= 0.0 && release_distance_m <= 10.0, "release_distance_m",
           "in [0, 10] m");
+  Require(claim_ahead_m >= 0.0 && claim_ahead_m <= 20.0, "claim_ahead_m", "in [0, 20] m");
+  Require(claim_radius_m > 0.0 && claim_radius_m <= 10.0, "claim_radius_m", "in (0, 10] m");
 }
 
 std::int64_t EncodedBytes(const FleetMessage& message) {
   return kRobotIndexBytes + kCountBytes +
          static_cast<std::int64_t>(message.path.size()) * (kNodeBytes + kWeightBytes) +
-         kPoseFlagBytes + (message.pose ? kPoseBytes : 0) + 2 * kStationBytes;
+         kPoseFlagBytes + (message.pose ? kPoseBytes : 0) + 2 * kStationBytes + kCountBytes +
+         static_cast<std::int64_t>(message.claims.size()) * kNodeBytes;
 }
 
 void FleetBoard::AddOthersCosts(int self, double occupied_cost_m,
@@ -88,6 +93,35 @@ bool FleetBoard::ReservationLost(int node, int self) const {
     if (m.occupied_station == node || (m.reserved_station == node && r < self)) return true;
   }
   return false;
+}
+
+bool FleetBoard::ClaimedByOther(int node, int self) const {
+  for (int r = 0; r < robots(); ++r) {
+    const std::vector<int>& c = messages_[static_cast<std::size_t>(r)].claims;
+    if (r != self && std::binary_search(c.begin(), c.end(), node)) return true;
+  }
+  return false;
+}
+
+std::vector<int> FleetBoard::ResolveClaims(int self, std::span<const int> wanted,
+                                           std::span<const int> held, int occupied) const {
+  std::vector<int> claims;
+  for (int node : wanted) {
+    bool keep = true;
+    if (node != occupied) {
+      const bool was_held = std::binary_search(held.begin(), held.end(), node);
+      for (int r = 0; r < robots() && keep; ++r) {
+        const std::vector<int>& c = messages_[static_cast<std::size_t>(r)].claims;
+        if (r == self || !std::binary_search(c.begin(), c.end(), node)) continue;
+        keep = was_held && self < r;  // a same-cycle claim: the first in robot order
+      }
+    }
+    if (keep) claims.push_back(node);
+  }
+  if (occupied >= 0 && !std::binary_search(claims.begin(), claims.end(), occupied)) {
+    claims.insert(std::lower_bound(claims.begin(), claims.end(), occupied), occupied);
+  }
+  return claims;
 }
 
 FleetCoordinator::FleetCoordinator(int robots, const FleetOptions& options)

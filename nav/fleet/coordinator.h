@@ -12,6 +12,14 @@
 //   unoccupied ones of its tour not yet visited, and the chosen one is
 //   reserved for it; the station it stands at stays occupied until it has
 //   left it.
+// - Station passage (ours: the acceptance's "never two robots within 1 m of
+//   the same station node at once" holds for robots passing through a
+//   station as much as for the one visiting it): a robot claims the stations
+//   of its tour that its plan reaches within claim_ahead_m, that are within
+//   claim_radius_m of it, or that it occupies, for as long as they are. A station is one robot's at
+//   a time: a claim another robot already holds on the board is not made; two claims made in the
+//   same cycle go to the robot first in robot order. The others keep out of a claimed station (the
+//   controller's rings).
 // - Robot positions: each robot's believed pose, so that the others' dynamic
 //   windows see its true hull where their lasers see a recessed body
 //   (§6.3.5.1; the markers are the fall-back when coordination is down).
@@ -27,6 +35,7 @@
 #include <cstdint>
 #include <optional>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "core/types/pose2.h"
@@ -57,6 +66,16 @@ struct FleetOptions {
   // A station stays occupied until its robot is this far from it, m, [0, 10].
   // Chosen: the acceptance's 1 m around a station node plus half a Robox.
   double release_distance_m = 1.5;
+  // A station the plan reaches within this distance (along the plan) is
+  // claimed for passage, m, [0, 20]. Chosen: a Robox at 0.6 m/s brakes in
+  // 0.2 m; this leaves the one that loses a claim ~1 m to stop outside the
+  // station's 1 m, with a cycle of latency and the ring's margin.
+  double claim_ahead_m = 2.5;
+  // A station whose node is within this distance of the robot is claimed as
+  // well, planned through or not (a robot skirting it), and every claim is
+  // held until the robot is neither this near nor claim_ahead_m from it along
+  // its plan, m, (0, 10]. Chosen: the acceptance's 1 m plus half a Robox.
+  double claim_radius_m = 1.5;
 
   void Validate() const;  // throws std::invalid_argument naming the field
 };
@@ -68,11 +87,13 @@ struct FleetMessage {
   double speed_mps = 0.0;           // its commanded forward speed (with the pose)
   int reserved_station = -1;        // node index of the station it heads for, -1: none
   int occupied_station = -1;        // the station it stands at or is leaving, -1: none
+  std::vector<int> claims;          // the stations it holds for passage, ascending
 };
 
 // Bytes of the compact encoding of a message (a 2-byte robot index; per path
 // element a 2-byte node index and a 4-byte float weight, plus a 2-byte count;
-// the pose and speed as four 4-byte floats, a 1-byte flag; two 2-byte stations).
+// the pose and speed as four 4-byte floats, a 1-byte flag; two 2-byte stations;
+// the claims as a 2-byte count and 2 bytes each).
 std::int64_t EncodedBytes(const FleetMessage& message);
 
 // What every robot reads: the last merged messages of the fleet.
@@ -96,6 +117,16 @@ class FleetBoard {
   // that occupies it, or reserved it too and comes first in robot order (two
   // robots that chose in the same cycle; the rule every robot applies alike).
   bool ReservationLost(int node, int self) const;
+  // The claims `self` holds after this cycle (ascending), from the stations
+  // it wants (`wanted`, ascending) and those it held as of its last message
+  // (`held`, ascending): a wanted station no other robot claims on the board
+  // is claimed; one another robot claims is kept only when `self` held it
+  // too (both claimed in the same cycle) and comes first in robot order.
+  // `occupied` (-1: none) is always kept: the robot stands there.
+  std::vector<int> ResolveClaims(int self, std::span<const int> wanted, std::span<const int> held,
+                                 int occupied) const;
+  // True when a robot other than `self` claims station `node`.
+  bool ClaimedByOther(int node, int self) const;
 
  private:
   friend class FleetCoordinator;
@@ -113,6 +144,11 @@ class FleetCoordinator {
   // A robot joins with its outline (robot frame, convex, counter-clockwise);
   // counted as 8 bytes per vertex sent once to each of the others.
   void Join(int robot, std::vector<Eigen::Vector2d> footprint);
+
+  // The stations the fleet shares (node ids), claimed for passage; empty:
+  // each robot claims the stations of its own missions.
+  void SetStations(std::vector<std::string> ids) { stations_ = std::move(ids); }
+  const std::vector<std::string>& stations() const { return stations_; }
 
   // The board as of the last Merge(): read by every robot during a tick.
   const FleetBoard& board() const { return board_; }
@@ -138,6 +174,7 @@ class FleetCoordinator {
   std::vector<std::int64_t> bytes_down_;
   std::vector<std::int64_t> messages_;
   std::int64_t merges_ = 0;
+  std::vector<std::string> stations_;
 };
 
 // The weights a robot publishes for its plan (§6.3.5): `plan` the remaining

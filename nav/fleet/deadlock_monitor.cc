@@ -21,8 +21,11 @@ void DeadlockOptions::Validate() const {
           "backoff_max_s must be in [0, 60] s");
   Require(std::isfinite(resolved_move_m) && resolved_move_m > 0.0 && resolved_move_m <= 10.0,
           "resolved_move_m must be in (0, 10] m");
-  Require(std::isfinite(give_up_s) && give_up_s > backoff_max_s && give_up_s <= 3600.0,
-          "give_up_s must be in (backoff_max_s, 3600] s");
+  Require(std::isfinite(retreat_after_s) && retreat_after_s >= 0.0 && retreat_after_s <= 60.0,
+          "retreat_after_s must be in [0, 60] s");
+  Require(std::isfinite(give_up_s) && give_up_s > backoff_max_s + retreat_after_s &&
+              give_up_s <= 3600.0,
+          "give_up_s must be in (backoff_max_s + retreat_after_s, 3600] s");
 }
 
 DeadlockMonitor::DeadlockMonitor(const DeadlockOptions& options, std::uint64_t seed)
@@ -100,6 +103,7 @@ DeadlockMonitor::Step DeadlockMonitor::Follow(double now_s, bool overlap, bool s
     return step;
   }
   step.clip = options_.resolve && elapsed_s >= backoff_s_;
+  step.retreat = options_.resolve && elapsed_s >= backoff_s_ + options_.retreat_after_s;
   return step;
 }
 

@@ -7,14 +7,19 @@
 //
 // Each robot detects and resolves it from its own sensing alone — never from
 // ground truth — by one rule that all robots evaluate alike:
-//   clear    -> suspect   a contour overlaps the own hull while the robot,
-//                         having a goal, is stalled;
+//   clear    -> suspect   a contour overlaps (or nearly touches) the own
+//                         hull while the robot, having a goal, is stalled;
 //   suspect  -> detected  after detect_s without a break (`detected`);
 //   detected -> clipping  after a seeded random back-off, so that two robots
 //                         in the same deadlock rarely act in the same cycle;
 //                         while clipping the caller shrinks overlapping
 //                         contours with ClipRadius (another robot cannot
 //                         overlap our own hull);
+//   clipping -> retreat   still stalled retreat_after_s later (the clipped
+//                         contours leave no way on: two robots face each
+//                         other where only one fits): the robot yields —
+//                         it drives away from the other's contour, and the
+//                         other, whose back-off is later, finds the room;
 //   resolved              once the robot has moved resolved_move_m since
 //                         detection, or kDeadlockClearS passed with neither
 //                         overlap nor stall (`resolved`, with its duration);
@@ -48,8 +53,13 @@ struct DeadlockOptions {
   // Moving this far since detection resolves it, m, (0, 10]. Chosen: about
   // the marker offset (0.34 m), the geometry that caused the overlap is gone.
   double resolved_move_m = 0.3;
+  // Clipping this long after the back-off without a way on: retreat, s,
+  // [0, 60]. Chosen: ten cycles to find a way past the clipped contour, a
+  // few to start on it.
+  double retreat_after_s = 2.0;
   // Unresolved this long after detection: count it and start over, s,
-  // (backoff_max_s, 3600]. Chosen: below the blocked monitor's 45 s abort.
+  // (backoff_max_s + retreat_after_s, 3600]. Chosen: below the blocked
+  // monitor's 45 s abort.
   double give_up_s = 30.0;
 
   void Validate() const;  // throws std::invalid_argument naming the field
@@ -64,6 +74,7 @@ class DeadlockMonitor {
     bool detected = false;      // a deadlock was detected in this cycle
     bool resolved = false;      // the open deadlock was resolved in this cycle
     bool clip = false;          // shrink contours that overlap the own hull now
+    bool retreat = false;       // yield: drive away from the other robot now (with clip)
     double resolution_s = 0.0;  // with `resolved`: time from detection (s)
   };
   // One dynamic-window cycle at `now_s` (non-decreasing): `overlap` when a

@@ -7,6 +7,7 @@ namespace pavilion::nav {
 
 MissionSequence MissionSequence::List(std::vector<std::string> stations) {
   MissionSequence s;
+  s.among_ = stations;
   std::reverse(stations.begin(), stations.end());
   s.pending_ = std::move(stations);
   s.drawn_ = true;

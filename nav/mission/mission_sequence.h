@@ -36,6 +36,8 @@ class MissionSequence {
     bool wait = false;                // try again later: every remaining station is taken
   };
   Proposal NextFree(const std::function<bool(const std::string&)>& taken);
+  // Every station the sequence can lead to (a list's, or a tour's candidates).
+  const std::vector<std::string>& stations() const { return among_; }
   // Puts a proposed goal back among the round's remaining stations (another
   // robot reserved it in the same cycle and kept it).
   void GiveBack(const std::string& goal);

@@ -21,8 +21,45 @@ constexpr double kArcDrawS = 2.0;
 // A clipped contour keeps this much more than the window's safety margin from
 // the hull, so that its points are not on the margin's edge, m.
 constexpr double kClipSlackM = 0.01;
+// A contour this close to the hull blocks it as an overlap does (the
+// window's 2 cm safety margin and a few centimetres of the estimate), m.
+constexpr double kDeadlockTouchM = 0.05;
+// The deadlock rule's yield aims this far away (about one and a half Robox
+// lengths), m.
+constexpr double kRetreatM = 1.0;
 // A robot that moved less than this stood still (the longest_still_s figure), m.
 constexpr double kStillMoveM = 0.3;
+
+// The deadlock rule's yield direction (robot frame): of 16 directions, the
+// one with the most room — the least distance from the obstacle points to
+// the leg of kRetreatM from the hull's inscribed circle out, capped at a
+// Robox's half-width so that the open ones tie — preferring the directions
+// away from the other robot's contour centre `other`.
+Eigen::Vector2d RetreatTarget(const Eigen::Vector2d& other, double inradius_m,
+                              const std::vector<Eigen::Vector2d>& points) {
+  constexpr int kDirections = 16;
+  constexpr double kRoomCapM = 0.3;
+  constexpr double kAwayWeightM = 0.1;
+  const Eigen::Vector2d away = -other.normalized();
+  Eigen::Vector2d best = away;
+  double best_score = -std::numeric_limits<double>::infinity();
+  for (int k = 0; k < kDirections; ++k) {
+    const double a = 2.0 * std::numbers::pi * k / kDirections;
+    const Eigen::Vector2d u(std::cos(a), std::sin(a));
+    const Eigen::Vector2d from = u * inradius_m;
+    double room_m = kRoomCapM;
+    for (const Eigen::Vector2d& p : points) {
+      const double t = std::clamp((p - from).dot(u), 0.0, kRetreatM);
+      room_m = std::min(room_m, (p - from - t * u).norm());
+    }
+    const double score = room_m + kAwayWeightM * u.dot(away);
+    if (score > best_score) {
+      best_score = score;
+      best = u;
+    }
+  }
+  return best * kRetreatM;
+}
 
 void Require(bool ok, const std::string& field, const std::string& range) {
   if (!ok) {
@@ -108,8 +145,6 @@ void NavigationControllerOptions::Validate() const {
           "in [0, 1e4] m");
   Require(fleet_station_clear_m >= 0.0 && fleet_station_clear_m <= 5.0, "fleet_station_clear_m",
           "in [0, 5] m");
-  Require(fleet_station_near_m >= 0.0 && fleet_station_near_m <= 10.0, "fleet_station_near_m",
-          "in [0, 10] m");
   Require(fleet_hull_margin_m >= 0.0 && fleet_hull_margin_m <= 0.5, "fleet_hull_margin_m",
           "in [0, 0.5] m");
   ghost_barrier.Validate();
@@ -420,6 +455,12 @@ void NavigationController::Drive(const ControlTick& tick) {
   obstacles_.InRobot(tick.odometry, tick.belief, options_.dwa_reach_m, &points_);
   AppendOtherRobots(tick.belief, robot_from_world, options_.dwa_reach_m, &points_);
   AppendContours(tick, clip_contours_, &points_);
+  if (retreat_ && nearest_contour_ && nearest_contour_->norm() > 0.0) {
+    // The deadlock rule's yield: away from the other robot where there is
+    // room, the window choosing how among the obstacles.
+    goal = DwaGoal{};
+    goal.target_in_robot = RetreatTarget(*nearest_contour_, inradius_m_, points_);
+  }
   if (tick.now_s <= bumper_until_s_) {
     points_.insert(points_.end(), bumper_points_.begin(), bumper_points_.end());
   }
@@ -476,6 +517,7 @@ void NavigationController::EndMission(const ControlTick& tick, bool completed, A
 void NavigationController::AppendContours(const ControlTick& tick, bool clip,
                                           std::vector<Eigen::Vector2d>* points) {
   contour_overlap_ = false;
+  nearest_contour_.reset();
   if (markers_.empty()) return;
   const core::Pose2 robot_from_odom = tick.odometry.Inverse();
   const core::Pose2 robot_from_world = tick.belief.Inverse();
@@ -500,7 +542,14 @@ void NavigationController::AppendContours(const ControlTick& tick, bool clip,
     });
     if (mapped || explained) continue;
     const bool overlap = ContourOverlapsHull(centre, o.contour_radius_m, footprint_, 0.0);
-    contour_overlap_ = contour_overlap_ || overlap;
+    // Within the window's safety margin of the hull the contour blocks as an
+    // overlap does (the robots all blocked, each with a goal, §6.5).
+    const bool touching =
+        ContourOverlapsHull(centre, o.contour_radius_m, footprint_, kDeadlockTouchM);
+    contour_overlap_ = contour_overlap_ || touching;
+    if (touching && (!nearest_contour_ || centre.norm() < nearest_contour_->norm())) {
+      nearest_contour_ = centre;
+    }
     // The deadlock rule's model correction: the other robot cannot be inside
     // this one's hull, so its contour is shrunk to keep a margin from it.
     const double radius_m = clip && overlap ? ClipRadius(centre, o.contour_radius_m, footprint_,
@@ -516,6 +565,7 @@ void NavigationController::UpdateDeadlock(const ControlTick& tick, bool stalled)
   const DeadlockMonitor::Step step = deadlock_.Update(
       tick.now_s, driving, driving && contour_overlap_, driving && stalled, odometer_m_);
   clip_contours_ = step.clip;
+  retreat_ = step.retreat;
   figures_.deadlocks_detected = deadlock_.detected();
   figures_.deadlocks_resolved = deadlock_.resolved();
   figures_.deadlocks_unresolved = deadlock_.unresolved();

@@ -74,15 +74,15 @@ struct NavigationControllerOptions {
   // The others' hulls, placed at their published poses, are drawn this much
   // larger: the estimates' errors and the 0.1 s a pose is old at most, m, [0, 0.5].
   double fleet_hull_margin_m = 0.03;
-  // A station another robot reserved or occupies, while that robot is within
-  // fleet_station_near_m of it, is kept clear: this robot's centre stays this
+  // A station another robot claims (FleetBoard::ResolveClaims: passing,
+  // arriving or standing there) is kept clear: this robot's centre stays this
   // far from the node (a ring of virtual points its hull must not cross), m,
   // [0, 5]. A robot already inside a ring draws none (it leaves, never
   // trapped), and a robot heading for its own station waits outside that
-  // station's ring while another robot is inside. Chosen: the issue's "never
-  // two robots within 1 m of the same station node" plus 5 cm.
+  // station's ring while another robot is inside. A robot standing within
+  // this distance of a station of its tour claims it. Chosen: the issue's
+  // "never two robots within 1 m of the same station node" plus 5 cm.
   double fleet_station_clear_m = 1.05;
-  double fleet_station_near_m = 1.5;  // m, [0, 10]
   // Robots seeing robots (§6.3.5.1): the markers of other robots in the scans
   // become virtual robot contours for the dynamic window and the band, held
   // `contour_hold_s` after their laser last saw them (the blind zones). Off
@@ -159,6 +159,8 @@ class NavigationController : public Controller {
   // the others' hulls as obstacle points in the frame `frame_from_world`.
   std::vector<double> NodeCosts(int avoid_node) const;
   void Publish(const ControlTick& tick);
+  // The passage claims after this cycle, the robot at `at` (map frame).
+  void UpdateClaims(const Eigen::Vector2d& at);
   void SwitchGoal(const ControlTick& tick);
   void FleetReplan(const ControlTick& tick);
   double RemainingPathCost(const Eigen::Vector2d& position, const std::vector<double>& costs) const;
@@ -219,8 +221,10 @@ class NavigationController : public Controller {
   MissionStatus status_;
   FleetLink fleet_;
   std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> walls_;  // the map's, for sight
-  int reserved_node_ = -1;  // the station this robot heads for
-  int occupied_node_ = -1;  // the station it stands at or is leaving
+  int reserved_node_ = -1;      // the station this robot heads for
+  int occupied_node_ = -1;      // the station it stands at or is leaving
+  std::vector<int> claimable_;  // node indices of the stations it may claim, ascending
+  std::vector<int> claims_;     // the stations it holds for passage, ascending
   double next_fleet_check_s_ = 0.0;
   // Markers seen (odometry frame), the laser and when.
   struct SeenMarker {
@@ -234,6 +238,9 @@ class NavigationController : public Controller {
   DeadlockMonitor deadlock_;
   bool contour_overlap_ = false;
   bool clip_contours_ = false;
+  bool retreat_ = false;  // the deadlock rule's yield (DeadlockMonitor::Step::retreat)
+  // The nearest contour touching the hull this cycle (robot frame).
+  std::optional<Eigen::Vector2d> nearest_contour_;
   int unresolved_reported_ = 0;
   double still_anchor_m_ = 0.0;  // odometer when the robot last moved kStillMoveM
   double still_since_s_ = 0.0;

@@ -51,7 +51,16 @@ void NavigationController::SwitchGoal(const ControlTick& tick) {
 
 void NavigationController::SetFleet(FleetLink link) {
   fleet_ = link;
-  if (fleet_.coordinator) fleet_.coordinator->Join(fleet_.robot, footprint_);
+  claimable_.clear();
+  if (!fleet_.coordinator) return;
+  fleet_.coordinator->Join(fleet_.robot, footprint_);
+  // The fleet's shared stations, or else those of the own missions.
+  const std::vector<std::string>& shared = fleet_.coordinator->stations();
+  for (const std::string& id : shared.empty() ? missions_.stations() : shared) {
+    if (const std::optional<int> n = graph_.FindIndex(id)) claimable_.push_back(*n);
+  }
+  std::sort(claimable_.begin(), claimable_.end());
+  claimable_.erase(std::unique(claimable_.begin(), claimable_.end()), claimable_.end());
 }
 
 std::vector<double> NavigationController::NodeCosts(int avoid_node) const {
@@ -71,9 +80,12 @@ void NavigationController::Publish(const ControlTick& tick) {
       (tick.belief.translation() - graph_.position(occupied_node_)).norm() > o.release_distance_m) {
     occupied_node_ = kNoNode;
   }
+  // Lost, the robot neither claims nor releases: it does not know where it is.
+  if (!tick.localization_lost) UpdateClaims(tick.belief.translation());
   FleetMessage m;
   m.reserved_station = reserved_node_;
   m.occupied_station = occupied_node_;
+  m.claims = claims_;
   if (!tick.localization_lost) m.pose = tick.belief;
   m.speed_mps = 0.5 * (command_.left_mps + command_.right_mps);
   if (state_ == State::kDriving && !queue_.empty()) {
@@ -88,6 +100,34 @@ void NavigationController::Publish(const ControlTick& tick) {
     m.path = PlanWeights(tick.belief.translation(), nodes, positions, o);
   }
   fleet_.coordinator->Send(fleet_.robot, std::move(m));
+}
+
+void NavigationController::UpdateClaims(const Eigen::Vector2d& at) {
+  const FleetOptions& o = fleet_.coordinator->options();
+  const auto claimable = [&](int node) {
+    return std::binary_search(claimable_.begin(), claimable_.end(), node);
+  };
+  // Stations near it.
+  std::vector<int> wanted;
+  for (int s : claimable_) {
+    if ((at - graph_.position(s)).norm() <= o.claim_radius_m) wanted.push_back(s);
+  }
+  // Stations its plan reaches soon (the distance along the plan, as the weights).
+  if (state_ == State::kDriving) {
+    double along_m = 0.0;
+    Eigen::Vector2d from = at;
+    for (const QueuedNode& n : queue_.remaining()) {
+      along_m += (n.position_m - from).norm();
+      from = n.position_m;
+      if (along_m > o.claim_ahead_m) break;
+      const std::optional<int> i = graph_.FindIndex(n.id);
+      if (i && claimable(*i)) wanted.push_back(*i);
+    }
+  }
+  std::sort(wanted.begin(), wanted.end());
+  wanted.erase(std::unique(wanted.begin(), wanted.end()), wanted.end());
+  claims_ =
+      fleet_.coordinator->board().ResolveClaims(fleet_.robot, wanted, claims_, occupied_node_);
 }
 
 double NavigationController::RemainingPathCost(const Eigen::Vector2d& position,
@@ -190,24 +230,27 @@ void NavigationController::AppendStationRings(const core::Pose2& belief,
     return (p - graph_.position(station)).norm() <= options_.fleet_station_clear_m;
   };
   const Eigen::Vector2d self = belief.translation();
+  std::vector<int> own = claims_;
+  if (reserved_node_ != kNoNode) own.push_back(reserved_node_);
   std::vector<int> rings;
   for (int r = 0; r < board.robots(); ++r) {
     const FleetMessage& m = board.message(r);
     if (r == fleet_.robot || !m.pose) continue;
-    for (int station : {m.reserved_station, m.occupied_station}) {
-      if (station < 0 || station >= graph_.node_count() || station == reserved_node_) continue;
-      if ((m.pose->translation() - graph_.position(station)).norm() >
-          options_.fleet_station_near_m) {
-        continue;  // its robot is not there yet: the planner's cost keeps others off
-      }
-      // A robot inside the ring (crossing the node when the other came) is
-      // not trapped in it: it sees no ring and leaves, the other waits.
+    // The stations the others claim. A robot already inside (crossing the
+    // node when the other claimed it) is not trapped: it sees no ring and
+    // leaves, the other waits. A station claimed by both in the same cycle
+    // is settled by the claim rule within a cycle.
+    for (int station : m.claims) {
+      if (station < 0 || station >= graph_.node_count()) continue;
+      if (std::binary_search(claims_.begin(), claims_.end(), station)) continue;
       if (!inside(station, self)) rings.push_back(station);
     }
-    // The own station while another robot is inside its ring: wait outside.
-    if (reserved_node_ != kNoNode && inside(reserved_node_, m.pose->translation()) &&
-        !inside(reserved_node_, self)) {
-      rings.push_back(reserved_node_);
+    // A station this robot claims or heads for while another robot
+    // (claiming it or not) is inside its ring: wait outside until it has left.
+    for (int station : own) {
+      if (inside(station, m.pose->translation()) && !inside(station, self)) {
+        rings.push_back(station);
+      }
     }
   }
   std::sort(rings.begin(), rings.end());

@@ -653,7 +653,8 @@ void ReadPhysicsAndOutputs(YamlDocument* doc, MapReader& top, Scenario* s) {
 }
 
 // fleet: {coordination, deadlock_resolution, peak_weight_m, falloff_m,
-// horizon_m, occupied_station_cost_m, release_distance_m}.
+// horizon_m, occupied_station_cost_m, release_distance_m, claim_ahead_m,
+// claim_radius_m}.
 void ReadFleet(YamlDocument* doc, MapReader& top, Scenario* s) {
   MapReader fleet = OptionalSection(doc, top, "fleet");
   s->fleet.coordination = fleet.Choice("coordination", {"on", "off"}, "on") == "on";
@@ -664,7 +665,9 @@ void ReadFleet(YamlDocument* doc, MapReader& top, Scenario* s) {
                {"falloff_m", &Fleet::falloff_m},
                {"horizon_m", &Fleet::horizon_m},
                {"occupied_station_cost_m", &Fleet::occupied_station_cost_m},
-               {"release_distance_m", &Fleet::release_distance_m}});
+               {"release_distance_m", &Fleet::release_distance_m},
+               {"claim_ahead_m", &Fleet::claim_ahead_m},
+               {"claim_radius_m", &Fleet::claim_radius_m}});
   fleet.Finish();
 }
 

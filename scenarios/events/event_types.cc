@@ -8,7 +8,7 @@ namespace pavilion::scenarios {
 std::set<std::string> KnownEventTypes() {
   std::set<std::string> types{kRunStarted, kRunFinished,    kCollision, kBumper,
                               kLost,       kHypotheses,     kLocalized, kRelocalized,
-                              kRouteDone,  kScanLogStopped, kNearMiss};
+                              kRouteDone,  kScanLogStopped, kNearMiss,  kStationConflict};
   using Type = nav::NavigationEvent::Type;
   for (Type t : {Type::kMissionStarted, Type::kMissionCompleted, Type::kMissionAborted,
                  Type::kBlocked, Type::kReplanned, Type::kDeadlockDetected, Type::kDeadlockResolved,

@@ -22,6 +22,8 @@ inline constexpr const char* kRelocalized = "relocalized";
 inline constexpr const char* kRouteDone = "route_done";
 inline constexpr const char* kScanLogStopped = "scan_log_stopped";
 inline constexpr const char* kNearMiss = "near_miss";  // two robots' hulls < 0.2 m apart
+// Two or more robot centres within 1 m of the same station node.
+inline constexpr const char* kStationConflict = "station_conflict";
 
 std::set<std::string> KnownEventTypes();
 

@@ -56,14 +56,25 @@ void RobotProximity::WatchStations(std::vector<Eigen::Vector2d> stations, double
 }
 
 void RobotProximity::Update(double dt_s, std::span<const core::Pose2> poses,
-                            std::vector<NearMiss>* began) {
+                            std::vector<NearMiss>* began, std::vector<StationConflict>* conflicts) {
   const int n = static_cast<int>(footprints_.size());
   for (std::size_t s = 0; s < stations_.size(); ++s) {
     int at = 0;
     for (const core::Pose2& p : poses) {
       at += (p.translation() - stations_[s]).norm() <= station_radius_m_ ? 1 : 0;
     }
-    if (at >= 2 && !station_shared_[s]) ++fleet_.station_conflicts;
+    if (at >= 2 && !station_shared_[s]) {
+      ++fleet_.station_conflicts;
+      if (conflicts) {
+        StationConflict c{static_cast<int>(s), {}};
+        for (std::size_t k = 0; k < poses.size(); ++k) {
+          if ((poses[k].translation() - stations_[s]).norm() <= station_radius_m_) {
+            c.robots.push_back(static_cast<int>(k));
+          }
+        }
+        conflicts->push_back(std::move(c));
+      }
+    }
     station_shared_[s] = at >= 2 ? 1 : 0;
   }
   for (int a = 0; a < n; ++a) {

@@ -40,9 +40,15 @@ class RobotProximity {
     int b = 0;
     double distance_m = 0.0;
   };
+  struct StationConflict {
+    int station = 0;          // index into the watched stations
+    std::vector<int> robots;  // the robots within the radius, ascending
+  };
   // The robots' true poses after a step of dt_s; the pairs that began a near
-  // miss are appended to `began`.
-  void Update(double dt_s, std::span<const core::Pose2> poses, std::vector<NearMiss>* began);
+  // miss are appended to `began`, the station conflicts that began to
+  // `conflicts` (when given).
+  void Update(double dt_s, std::span<const core::Pose2> poses, std::vector<NearMiss>* began,
+              std::vector<StationConflict>* conflicts = nullptr);
 
   // The station nodes (world frame) watched for two robots at once within
   // `radius_m` of their centres.

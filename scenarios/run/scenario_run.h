@@ -152,8 +152,10 @@ class ScenarioRun {
   std::unique_ptr<nav::FleetCoordinator> fleet_;
   // Runs with two or more mission robots: their true hulls' distances.
   std::optional<RobotProximity> proximity_;
-  std::vector<RobotProximity::NearMiss> near_misses_;  // scratch: one tick's
-  std::vector<core::Pose2> robot_poses_;               // scratch: one tick's true poses
+  std::vector<RobotProximity::NearMiss> near_misses_;               // scratch: one tick's
+  std::vector<RobotProximity::StationConflict> station_conflicts_;  // scratch: one tick's
+  std::vector<std::string> watched_stations_;  // node ids of the proximity's stations
+  std::vector<core::Pose2> robot_poses_;       // scratch: one tick's true poses
   void RecordProximity(double t_after);
   // Body (robot) index of each world element, -1 for others.
   std::vector<int> body_of_element_;

@@ -81,9 +81,11 @@ void ScenarioRun::BuildRobots(std::vector<sim::RobotConfig> configs,
     for (const core::MapNode& n : map ? map->nodes : std::vector<core::MapNode>{}) {
       if (n.station && (named.empty() || named.contains(n.id))) {
         stations.push_back(n.pose.translation());
+        watched_stations_.push_back(n.id);
       }
     }
     proximity_->WatchStations(std::move(stations));
+    if (fleet_) fleet_->SetStations(watched_stations_);  // claimed for passage
   }
   for (std::size_t k = 0; k < scenario_.robots.size(); ++k) {
     const RobotEntry& entry = scenario_.robots[k];
@@ -463,12 +465,19 @@ void ScenarioRun::RecordProximity(double t_after) {
   robot_poses_.clear();
   for (const sim::RobotState& r : snapshot_.robots) robot_poses_.push_back(r.pose);
   near_misses_.clear();
-  proximity_->Update(world_->step_s(), robot_poses_, &near_misses_);
+  station_conflicts_.clear();
+  proximity_->Update(world_->step_s(), robot_poses_, &near_misses_, &station_conflicts_);
   for (const RobotProximity::NearMiss& n : near_misses_) {
     events_->Emit(t_after, kNearMiss,
                   EventFields{{"robot", robots_[n.a].entry->id},
                               {"with", robots_[n.b].entry->id},
                               {"distance_m", RoundForJson(n.distance_m, 4)}});
+  }
+  for (const RobotProximity::StationConflict& c : station_conflicts_) {
+    nlohmann::ordered_json ids = nlohmann::ordered_json::array();
+    for (int k : c.robots) ids.push_back(robots_[k].entry->id);
+    events_->Emit(t_after, kStationConflict,
+                  EventFields{{"station", watched_stations_[c.station]}, {"robots", ids}});
   }
 }
 

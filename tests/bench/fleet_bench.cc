@@ -96,8 +96,12 @@ void BM_FleetPlanOnWeights(benchmark::State& state) {
   for (int k = 1; k < kRobots; ++k) {
     std::vector<Eigen::Vector2d> at;
     for (int n : Plan(k)) at.push_back(g.position(n));
-    fleet.Send(k, {nav::PlanWeights(at.front(), Plan(k), at, fleet.options()), std::nullopt, 0.0,
-                   Plan(k).back(), -1});
+    fleet.Send(k, {nav::PlanWeights(at.front(), Plan(k), at, fleet.options()),
+                   std::nullopt,
+                   0.0,
+                   Plan(k).back(),
+                   -1,
+                   {}});
   }
   fleet.Merge();
   core::RandomStream random(15, 1);

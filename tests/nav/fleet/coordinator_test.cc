@@ -62,9 +62,9 @@ TEST(PlanWeights, FallWithTheDistanceAlongThePlan) {
 
 TEST(FleetBoard, SuperposesTheOthersWeightsOnly) {
   FleetCoordinator c(3, {});
-  c.Send(0, {{{1, 2.0}, {2, 1.0}}, std::nullopt, 0.0, -1, -1});
-  c.Send(1, {{{2, 0.5}}, std::nullopt, 0.0, 4, 5});
-  c.Send(2, {{{1, 3.0}}, std::nullopt, 0.0, -1, -1});
+  c.Send(0, {{{1, 2.0}, {2, 1.0}}, std::nullopt, 0.0, -1, -1, {}});
+  c.Send(1, {{{2, 0.5}}, std::nullopt, 0.0, 4, 5, {}});
+  c.Send(2, {{{1, 3.0}}, std::nullopt, 0.0, -1, -1, {}});
   std::vector<double> costs(6, 0.0);
   c.board().AddOthersCosts(2, 100.0, &costs);  // nothing merged yet
   EXPECT_EQ(costs, std::vector<double>(6, 0.0));
@@ -91,7 +91,7 @@ TEST(FleetCoordinator, TwoRobotsTakeDisjointWaysWhereOneExists) {
   // Its goal is its own reservation, not a node on the way: publish the way.
   const std::vector<int> way(first->nodes.begin() + 1, first->nodes.end() - 1);
   const std::vector<Eigen::Vector2d> way_at(positions.begin() + 1, positions.end() - 1);
-  c.Send(0, {PlanWeights(l.graph.position(l.s), way, way_at, o), std::nullopt, 0.0, -1, -1});
+  c.Send(0, {PlanWeights(l.graph.position(l.s), way, way_at, o), std::nullopt, 0.0, -1, -1, {}});
   c.Merge();
   // Robot 1, on the superposed weights, goes the other way.
   std::vector<double> costs(l.graph.node_count(), 0.0);
@@ -115,7 +115,7 @@ TEST(FleetCoordinator, AnotherRobotsWayIsTakenWhenNoOtherExists) {
   g.AddArc(s, m, 1.0);
   g.AddArc(m, t, 1.0);
   FleetCoordinator c(2, {});
-  c.Send(0, {{{m, 5.0}}, std::nullopt, 0.0, -1, -1});
+  c.Send(0, {{{m, 5.0}}, std::nullopt, 0.0, -1, -1, {}});
   c.Merge();
   std::vector<double> costs(3, 0.0);
   c.board().AddOthersCosts(1, 200.0, &costs);
@@ -164,15 +164,43 @@ TEST(GoalCoordination, TwoRobotsNeverReserveTheSameStation) {
     const MissionSequence::Proposal p = tour.NextFree(taken);
     ASSERT_TRUE(p.goal) << r;
     EXPECT_TRUE(chosen.insert(*p.goal).second) << *p.goal;
-    c.Send(r, {{}, std::nullopt, 0.0, std::stoi(p.goal->substr(2)), -1});
+    c.Send(r, {{}, std::nullopt, 0.0, std::stoi(p.goal->substr(2)), -1, {}});
     c.Merge();
   }
 }
 
+// Station passage claims: one robot at a time, first come first served, a
+// same-cycle tie to the first in robot order, the occupied station always.
+TEST(StationClaims, AStationIsOneRobotsAtATime) {
+  FleetCoordinator c(3, {});
+  const std::vector<int> none;
+  // Nobody claims yet: robot 1 gets what it wants.
+  EXPECT_EQ(c.board().ResolveClaims(1, std::vector<int>{2, 5}, none, -1), (std::vector<int>{2, 5}));
+  FleetMessage m;
+  m.claims = {5};
+  c.Send(2, m);
+  c.Merge();
+  EXPECT_TRUE(c.board().ClaimedByOther(5, 1));
+  EXPECT_FALSE(c.board().ClaimedByOther(5, 2));
+  // Robot 2 holds 5 on the board: a new claim by robot 1 is not made...
+  EXPECT_EQ(c.board().ResolveClaims(1, std::vector<int>{2, 5}, none, -1), (std::vector<int>{2}));
+  // ...but one robot 1 made in the same cycle (it held 5 too) is kept, as
+  // robot 1 comes first; robot 0's would also be, robot 2 yields.
+  EXPECT_EQ(c.board().ResolveClaims(1, std::vector<int>{2, 5}, std::vector<int>{5}, -1),
+            (std::vector<int>{2, 5}));
+  m.claims = {5};
+  c.Send(1, m);
+  c.Merge();
+  EXPECT_EQ(c.board().ResolveClaims(2, std::vector<int>{5}, std::vector<int>{5}, -1), none);
+  // The station a robot stands at is kept, claimed by another or not wanted.
+  EXPECT_EQ(c.board().ResolveClaims(2, std::vector<int>{1}, none, 5), (std::vector<int>{1, 5}));
+}
+
 TEST(FleetCoordinator, CountsTheBytesOfTheCompactEncoding) {
-  FleetMessage m{{{1, 2.0}, {2, 1.0}}, core::Pose2{1, 2, 0.5}, 0.2, 3, -1};
-  // 2 robot + 2 count + 2 x (2 + 4) + 1 flag + 16 pose and speed + 2 x 2 stations.
-  EXPECT_EQ(EncodedBytes(m), 2 + 2 + 12 + 1 + 16 + 4);
+  FleetMessage m{{{1, 2.0}, {2, 1.0}}, core::Pose2{1, 2, 0.5}, 0.2, 3, -1, {3, 7}};
+  // 2 robot + 2 count + 2 x (2 + 4) + 1 flag + 16 pose and speed + 2 x 2 stations
+  // + 2 count + 2 x 2 claims.
+  EXPECT_EQ(EncodedBytes(m), 2 + 2 + 12 + 1 + 16 + 4 + 2 + 4);
   FleetCoordinator c(3, {});
   c.Send(0, m);
   c.Merge();
@@ -189,6 +217,12 @@ TEST(FleetCoordinator, CountsTheBytesOfTheCompactEncoding) {
 TEST(FleetOptions, RejectsValuesOutOfRange) {
   FleetOptions o;
   o.falloff_m = 0.0;
+  EXPECT_THROW(o.Validate(), std::invalid_argument);
+  o = FleetOptions{};
+  o.claim_radius_m = 0.0;
+  EXPECT_THROW(o.Validate(), std::invalid_argument);
+  o = FleetOptions{};
+  o.claim_ahead_m = -1.0;
   EXPECT_THROW(o.Validate(), std::invalid_argument);
   EXPECT_THROW(FleetCoordinator(0, {}), std::invalid_argument);
 }

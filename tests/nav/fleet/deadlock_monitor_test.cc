@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -19,6 +20,7 @@ constexpr double kDt = 0.1;  // the dynamic window's cycle (§6.3.4)
 struct Stretch {
   int detected_at = -1;
   int clip_at = -1;
+  int retreat_at = -1;
 };
 
 // Cycles [from, to) of a robot with a goal that stays stalled with a contour
@@ -29,6 +31,8 @@ Stretch Deadlocked(DeadlockMonitor* m, int from, int to) {
     const DeadlockMonitor::Step s = m->Update(k * kDt, true, true, true, 0.0);
     if (s.detected && run.detected_at < 0) run.detected_at = k;
     if (s.clip && run.clip_at < 0) run.clip_at = k;
+    if (s.retreat && run.retreat_at < 0) run.retreat_at = k;
+    EXPECT_TRUE(!s.retreat || s.clip);  // a retreat is with clipped contours
   }
   return run;
 }
@@ -110,6 +114,24 @@ TEST(DeadlockMonitorTest, ResolvedAfterMovingOrClearing) {
   EXPECT_NEAR(c.longest_resolution_s(), 2.0, 1e-9);
 }
 
+// Still stalled retreat_after_s after the back-off, the robot yields: the
+// retreat starts then, never before, and ends with the episode.
+TEST(DeadlockMonitorTest, RetreatsWhenClippingFindsNoWayOn) {
+  for (std::uint64_t seed = 1; seed <= 20; ++seed) {
+    DeadlockMonitor m(DeadlockOptions{}, seed);
+    const Stretch run = Deadlocked(&m, 0, 120);
+    ASSERT_EQ(run.detected_at, 30);
+    ASSERT_GE(run.retreat_at, 0);
+    const double retreat_s = 3.0 + m.backoff_s() + DeadlockOptions{}.retreat_after_s;
+    EXPECT_GE(run.retreat_at * kDt, retreat_s - 1e-9);
+    EXPECT_LT((run.retreat_at - 1) * kDt, retreat_s);
+    // Moving away resolves it; the retreat stops.
+    const DeadlockMonitor::Step s = m.Update(12.0, true, true, false, 0.5);
+    EXPECT_TRUE(s.resolved);
+    EXPECT_FALSE(s.retreat);
+  }
+}
+
 // With resolve off the deadlock is detected and counted, but contours are
 // never clipped and nothing counts as resolved.
 TEST(DeadlockMonitorTest, ObserveOnlyNeverClipsOrResolves) {
@@ -119,6 +141,7 @@ TEST(DeadlockMonitorTest, ObserveOnlyNeverClipsOrResolves) {
   const Stretch run = Deadlocked(&m, 0, 200);
   EXPECT_EQ(run.detected_at, 30);
   EXPECT_EQ(run.clip_at, -1);
+  EXPECT_EQ(run.retreat_at, -1);
   for (int k = 200; k < 230; ++k) {
     const DeadlockMonitor::Step s = m.Update(k * kDt, true, false, false, 1.0 + k);
     EXPECT_FALSE(s.resolved);

@@ -1,9 +1,9 @@
 // The station rings of the fleet (§6.3.5, NavigationControllerOptions::
-// fleet_station_clear_m): a robot keeps out of a station another robot holds,
-// a robot caught inside such a ring when the other arrives is not trapped but
-// leaves, and a robot heading for its own station waits outside while another
-// robot is inside. One controller drives an ideal robot (belief = truth); the
-// other robot is a fixed message on the coordinator's board.
+// fleet_station_clear_m): a robot keeps out of a station another robot
+// claims, a robot caught inside such a ring when the other arrives is not
+// trapped but leaves, a robot heading for its own station waits outside while
+// another robot is inside, and one passing through goes round it. One controller drives an ideal
+// robot (belief = truth); the other robot is a fixed message on the coordinator's board.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -54,6 +54,7 @@ RingRun Drive(const core::Pose2& start, const char* goal, const Eigen::Vector2d&
   NavigationControllerOptions options;
   options.step_s = kStepS;
   FleetCoordinator coordinator(2, FleetOptions{});
+  coordinator.SetStations({"a", "s", "b"});
   NavigationController controller(Line(), Square(), MissionSequence::List({goal}), options);
   controller.SetFleet({&coordinator, 0});
   coordinator.Join(1, Square());
@@ -72,6 +73,7 @@ RingRun Drive(const core::Pose2& start, const char* goal, const Eigen::Vector2d&
     const bool there = now_s < other_leaves_s;
     m.pose = there ? core::Pose2{other.x(), other.y(), 0.0} : core::Pose2{-50.0, -50.0, 0.0};
     m.reserved_station = there ? other_station : -1;
+    if (there && other_station >= 0) m.claims = {other_station};
     coordinator.Send(1, m);
     coordinator.Merge();
     const core::WheelTravel travel{
@@ -119,6 +121,18 @@ TEST(NavigationControllerFleet, WaitsOutsideItsStationWhileAnotherRobotIsInside)
   const RingRun run = Drive({0.0, 0.0, 0.0}, "s", {4.5, 0.4}, -1, 25.0, 60.0);
   EXPECT_EQ(run.figures.missions_completed, 1);
   EXPECT_GT(run.completed_at_s, 25.0);
+}
+
+TEST(NavigationControllerFleet, APasserKeepsOutWhileAnotherRobotIsInsideTheStation) {
+  // The way a -> b crosses s. Robot 0 claims s when its plan reaches it; robot
+  // 1 stands inside s's ring without a claim (pushed there): robot 0 goes
+  // round the ring. With robot 1 gone, it drives straight through the node.
+  const RingRun around = Drive({0.0, 0.0, 0.0}, "b", {4.5, 0.4}, -1, 1e9, 60.0);
+  EXPECT_EQ(around.figures.missions_completed, 1);
+  EXPECT_GE(around.closest_to_station_m, 1.05 - 0.13);
+  const RingRun through = Drive({0.0, 0.0, 0.0}, "b", {4.5, 0.4}, -1, 0.0, 60.0);
+  EXPECT_EQ(through.figures.missions_completed, 1);
+  EXPECT_LT(through.closest_to_station_m, 0.2);
 }
 
 }  // namespace

@@ -57,13 +57,24 @@ TEST(RobotProximity, CountsTwoRobotsAtOneStationOncePerEpisode) {
   RobotProximity p({Square(0.3), Square(0.3)});
   p.WatchStations({{0, 0}, {5, 0}});
   std::vector<RobotProximity::NearMiss> began;
+  std::vector<RobotProximity::StationConflict> conflicts;
   std::vector<core::Pose2> poses{{0.2, 0, 0}, {3, 0, 0}};
+  std::vector<int> began_at;
+  int step = 0;
   for (double x : {3.0, 1.5, 0.9, 0.9, 1.2, 0.8}) {  // within 1 m at 0.9, 0.9 and 0.8
     poses[1].y_m = x;
     poses[1].x_m = 0.0;
-    p.Update(0.1, poses, &began);
+    const std::size_t before = conflicts.size();
+    p.Update(0.1, poses, &began, &conflicts);
+    if (conflicts.size() > before) began_at.push_back(step);
+    ++step;
   }
   EXPECT_EQ(p.fleet().station_conflicts, 2);
+  // Each episode is reported once, when it begins, with its station and robots.
+  EXPECT_EQ(began_at, (std::vector<int>{2, 5}));
+  ASSERT_EQ(conflicts.size(), 2u);
+  EXPECT_EQ(conflicts[0].station, 0);
+  EXPECT_EQ(conflicts[0].robots, (std::vector<int>{0, 1}));
 }
 
 }  // namespace
