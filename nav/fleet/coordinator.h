@@ -83,7 +83,7 @@ struct FleetOptions {
 // What one robot sends (its outbox), once per dynamic-window cycle.
 struct FleetMessage {
   std::vector<PathWeight> path;     // its plan's nodes with weights, robot first
-  std::optional<core::Pose2> pose;  // its believed pose (none while lost)
+  std::optional<core::Pose2> pose;  // its believed pose (also while lost)
   double speed_mps = 0.0;           // its commanded forward speed (with the pose)
   int reserved_station = -1;        // node index of the station it heads for, -1: none
   int occupied_station = -1;        // the station it stands at or is leaving, -1: none

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <numbers>
 #include <stdexcept>
 #include <string>
 
@@ -105,6 +107,32 @@ DeadlockMonitor::Step DeadlockMonitor::Follow(double now_s, bool overlap, bool s
   step.clip = options_.resolve && elapsed_s >= backoff_s_;
   step.retreat = options_.resolve && elapsed_s >= backoff_s_ + options_.retreat_after_s;
   return step;
+}
+
+Eigen::Vector2d YieldDirection(const Eigen::Vector2d& other, double inradius_m, double leg_m,
+                               const std::vector<Eigen::Vector2d>& points) {
+  constexpr int kDirections = 16;
+  constexpr double kRoomCapM = 0.3;     // about a Robox's half-width
+  constexpr double kAwayWeightM = 0.1;  // room a direction away from the other is worth
+  const Eigen::Vector2d away = -other.normalized();
+  Eigen::Vector2d best = Eigen::Vector2d::UnitX();
+  double best_score = -std::numeric_limits<double>::infinity();
+  for (int k = 0; k < kDirections; ++k) {
+    const double a = 2.0 * std::numbers::pi * k / kDirections;
+    const Eigen::Vector2d u(std::cos(a), std::sin(a));
+    const Eigen::Vector2d from = u * inradius_m;
+    double room_m = kRoomCapM;
+    for (const Eigen::Vector2d& p : points) {
+      const double t = std::clamp((p - from).dot(u), 0.0, leg_m);
+      room_m = std::min(room_m, (p - from - t * u).norm());
+    }
+    const double score = room_m + kAwayWeightM * u.dot(away);
+    if (score > best_score) {
+      best_score = score;
+      best = u;
+    }
+  }
+  return best;
 }
 
 }  // namespace pavilion::nav

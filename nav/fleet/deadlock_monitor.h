@@ -30,7 +30,9 @@
 // dissolves by itself ends silently; give_up_s still counts it unresolved).
 // Without a goal the monitor returns to clear and an open episode is dropped.
 
+#include <Eigen/Core>
 #include <cstdint>
+#include <vector>
 
 #include "core/random/random_stream.h"
 
@@ -109,5 +111,15 @@ class DeadlockMonitor {
   int unresolved_ = 0;
   double longest_resolution_s_ = 0.0;
 };
+
+// The direction (unit vector, robot frame) the robot yields in: of 16
+// directions, the one with the most room — the least distance of `points`
+// (the dynamic window's obstacle points) from the leg of `leg_m` that starts
+// on the hull's inscribed circle (`inradius_m`), capped at 0.3 m so that all
+// open directions tie — preferring those away from `other`, the other
+// robot's contour centre (non-zero). Ties go to the first direction
+// counter-clockwise from +x.
+Eigen::Vector2d YieldDirection(const Eigen::Vector2d& other, double inradius_m, double leg_m,
+                               const std::vector<Eigen::Vector2d>& points);
 
 }  // namespace pavilion::nav

@@ -30,37 +30,6 @@ constexpr double kRetreatM = 1.0;
 // A robot that moved less than this stood still (the longest_still_s figure), m.
 constexpr double kStillMoveM = 0.3;
 
-// The deadlock rule's yield direction (robot frame): of 16 directions, the
-// one with the most room — the least distance from the obstacle points to
-// the leg of kRetreatM from the hull's inscribed circle out, capped at a
-// Robox's half-width so that the open ones tie — preferring the directions
-// away from the other robot's contour centre `other`.
-Eigen::Vector2d RetreatTarget(const Eigen::Vector2d& other, double inradius_m,
-                              const std::vector<Eigen::Vector2d>& points) {
-  constexpr int kDirections = 16;
-  constexpr double kRoomCapM = 0.3;
-  constexpr double kAwayWeightM = 0.1;
-  const Eigen::Vector2d away = -other.normalized();
-  Eigen::Vector2d best = away;
-  double best_score = -std::numeric_limits<double>::infinity();
-  for (int k = 0; k < kDirections; ++k) {
-    const double a = 2.0 * std::numbers::pi * k / kDirections;
-    const Eigen::Vector2d u(std::cos(a), std::sin(a));
-    const Eigen::Vector2d from = u * inradius_m;
-    double room_m = kRoomCapM;
-    for (const Eigen::Vector2d& p : points) {
-      const double t = std::clamp((p - from).dot(u), 0.0, kRetreatM);
-      room_m = std::min(room_m, (p - from - t * u).norm());
-    }
-    const double score = room_m + kAwayWeightM * u.dot(away);
-    if (score > best_score) {
-      best_score = score;
-      best = u;
-    }
-  }
-  return best * kRetreatM;
-}
-
 void Require(bool ok, const std::string& field, const std::string& range) {
   if (!ok) {
     throw std::invalid_argument("NavigationControllerOptions." + field + " must be " + range);
@@ -459,7 +428,8 @@ void NavigationController::Drive(const ControlTick& tick) {
     // The deadlock rule's yield: away from the other robot where there is
     // room, the window choosing how among the obstacles.
     goal = DwaGoal{};
-    goal.target_in_robot = RetreatTarget(*nearest_contour_, inradius_m_, points_);
+    goal.target_in_robot =
+        kRetreatM * YieldDirection(*nearest_contour_, inradius_m_, kRetreatM, points_);
   }
   if (tick.now_s <= bumper_until_s_) {
     points_.insert(points_.end(), bumper_points_.begin(), bumper_points_.end());

@@ -86,7 +86,12 @@ void NavigationController::Publish(const ControlTick& tick) {
   m.reserved_station = reserved_node_;
   m.occupied_station = occupied_node_;
   m.claims = claims_;
-  if (!tick.localization_lost) m.pose = tick.belief;
+  // Lost, it still sends its belief (the estimator's last, carried on by
+  // odometry): a robot that declared itself lost on gate failures is most
+  // often where it believes, and wanders to relocalize. Where it is not, its
+  // markers are unexplained by the sent pose and become contours for the
+  // others, as with the coordination down.
+  m.pose = tick.belief;
   m.speed_mps = 0.5 * (command_.left_mps + command_.right_mps);
   if (state_ == State::kDriving && !queue_.empty()) {
     std::vector<int> nodes;

@@ -132,6 +132,25 @@ TEST(DeadlockMonitorTest, RetreatsWhenClippingFindsNoWayOn) {
   }
 }
 
+// The yield goes straight away from the other robot where nothing is in the
+// way, and sideways where a wall is behind (the room counts, not the angle).
+TEST(YieldDirectionTest, AwayFromTheOtherWhereThereIsRoom) {
+  const Eigen::Vector2d other(1.0, 0.0);
+  const Eigen::Vector2d open = YieldDirection(other, 0.3, 1.0, {});
+  EXPECT_NEAR(open.x(), -1.0, 1e-12);
+  EXPECT_NEAR(open.y(), 0.0, 1e-12);
+  std::vector<Eigen::Vector2d> wall;  // 0.5 m behind, 4 m long
+  for (int i = -40; i <= 40; ++i) wall.emplace_back(-0.5, 0.05 * i);
+  const Eigen::Vector2d side = YieldDirection(other, 0.3, 1.0, wall);
+  EXPECT_NEAR(side.x(), 0.0, 1e-12);
+  EXPECT_NEAR(side.y(), 1.0, 1e-12);  // the first of the two open sides
+  // With the left side closed too, the right.
+  for (int i = -10; i <= 10; ++i) wall.emplace_back(0.05 * i, 0.6);
+  const Eigen::Vector2d right = YieldDirection(other, 0.3, 1.0, wall);
+  EXPECT_NEAR(right.x(), 0.0, 1e-12);
+  EXPECT_NEAR(right.y(), -1.0, 1e-12);
+}
+
 // With resolve off the deadlock is detected and counted, but contours are
 // never clipped and nothing counts as resolved.
 TEST(DeadlockMonitorTest, ObserveOnlyNeverClipsOrResolves) {
