@@ -15,8 +15,10 @@
 // - Station passage (ours: the acceptance's "never two robots within 1 m of
 //   the same station node at once" holds for robots passing through a
 //   station as much as for the one visiting it): a robot claims the stations
-//   of its tour that its plan reaches within claim_ahead_m, that are within
-//   claim_radius_m of it, or that it occupies, for as long as they are. A station is one robot's at
+//   of its tour that its plan reaches within claim_ahead_m (up to the first
+//   one another robot holds: it waits there and claims nothing beyond), that
+//   whose ring it stands in, or that it occupies; a claim is held while it
+//   drives within claim_radius_m. A station is one robot's at
 //   a time: a claim another robot already holds on the board is not made; two claims made in the
 //   same cycle go to the robot first in robot order. The others keep out of a claimed station (the
 //   controller's rings).
@@ -71,11 +73,14 @@ struct FleetOptions {
   // 0.2 m; this leaves the one that loses a claim ~1 m to stop outside the
   // station's 1 m, with a cycle of latency and the ring's margin.
   double claim_ahead_m = 2.5;
-  // A station whose node is within this distance of the robot is claimed as
-  // well, planned through or not (a robot skirting it), and every claim is
-  // held until the robot is neither this near nor claim_ahead_m from it along
-  // its plan, m, (0, 10]. Chosen: the acceptance's 1 m plus half a Robox.
-  double claim_radius_m = 1.5;
+  // A claim is held while the robot drives within this distance of the
+  // node, m, (0, 10] (a robot also claims a station whose ring it stands in).
+  // Chosen: claim_ahead_m, so that a passer whose plan has moved on beyond
+  // the node (2 m before it) keeps the claim it made. Not while dwelling:
+  // station_06 and station_12 of expo_hall are 1.25 m apart, and a robot
+  // dwelling at one held the other while the robots waiting for that one
+  // blocked its way out (an hour-long run jammed four robots there).
+  double claim_radius_m = 2.5;
 
   void Validate() const;  // throws std::invalid_argument naming the field
 };

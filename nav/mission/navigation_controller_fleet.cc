@@ -112,13 +112,18 @@ void NavigationController::UpdateClaims(const Eigen::Vector2d& at) {
   const auto claimable = [&](int node) {
     return std::binary_search(claimable_.begin(), claimable_.end(), node);
   };
-  // Stations near it.
+  // Stations whose ring it stands in, and those it holds and drives near.
   std::vector<int> wanted;
+  const bool driving = state_ == State::kDriving;
   for (int s : claimable_) {
-    if ((at - graph_.position(s)).norm() <= o.claim_radius_m) wanted.push_back(s);
+    const double d_m = (at - graph_.position(s)).norm();
+    const bool held = std::binary_search(claims_.begin(), claims_.end(), s);
+    if (d_m <= options_.fleet_station_clear_m || (driving && held && d_m <= o.claim_radius_m)) {
+      wanted.push_back(s);
+    }
   }
   // Stations its plan reaches soon (the distance along the plan, as the weights).
-  if (state_ == State::kDriving) {
+  if (driving) {
     double along_m = 0.0;
     Eigen::Vector2d from = at;
     for (const QueuedNode& n : queue_.remaining()) {
@@ -126,7 +131,14 @@ void NavigationController::UpdateClaims(const Eigen::Vector2d& at) {
       from = n.position_m;
       if (along_m > o.claim_ahead_m) break;
       const std::optional<int> i = graph_.FindIndex(n.id);
-      if (i && claimable(*i)) wanted.push_back(*i);
+      if (!i || !claimable(*i)) continue;
+      // A station another robot holds: the robot waits before it and holds
+      // nothing beyond it (no claim on a way it cannot take yet).
+      if (!std::binary_search(claims_.begin(), claims_.end(), *i) &&
+          fleet_.coordinator->board().ClaimedByOther(*i, fleet_.robot)) {
+        break;
+      }
+      wanted.push_back(*i);
     }
   }
   std::sort(wanted.begin(), wanted.end());
