@@ -25,8 +25,8 @@ constexpr std::int64_t kVertexBytes = 2 * 4;
 
 bool SameMessage(const FleetMessage& a, const FleetMessage& b) {
   if (a.reserved_station != b.reserved_station || a.occupied_station != b.occupied_station ||
-      a.pose.has_value() != b.pose.has_value() || a.path.size() != b.path.size() ||
-      a.claims != b.claims) {
+      a.pose.has_value() != b.pose.has_value() || a.lost != b.lost ||
+      a.path.size() != b.path.size() || a.claims != b.claims) {
     return false;
   }
   if (a.pose && (a.pose->x_m != b.pose->x_m || a.pose->y_m != b.pose->y_m ||
@@ -84,6 +84,15 @@ bool FleetBoard::StationTaken(int node, int self) const {
     if (m.reserved_station == node || m.occupied_station == node) return true;
   }
   return false;
+}
+
+std::vector<Eigen::Vector2d> FleetBoard::TrustedPositions(int self) const {
+  std::vector<Eigen::Vector2d> positions;
+  for (int r = 0; r < robots(); ++r) {
+    const FleetMessage& m = messages_[static_cast<std::size_t>(r)];
+    if (r != self && m.pose && !m.lost) positions.push_back(m.pose->translation());
+  }
+  return positions;
 }
 
 bool FleetBoard::ReservationLost(int node, int self) const {

@@ -16,9 +16,9 @@
 //   the same station node at once" holds for robots passing through a
 //   station as much as for the one visiting it): a robot claims the stations
 //   of its tour that its plan reaches within claim_ahead_m (up to the first
-//   one another robot holds: it waits there and claims nothing beyond), that
-//   whose ring it stands in, or that it occupies; a claim is held while it
-//   drives within claim_radius_m. A station is one robot's at
+//   one another robot holds: it waits there and claims nothing beyond), those
+//   whose ring it stands in, and the one it occupies; a claim is held while
+//   it drives within claim_radius_m. A station is one robot's at
 //   a time: a claim another robot already holds on the board is not made; two claims made in the
 //   same cycle go to the robot first in robot order. The others keep out of a claimed station (the
 //   controller's rings).
@@ -93,11 +93,13 @@ struct FleetMessage {
   int reserved_station = -1;        // node index of the station it heads for, -1: none
   int occupied_station = -1;        // the station it stands at or is leaving, -1: none
   std::vector<int> claims;          // the stations it holds for passage, ascending
+  bool lost = false;                // it declared itself lost: `pose` may be wrong
 };
 
 // Bytes of the compact encoding of a message (a 2-byte robot index; per path
 // element a 2-byte node index and a 4-byte float weight, plus a 2-byte count;
-// the pose and speed as four 4-byte floats, a 1-byte flag; two 2-byte stations;
+// the pose and speed as four 4-byte floats, a 1-byte flag that also holds
+// `lost`; two 2-byte stations;
 // the claims as a 2-byte count and 2 bytes each).
 std::int64_t EncodedBytes(const FleetMessage& message);
 
@@ -132,6 +134,12 @@ class FleetBoard {
                                  int occupied) const;
   // True when a robot other than `self` claims station `node`.
   bool ClaimedByOther(int node, int self) const;
+  // Where the robots other than `self` are, for explaining the markers
+  // `self` sees (world frame): those that send a pose and are not lost. A
+  // lost robot's pose may be wrong by decimetres (an hour-long expo_tours run:
+  // 0.2-0.5 m within seconds of the loss), and a marker "explained" by it
+  // would drop the contour at its true place for a hull at the wrong one.
+  std::vector<Eigen::Vector2d> TrustedPositions(int self) const;
 
  private:
   friend class FleetCoordinator;

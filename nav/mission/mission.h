@@ -78,9 +78,11 @@ struct NavigationFigures {
   std::int64_t band_updates = 0;
   std::int64_t no_admissible_cycles = 0;  // the dynamic window found nothing but stop
   // Fleet (§6.3.5): replans because the others' weights or a deviation made
-  // another way cheaper; cycles waiting because every remaining station was taken.
+  // another way cheaper; cycles waiting because every remaining station was
+  // taken; missions to a station visited before after waiting station_wait_s.
   int fleet_replans = 0;
   std::int64_t station_waits = 0;
+  int station_revisits = 0;
   // The overlap deadlock of §6.5 (nav/fleet/deadlock_monitor.h).
   int deadlocks_detected = 0;
   int deadlocks_resolved = 0;

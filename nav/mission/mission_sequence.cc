@@ -49,7 +49,7 @@ std::optional<std::string> MissionSequence::Next() {
 }
 
 MissionSequence::Proposal MissionSequence::NextFree(
-    const std::function<bool(const std::string&)>& taken) {
+    const std::function<bool(const std::string&)>& taken, bool revisit) {
   if (pending_.empty() && random_ && (!drawn_ || repeat_) && per_round_ > 0) DrawRound();
   if (pending_.empty()) return {};
   if (!random_) {  // a fixed list: in order
@@ -60,12 +60,25 @@ MissionSequence::Proposal MissionSequence::NextFree(
   for (std::size_t i = 0; i < pending_.size(); ++i) {
     if (!taken(pending_[i])) free.push_back(i);
   }
-  if (free.empty()) return {std::nullopt, true};
+  if (free.empty()) return revisit ? Revisit(taken) : Proposal{std::nullopt, true};
   const auto pick = free[static_cast<std::size_t>(
       random_->UniformInt(0, static_cast<std::int64_t>(free.size()) - 1))];
   last_ = pending_[pick];
   pending_.erase(pending_.begin() + static_cast<std::ptrdiff_t>(pick));
   return {last_, false};
+}
+
+MissionSequence::Proposal MissionSequence::Revisit(
+    const std::function<bool(const std::string&)>& taken) {
+  std::vector<const std::string*> free;
+  for (const std::string& s : among_) {
+    const bool ahead = std::find(pending_.begin(), pending_.end(), s) != pending_.end();
+    if (!ahead && s != last_ && !taken(s)) free.push_back(&s);
+  }
+  if (free.empty()) return {std::nullopt, true};
+  last_ = *free[static_cast<std::size_t>(
+      random_->UniformInt(0, static_cast<std::int64_t>(free.size()) - 1))];
+  return {last_, false, true};
 }
 
 void MissionSequence::GiveBack(const std::string& goal) { pending_.push_back(goal); }

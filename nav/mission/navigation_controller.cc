@@ -108,6 +108,7 @@ void NavigationControllerOptions::Validate() const {
   robot_contours.Validate();
   deadlock.Validate();
   Require(fleet_replan_s >= 0.1 && fleet_replan_s <= 600.0, "fleet_replan_s", "in [0.1, 600] s");
+  Require(station_wait_s >= 0.0 && station_wait_s <= 3600.0, "station_wait_s", "in [0, 3600] s");
   Require(fleet_commit_s >= fleet_replan_s && fleet_commit_s <= 600.0, "fleet_commit_s",
           "in [fleet_replan_s, 600] s");
   Require(fleet_replan_gain_m >= 0.0 && fleet_replan_gain_m <= 1e4, "fleet_replan_gain_m",
@@ -270,15 +271,21 @@ void NavigationController::StartNextMission(const ControlTick& tick) {
   std::optional<std::string> goal;
   if (fleet_.coordinator) {
     const FleetBoard& board = fleet_.coordinator->board();
-    const MissionSequence::Proposal p = missions_.NextFree([&](const std::string& id) {
-      const std::optional<int> n = graph_.FindIndex(id);
-      return n && board.StationTaken(*n, fleet_.robot);
-    });
+    if (station_wait_since_s_ < 0.0) station_wait_since_s_ = tick.now_s;
+    const bool revisit = tick.now_s - station_wait_since_s_ >= options_.station_wait_s;
+    const MissionSequence::Proposal p = missions_.NextFree(
+        [&](const std::string& id) {
+          const std::optional<int> n = graph_.FindIndex(id);
+          return n && board.StationTaken(*n, fleet_.robot);
+        },
+        revisit);
     if (p.wait) {  // every remaining station is taken: ask again next cycle
       ++figures_.station_waits;
       return;
     }
     goal = p.goal;
+    revisit_ = p.revisit;
+    if (p.revisit) ++figures_.station_revisits;
   } else {
     goal = missions_.Next();
   }
@@ -288,6 +295,7 @@ void NavigationController::StartNextMission(const ControlTick& tick) {
     status_.done_at_s = tick.now_s;
     return;
   }
+  station_wait_since_s_ = -1.0;
   ++mission_index_;
   const int node = graph_.FindIndex(*goal).value_or(kNoNode);
   current_ = Mission{*goal, node == kNoNode ? core::Pose2{} : map_.nodes[node].pose,
@@ -491,14 +499,12 @@ void NavigationController::AppendContours(const ControlTick& tick, bool clip,
   if (markers_.empty()) return;
   const core::Pose2 robot_from_odom = tick.odometry.Inverse();
   const core::Pose2 robot_from_world = tick.belief.Inverse();
-  std::vector<Eigen::Vector2d> known;  // robots whose poses the coordinator has
-  if (fleet_.coordinator) {
-    const FleetBoard& board = fleet_.coordinator->board();
-    for (int r = 0; r < board.robots(); ++r) {
-      if (r != fleet_.robot && board.message(r).pose) {
-        known.push_back(robot_from_world * board.message(r).pose->translation());
-      }
-    }
+  // The robots whose poses explain markers: none while this robot is lost
+  // (its belief would place them wrongly), and never a lost one.
+  std::vector<Eigen::Vector2d> known;
+  if (fleet_.coordinator && !tick.localization_lost) {
+    known = fleet_.coordinator->board().TrustedPositions(fleet_.robot);
+    for (Eigen::Vector2d& k : known) k = robot_from_world * k;
   }
   const RobotContourOptions& o = options_.robot_contours;
   for (const SeenMarker& m : markers_) {

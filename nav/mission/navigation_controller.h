@@ -83,6 +83,11 @@ struct NavigationControllerOptions {
   // this distance of a station of its tour claims it. Chosen: the issue's
   // "never two robots within 1 m of the same station node" plus 5 cm.
   double fleet_station_clear_m = 1.05;
+  // Every remaining station of the round taken this long: the robot proposes
+  // a free station it visited before (MissionSequence::NextFree's revisit),
+  // s, [0, 3600]. Chosen: a dwell — robots standing each at the station
+  // another still has to visit otherwise wait for good.
+  double station_wait_s = 10.0;
   // Robots seeing robots (§6.3.5.1): the markers of other robots in the scans
   // become virtual robot contours for the dynamic window and the band, held
   // `contour_hold_s` after their laser last saw them (the blind zones). Off
@@ -221,10 +226,12 @@ class NavigationController : public Controller {
   MissionStatus status_;
   FleetLink fleet_;
   std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> walls_;  // the map's, for sight
-  int reserved_node_ = -1;      // the station this robot heads for
-  int occupied_node_ = -1;      // the station it stands at or is leaving
-  std::vector<int> claimable_;  // node indices of the stations it may claim, ascending
-  std::vector<int> claims_;     // the stations it holds for passage, ascending
+  int reserved_node_ = -1;              // the station this robot heads for
+  int occupied_node_ = -1;              // the station it stands at or is leaving
+  double station_wait_since_s_ = -1.0;  // every remaining station taken since; < 0: not waiting
+  bool revisit_ = false;                // the current goal is a revisit (not of the round)
+  std::vector<int> claimable_;          // node indices of the stations it may claim, ascending
+  std::vector<int> claims_;             // the stations it holds for passage, ascending
   double next_fleet_check_s_ = 0.0;
   // Markers seen (odometry frame), the laser and when.
   struct SeenMarker {

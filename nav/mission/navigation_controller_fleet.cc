@@ -25,7 +25,8 @@ void NavigationController::SwitchGoal(const ControlTick& tick) {
   // Another robot chose the same station in the same cycle and keeps it: the
   // station goes back to the round and the robot proposes another, the same
   // mission driving on to a new goal (or waiting when none is free).
-  missions_.GiveBack(current_.goal);
+  if (!revisit_) missions_.GiveBack(current_.goal);
+  revisit_ = false;
   const FleetBoard& board = fleet_.coordinator->board();
   const MissionSequence::Proposal p = missions_.NextFree([&](const std::string& id) {
     const std::optional<int> n = graph_.FindIndex(id);
@@ -34,6 +35,7 @@ void NavigationController::SwitchGoal(const ControlTick& tick) {
   const int node = p.goal ? graph_.FindIndex(*p.goal).value_or(kNoNode) : kNoNode;
   if (node == kNoNode) {  // nothing else free: stand until the board changes
     if (p.goal) missions_.GiveBack(*p.goal);
+    station_wait_since_s_ = tick.now_s;
     reserved_node_ = kNoNode;
     queue_.Clear();
     command_ = {};
@@ -87,11 +89,12 @@ void NavigationController::Publish(const ControlTick& tick) {
   m.occupied_station = occupied_node_;
   m.claims = claims_;
   // Lost, it still sends its belief (the estimator's last, carried on by
-  // odometry): a robot that declared itself lost on gate failures is most
-  // often where it believes, and wanders to relocalize. Where it is not, its
-  // markers are unexplained by the sent pose and become contours for the
-  // others, as with the coordination down.
+  // odometry) and says it is lost: the others keep its hull there (a robot
+  // that declared itself lost on gate failures is most often where it
+  // believes) but no longer explain its markers by it, so they also see its
+  // contour where it really is, as with the coordination down.
   m.pose = tick.belief;
+  m.lost = tick.localization_lost;
   m.speed_mps = 0.5 * (command_.left_mps + command_.right_mps);
   if (state_ == State::kDriving && !queue_.empty()) {
     std::vector<int> nodes;

@@ -131,6 +131,7 @@ Json NavigationJson(const nav::NavigationFigures& f, const CollisionCounts& coll
   if (f.fleet_replans > 0 || f.station_waits > 0 || f.deadlocks_detected > 0) {
     j["fleet_replans"] = f.fleet_replans;
     j["station_wait_cycles"] = f.station_waits;
+    j["station_revisits"] = f.station_revisits;
     j["deadlocks_detected"] = f.deadlocks_detected;
     j["deadlocks_resolved"] = f.deadlocks_resolved;
     j["deadlocks_unresolved"] = f.deadlocks_unresolved;
@@ -186,7 +187,7 @@ Json FleetCoordinationJson(const RunMetrics& m) {
   constexpr double kStuckS = 120.0;
   const FleetRunFigures& f = *m.fleet;
   int completed = 0, robots = 0, detected = 0, resolved = 0, unresolved = 0, stuck = 0;
-  int fleet_replans = 0;
+  int fleet_replans = 0, revisits = 0;
   double longest_deadlock_s = 0.0, blocked_s = 0.0, longest_blocked_s = 0.0, distance_m = 0.0;
   double longest_still_s = 0.0;
   std::int64_t up = 0, down = 0;
@@ -199,6 +200,7 @@ Json FleetCoordinationJson(const RunMetrics& m) {
     resolved += n.deadlocks_resolved;
     unresolved += n.deadlocks_unresolved;
     fleet_replans += n.fleet_replans;
+    revisits += n.station_revisits;
     longest_deadlock_s = std::max(longest_deadlock_s, n.longest_deadlock_s);
     blocked_s += n.time_blocked_s;
     longest_blocked_s = std::max(longest_blocked_s, n.longest_blocked_s);
@@ -227,6 +229,7 @@ Json FleetCoordinationJson(const RunMetrics& m) {
            {"longest_still_with_mission_s", RoundForJson(longest_still_s, 3)},
            {"stuck_robots", stuck},
            {"fleet_replans", fleet_replans},
+           {"station_revisits", revisits},
            {"bytes_up", up},
            {"bytes_down", down},
            {"bytes_per_robot_tick",

@@ -149,6 +149,45 @@ TEST(GoalCoordination, ProposesOnlyFreeStationsAndWaitsWhenAllAreTaken) {
   EXPECT_FALSE(p.wait);
 }
 
+// Robots standing each at a station another still has to visit wait for
+// good unless one proposes a station it already visited: a revisit is a free
+// station of the candidates, neither still ahead in the round nor the one the
+// robot just left, and the round keeps its remaining stations.
+TEST(GoalCoordination, AfterWaitingARevisitBreaksTheCircle) {
+  const std::vector<std::string> among{"st1", "st2", "st3", "st4", "st5"};
+  MissionSequence tour = MissionSequence::Tour(among, 5, true, core::RandomStream(3, 1));
+  std::set<std::string> taken;
+  const auto is_taken = [&](const std::string& id) { return taken.contains(id); };
+  std::vector<std::string> visited;
+  for (int k = 0; k < 3; ++k) visited.push_back(*tour.NextFree(is_taken).goal);
+  std::set<std::string> ahead(among.begin(), among.end());
+  for (const std::string& v : visited) ahead.erase(v);
+  ASSERT_EQ(ahead.size(), 2u);
+  taken = ahead;  // both stations still ahead are another robot's
+  EXPECT_TRUE(tour.NextFree(is_taken).wait);
+  EXPECT_TRUE(tour.NextFree(is_taken, false).wait);
+  taken.insert(visited[0]);  // and one visited station as well
+  // Only visited[1] is free, visited, and not the station just left (visited[2]).
+  MissionSequence copy = tour;
+  const MissionSequence::Proposal p = copy.NextFree(is_taken, true);
+  ASSERT_TRUE(p.goal);
+  EXPECT_TRUE(p.revisit);
+  EXPECT_EQ(*p.goal, visited[1]);
+  // No free candidate at all: the robot waits even with revisit.
+  taken.insert(visited[1]);
+  EXPECT_TRUE(tour.NextFree(is_taken, true).wait);
+  // The round's remaining stations stay: freed, they are the next proposals.
+  taken.clear();
+  std::set<std::string> rest;
+  for (int k = 0; k < 2; ++k) {
+    const MissionSequence::Proposal p = tour.NextFree(is_taken, true);
+    ASSERT_TRUE(p.goal);
+    EXPECT_FALSE(p.revisit);
+    rest.insert(*p.goal);
+  }
+  EXPECT_EQ(rest, ahead);
+}
+
 TEST(GoalCoordination, TwoRobotsNeverReserveTheSameStation) {
   // Robots choose one after the other within a tick from the same board; the
   // second sees the first's reservation only after the merge, so they choose
@@ -167,6 +206,33 @@ TEST(GoalCoordination, TwoRobotsNeverReserveTheSameStation) {
     c.Send(r, {{}, std::nullopt, 0.0, std::stoi(p.goal->substr(2)), -1, {}});
     c.Merge();
   }
+}
+
+// A lost robot's pose does not explain the markers others see (it may be
+// decimetres off), robots without a pose neither; the lost flag travels in
+// the pose's flag byte and a change of it alone is forwarded.
+TEST(FleetBoard, ALostRobotsPoseIsNotTrusted) {
+  FleetCoordinator c(3, {});
+  FleetMessage m;
+  m.pose = core::Pose2{1.0, 2.0, 0.0};
+  c.Send(0, m);
+  m.pose = core::Pose2{5.0, 6.0, 0.0};
+  m.lost = true;
+  const std::int64_t lost_bytes = EncodedBytes(m);
+  c.Send(1, m);
+  c.Send(2, FleetMessage{});
+  c.Merge();
+  m.lost = false;
+  EXPECT_EQ(EncodedBytes(m), lost_bytes);
+  const std::vector<Eigen::Vector2d> seen_by_2 = c.board().TrustedPositions(2);
+  ASSERT_EQ(seen_by_2.size(), 1u);
+  EXPECT_EQ(seen_by_2[0], Eigen::Vector2d(1.0, 2.0));
+  EXPECT_TRUE(c.board().TrustedPositions(0).empty());
+  // Relocalized at the same pose: the message changed and is forwarded.
+  c.Send(1, m);
+  c.Merge();
+  EXPECT_EQ(c.board().TrustedPositions(2).size(), 2u);
+  EXPECT_FALSE(c.board().message(1).lost);
 }
 
 // Station passage claims: one robot at a time, first come first served, a

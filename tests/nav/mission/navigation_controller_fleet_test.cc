@@ -10,6 +10,8 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <set>
+#include <string>
 #include <vector>
 
 #include "core/odometry/diff_drive.h"
@@ -133,6 +135,73 @@ TEST(NavigationControllerFleet, APasserKeepsOutWhileAnotherRobotIsInsideTheStati
   const RingRun through = Drive({0.0, 0.0, 0.0}, "b", {4.5, 0.4}, -1, 0.0, 60.0);
   EXPECT_EQ(through.figures.missions_completed, 1);
   EXPECT_LT(through.closest_to_station_m, 0.2);
+}
+
+// Goal coordination's revisit (NavigationControllerOptions::station_wait_s):
+// robot 0 tours a, s, b and c; robots 1 and 2 hold s and b for good (they
+// stand far away). Robot 0 visits a and c, finds the rest of its round taken,
+// waits station_wait_s and then revisits a free station it visited before
+// (not the one it stands at): the revisit is the mission after the two free
+// ones, started once the wait is over.
+TEST(NavigationControllerFleet, RevisitsAVisitedStationAfterWaitingForTakenOnes) {
+  core::RobotMap map;
+  map.name = "line4";
+  for (int k = 0; k < 4; ++k) {
+    const char* id[] = {"a", "s", "b", "c"};
+    map.nodes.push_back({id[k], {4.0 * k, 0.0, 0.0}, true});
+  }
+  map.edges.push_back({"a", "s", 4.0});
+  map.edges.push_back({"s", "b", 4.0});
+  map.edges.push_back({"b", "c", 4.0});
+  NavigationControllerOptions options;
+  options.step_s = kStepS;
+  FleetCoordinator coordinator(3, FleetOptions{});
+  coordinator.SetStations({"a", "s", "b", "c"});
+  NavigationController controller(
+      map, Square(), MissionSequence::Tour({"a", "s", "b", "c"}, 4, true, core::RandomStream(5, 1)),
+      options);
+  controller.SetFleet({&coordinator, 0});
+  coordinator.Join(1, Square());
+  coordinator.Join(2, Square());
+  core::Pose2 pose{0.0, 0.0, 0.0};
+  WheelSpeeds held;
+  std::vector<NavigationEvent> events, started;
+  double second_completed_s = -1.0;
+  int completed = 0;
+  for (std::int64_t tick = 0; tick * kStepS < 120.0 && started.size() < 3; ++tick) {
+    const double now_s = tick * kStepS;
+    if (const std::optional<WheelSpeeds> w =
+            controller.OnTick(ControlTick{tick, now_s, pose, pose, false})) {
+      held = *w;
+    }
+    for (int r = 1; r <= 2; ++r) {
+      FleetMessage m;
+      m.pose = core::Pose2{-50.0, -50.0 * r, 0.0};
+      m.occupied_station = r;  // s (1), then b (2)
+      coordinator.Send(r, m);
+    }
+    coordinator.Merge();
+    const core::WheelTravel travel{
+        held.left_radps * options.odometry.left_wheel_radius_m * kStepS,
+        held.right_radps * options.odometry.right_wheel_radius_m * kStepS};
+    pose = core::DiffDriveStep(pose, travel, options.odometry.wheelbase_m);
+    controller.TakeEvents(&events);
+    for (const NavigationEvent& e : events) {
+      if (e.type == NavigationEvent::Type::kMissionStarted) started.push_back(e);
+      if (e.type == NavigationEvent::Type::kMissionCompleted && ++completed == 2) {
+        second_completed_s = e.at_s;
+      }
+    }
+    events.clear();
+  }
+  ASSERT_EQ(started.size(), 3u);
+  ASSERT_GT(second_completed_s, 0.0);
+  const std::set<std::string> free{started[0].goal, started[1].goal};
+  EXPECT_EQ(free, (std::set<std::string>{"a", "c"}));
+  // The revisit: the station visited first (the robot stands at the second).
+  EXPECT_EQ(started[2].goal, started[0].goal);
+  EXPECT_NEAR(started[2].at_s - second_completed_s, options.station_wait_s, 0.2);
+  EXPECT_EQ(controller.navigation()->station_revisits, 1);
 }
 
 }  // namespace
