@@ -16,6 +16,10 @@ namespace {
 // Blind-zone memory: one scan per laser this often (s), points this near (m).
 constexpr double kMemoryPeriodS = 0.1;
 constexpr double kMemoryReachM = 3.0;
+// Between two scans the robot moved when its odometry pose changed by more
+// than this (m, rad).
+constexpr double kStillM = 1e-3;
+constexpr double kStillRad = 1e-3;
 
 }  // namespace
 
@@ -108,18 +112,30 @@ void ScanObstacles::AddScan(const core::LaserScan& scan, const core::Pose2& odom
   // The blind-zone memory keeps a scan per laser every kMemoryPeriodS, and of
   // it only the points within kMemoryReachM of the robot: what the dynamic
   // window may need, at a tenth of the points to test each cycle.
-  if (!it->in_odom.empty() && scan.stamp_s - it->remembered_s >= kMemoryPeriodS) {
-    Remembered kept{scan.stamp_s, {}};
+  // The motion clock advances by the time since the last scan when the robot
+  // moved meanwhile.
+  if (last_scan_) {
+    const auto& [last_s, last_pose] = *last_scan_;
+    const bool moved =
+        (odom_from_robot.translation() - last_pose.translation()).norm() > kStillM ||
+        std::abs(core::NormalizeAngle(odom_from_robot.theta_rad - last_pose.theta_rad)) > kStillRad;
+    if (moved && scan.stamp_s > last_s) motion_clock_s_ += scan.stamp_s - last_s;
+  }
+  last_scan_.emplace(scan.stamp_s, odom_from_robot);
+  if (!it->in_odom.empty() && motion_clock_s_ - it->remembered_s >= kMemoryPeriodS) {
+    Remembered kept{motion_clock_s_, scan.stamp_s, {}};
     for (const Eigen::Vector2d& p : it->in_odom) {
       if ((p - odom_from_robot.translation()).squaredNorm() <= kMemoryReachM * kMemoryReachM) {
         kept.in_odom.push_back(p);
       }
     }
     memory_.push_back(std::move(kept));
-    it->remembered_s = scan.stamp_s;
+    it->remembered_s = motion_clock_s_;
   }
-  std::erase_if(memory_,
-                [&](const Remembered& m) { return m.stamp_s < scan.stamp_s - blind_memory_s_; });
+  std::erase_if(memory_, [&](const Remembered& m) {
+    return m.stamp_s < motion_clock_s_ - blind_memory_s_ ||
+           m.taken_s < scan.stamp_s - kBlindMemoryCapS;
+  });
   it->in_odom.clear();
   it->sensor_from_robot = scan.robot_from_sensor.Inverse();
   it->max_range_m = scan.max_range_m;

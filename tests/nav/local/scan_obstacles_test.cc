@@ -196,27 +196,59 @@ TEST(ScanObstacles, TheWindowGetsFilledBarriersAndTheGridTheMapsPoints) {
 }
 
 // A reading that has left every laser's field of view stays for
-// blind_memory_s (the side of a robot with two lasers back to back); one a
-// laser still covers is not duplicated from memory.
-TEST(ScanObstacles, RemembersBlindZoneReadingsForTheMemoryTime) {
-  ScanObstacles obstacles(kSquareFootprint, {}, /*blind_memory_s=*/1.0);
+// blind_memory_s of the robot's motion (the side of a robot with two lasers
+// back to back); one a laser still covers is not duplicated from memory.
+// Standing still, the robot forgets only after kBlindMemoryCapS: the column
+// beside a robot that waited is still there when it turns.
+TEST(ScanObstacles, RemembersBlindZoneReadingsForTheMemoryTimeOfMotion) {
   const double fov = 1.0;
-  obstacles.AddScan(WallAhead("front", 0.0, fov), core::Pose2());
-  // Turned 90° on the spot: the wall is now on the robot's right, outside the
-  // laser's ±0.5 rad.
   const core::Pose2 turned(0.0, 0.0, kPi / 2.0);
   core::LaserScan empty = WallAhead("front", 0.2, fov);
   for (core::LaserReading& r : empty.readings) r.valid = false;
-  obstacles.AddScan(empty, turned);
+  // The wall ahead, then turned 90° on the spot: the wall is now on the
+  // robot's right, outside the laser's ±0.5 rad.
+  const auto seen_then_turned = [&] {
+    ScanObstacles obstacles(kSquareFootprint, {}, /*blind_memory_s=*/1.0);
+    obstacles.AddScan(WallAhead("front", 0.0, fov), core::Pose2());
+    obstacles.AddScan(empty, turned);
+    return obstacles;
+  };
+  const auto stand = [&](ScanObstacles& obstacles, double from_s, double to_s) {
+    core::LaserScan later = empty;
+    for (later.stamp_s = from_s; later.stamp_s <= to_s + 1e-9; later.stamp_s += 0.1) {
+      obstacles.AddScan(later, turned);
+    }
+  };
   std::vector<Eigen::Vector2d> points;
+  ScanObstacles obstacles = seen_then_turned();
   obstacles.InRobot(turned, turned, 3.0, &points);
   EXPECT_EQ(points.size(), 21u);  // the remembered wall
   for (const Eigen::Vector2d& p : points) EXPECT_NEAR(p.y(), -1.0, 1e-9);
-  // More than a second later the memory has let it go.
-  core::LaserScan later = empty;
-  later.stamp_s = 1.5;
-  obstacles.AddScan(later, turned);
+  // Standing still for 15 s: still remembered.
+  stand(obstacles, 0.3, 15.0);
   obstacles.InRobot(turned, turned, 3.0, &points);
+  EXPECT_EQ(points.size(), 21u);
+  // Moving on: after 0.2 s + 0.7 s of motion it stays, after more than a
+  // second of motion the memory has let it go.
+  core::Pose2 pose = turned;
+  core::LaserScan later = empty;
+  for (int k = 1; k <= 12; ++k) {
+    pose = core::Pose2(0.0, 0.01 * k, kPi / 2.0);
+    later.stamp_s = 15.0 + 0.1 * k;
+    obstacles.AddScan(later, pose);
+    obstacles.InRobot(pose, pose, 3.0, &points);
+    if (k == 7) {
+      EXPECT_EQ(points.size(), 21u);
+    }
+  }
+  EXPECT_TRUE(points.empty());
+  // Standing still for good: forgotten after the cap.
+  ScanObstacles standing = seen_then_turned();
+  stand(standing, 0.3, kBlindMemoryCapS);
+  standing.InRobot(turned, turned, 3.0, &points);
+  EXPECT_EQ(points.size(), 21u);
+  stand(standing, kBlindMemoryCapS + 0.3, kBlindMemoryCapS + 0.5);
+  standing.InRobot(turned, turned, 3.0, &points);
   EXPECT_TRUE(points.empty());
 }
 
