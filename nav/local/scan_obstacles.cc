@@ -83,6 +83,8 @@ ScanObstacles::ScanObstacles(std::vector<Eigen::Vector2d> footprint_in_robot,
     : footprint_(std::move(footprint_in_robot)),
       ghosts_in_world_(std::move(ghosts_in_world)),
       blind_memory_s_(blind_memory_s) {
+  footprint_convex_ = IsConvexCounterClockwise(footprint_);
+  if (footprint_convex_) footprint_radius_m_ = Circumradius(footprint_);
   const std::vector<Eigen::Vector2d> filled = FillGhostBarriers(ghosts_in_world_, barrier);
   if (filled.empty()) return;
   Eigen::Vector2d lo = filled.front(), hi = filled.front();
@@ -186,7 +188,13 @@ void ScanObstacles::InRobot(const core::Pose2& odom_from_robot, const core::Pose
     for (int x = x0; x <= x1; ++x) {
       for (const Eigen::Vector2d& g :
            barrier_buckets_[static_cast<std::size_t>(y) * barrier_size_.x() + x]) {
-        if ((g - centre).squaredNorm() <= reach2) points_in_robot->push_back(robot_from_world * g);
+        if ((g - centre).squaredNorm() > reach2) continue;
+        const Eigen::Vector2d q = robot_from_world * g;
+        if (footprint_convex_ && q.norm() < footprint_radius_m_) {
+          Eigen::Vector2d normal;
+          if (SignedDistance(footprint_, q, &normal) < -kGhostInsideM) continue;
+        }
+        points_in_robot->push_back(q);
       }
     }
   }

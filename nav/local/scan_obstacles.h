@@ -79,6 +79,14 @@ std::vector<Eigen::Vector2d> FillGhostBarriers(std::span<const Eigen::Vector2d> 
 // has not moved since, s.
 inline constexpr double kBlindMemoryCapS = 20.0;
 
+// A ghost point deeper than this inside the robot's polygon cannot be where
+// the belief puts it (the robot would stand on the glass): InRobot leaves it
+// out, as GhostReadings leaves out those under the robot, so that a belief a
+// few centimetres off does not freeze the dynamic window (a point deeper than
+// its max_contact_depth_m forces braking for good). The bumper still reports
+// the real panel. m; the window's default contact depth.
+inline constexpr double kGhostInsideM = 0.02;
+
 class ScanObstacles {
  public:
   // `footprint_in_robot`: the robot's polygon; readings inside it (the robot
@@ -122,6 +130,8 @@ class ScanObstacles {
   bool Covered(const Eigen::Vector2d& point_in_robot) const;
 
   std::vector<Eigen::Vector2d> footprint_;
+  bool footprint_convex_ = false;  // the ghost test of kGhostInsideM needs a convex polygon
+  double footprint_radius_m_ = 0.0;
   std::vector<Eigen::Vector2d> ghosts_in_world_;
   // FillGhostBarriers(ghosts_in_world_) in square buckets of kBucketM,
   // row-major over barrier_origin_ .. + barrier_buckets_ * kBucketM.

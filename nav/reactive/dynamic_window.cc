@@ -22,8 +22,27 @@ constexpr int kReachCheckSamples = 101;
 // Slack (m/s) on the contact normal · point velocity test: tangential
 // motions give 0 up to rounding.
 constexpr double kRateSlack_mps = 1e-9;
+// A contact point may approach at up to this fraction of its speed along the
+// robot (about 2°): a motion that grazes a contact counts as sliding along it.
+// A bumper zone or a wall along a side of the mesh hull spans facets a degree
+// or so apart, and the strict first-order test then forbade both forward and
+// back — a robot pressed along its side froze (expo_tours_fallback seed 5).
+// The contact polygons still bound how much deeper any contact gets before
+// standstill (kContactSlack_m).
+constexpr double kSlideSlope = 0.035;
 
 double Clamp01(double x) { return std::clamp(x, 0.0, 1.0); }
+
+// Sample k of n from lo to hi. A sum that cancels to rounding noise is 0: the
+// middle sample of a window about standstill came out as 1e-17 m/s, a "move"
+// that escaped the objective's no-clearance-for-stopping rule, scored full
+// clearance and held a robot still beside any obstacle (the deadlocked pair
+// of expo_tours_fallback seed 5 stood so for minutes).
+double GridSpeed(double lo, double hi, int k, int n) {
+  constexpr double kZeroMps = 1e-9;
+  const double v = lo + (hi - lo) * k / (n - 1);
+  return std::abs(v) < kZeroMps ? 0.0 : v;
+}
 
 // The largest speed from which holding it one period T and then braking at
 // `decel` stops within `distance`: s·T + s²/(2·decel) = distance.
@@ -176,7 +195,7 @@ void DynamicWindow::BuildCandidates(const WheelVelocity& current, const DwaGoal&
     for (int j = 0; j < n; ++j) {
       Candidate& c = candidates_[static_cast<std::size_t>(i) * n + j];
       c = Candidate{};
-      c.wheels = {l_lo + (l_hi - l_lo) * i / (n - 1), r_lo + (r_hi - r_lo) * j / (n - 1)};
+      c.wheels = {GridSpeed(l_lo, l_hi, i, n), GridSpeed(r_lo, r_hi, j, n)};
       c.twist = TwistFromWheels(c.wheels.left_mps, c.wheels.right_mps, options_.wheelbase_m);
       c.speed_g = table_.GeneralizedSpeed(c.twist);
       c.stop_arc_m = StoppingArc(c.wheels);
@@ -277,7 +296,7 @@ bool DynamicWindow::RecedesFromContacts(Candidate& c) const {
     const Eigen::Vector2d velocity(-c.twist.v_mps + c.twist.omega_radps * contact.point.y(),
                                    -c.twist.omega_radps * contact.point.x());
     const double rate_mps = contact.normal.dot(velocity);
-    if (rate_mps < -kRateSlack_mps) return false;
+    if (rate_mps < -kSlideSlope * velocity.norm() - kRateSlack_mps) return false;
     predicted_m = std::min(predicted_m, contact.distance_m + rate_mps * options_.period_s);
   }
   c.escape_gain_m = contacts_.empty() ? 0.0 : predicted_m - nearest_contact_m_;

@@ -24,8 +24,11 @@
 // - contact points, inside the margin polygon, on or up to
 //   max_contact_depth_m inside the robot polygon (a walker touching the
 //   robot, a wall after a push): escape motions only. The signed distance to
-//   the exact polygon must not decrease at t = 0+ (contact normal · point
-//   velocity >= 0), and the exact polygon offset to pass kContactSlack_m
+//   the exact polygon must not decrease at t = 0+ faster than sliding along
+//   the contact allows (contact normal · point velocity >= -sin 2° · |point
+//   velocity|: a mesh hull's side is facets a degree apart, and a strict
+//   test there froze a robot pressed along its side), and the exact polygon
+//   offset to pass kContactSlack_m
 //   inside the point must not reach it before standstill, so no contact
 //   point gets more than kContactSlack_m deeper. In their presence the
 //   clearance term scores the first-order growth of the clearance over a

@@ -37,8 +37,7 @@ void Require(bool ok, const char* field, const char* expected) {
 
 bool InRange(double v, double lo, double hi) { return v >= lo && v <= hi; }  // false for NaN
 
-void StampTime(double t_s, core::RgbImage* image) {
-  const std::string text = CrowdFrameCaption(t_s);
+void StampCaption(const std::string& text, core::RgbImage* image) {
   const TextExtent extent = MeasureText(text);
   FillRect(image, kStampInsetPx - kStampPaddingPx, kStampInsetPx - kStampPaddingPx,
            extent.width_px + 2 * kStampPaddingPx, extent.height_px + 2 * kStampPaddingPx,
@@ -88,16 +87,25 @@ void CrowdStrip::Capture(const sim::World& world, const Eigen::Vector2d& center_
   int k = next_;
   while (k + 1 < options_.frames && t_s + kDueToleranceS >= frame_time_s(k + 1)) ++k;
   next_ = k + 1;
+  frames_.push_back(Frame{
+      k, t_s,
+      RenderCrop(world, center_m, options_.crop_m, options_.size_px, options_.section_height_m,
+                 options_.people_material, CrowdFrameCaption(t_s))});
+}
+
+core::RgbImage RenderCrop(const sim::World& world, const Eigen::Vector2d& center_m, double crop_m,
+                          int size_px, double section_height_m, const std::string& people_material,
+                          const std::string& caption) {
   sim::TopDownOptions view;
-  view.width_px = options_.size_px;
-  view.section_height_m = options_.section_height_m;
+  view.width_px = size_px;
+  view.section_height_m = section_height_m;
   view.draw_places = false;
-  view.people_material = options_.people_material;
-  const Eigen::Vector2d half = Eigen::Vector2d::Constant(0.5 * options_.crop_m);
+  view.people_material = people_material;
+  const Eigen::Vector2d half = Eigen::Vector2d::Constant(0.5 * crop_m);
   view.window = sim::TopDownWindow{center_m - half, center_m + half};
-  Frame frame{k, t_s, sim::RenderTopDown(world, {}, view)};
-  StampTime(t_s, &frame.image);
-  frames_.push_back(std::move(frame));
+  core::RgbImage image = sim::RenderTopDown(world, {}, view);
+  StampCaption(caption, &image);
+  return image;
 }
 
 std::vector<CrowdFrame> CrowdStrip::Write(const std::filesystem::path& out_dir) const {

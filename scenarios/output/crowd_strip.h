@@ -36,6 +36,13 @@ CrowdStripOptions CrowdStripOptionsFor(const Scenario& scenario);
 // centre in a world without robots.
 Eigen::Vector2d CrowdStripCentre(const sim::World& world);
 
+// The top-down view cropped to a square of side `crop_m` centred on
+// `center_m`, `size_px` wide, with `caption` stamped in its top-left corner
+// (the strip's frames, and the snapshot of a run's first overlap deadlock).
+core::RgbImage RenderCrop(const sim::World& world, const Eigen::Vector2d& center_m, double crop_m,
+                          int size_px, double section_height_m, const std::string& people_material,
+                          const std::string& caption);
+
 // Captures crops of the top-down view at the frame times
 // t_k = (k + 0.5) duration / frames, k = 0 .. frames - 1, while a run goes.
 class CrowdStrip {

@@ -393,6 +393,19 @@ void CrowdStripSection(std::ostringstream& html, const RunMetrics& m,
   html << "</div>\n";
 }
 
+void DeadlockSection(std::ostringstream& html, const std::optional<DeadlockFrame>& deadlock) {
+  if (!deadlock) return;
+  const CrowdFrame& f = deadlock->frame;
+  html << "<h2>The first overlap deadlock</h2>\n"
+       << "<p class=\"note\">" << E(deadlock->robot_id)
+       << " detected it: a robot's virtual contour overlapped its hull while it stood with a goal "
+          "(thesis &sect;6.5). The top-down view cropped to "
+       << H(f.size_m) << " m &times; " << H(f.size_m) << " m around it at "
+       << CrowdFrameCaption(f.time_s) << " (" << E(f.path) << ").</p>\n"
+       << "<img style=\"max-width:360px\" alt=\"first deadlock\" title=\"" << E(f.path)
+       << "\" src=\"data:image/png;base64," << Base64(f.png) << "\">\n";
+}
+
 void HypothesisSection(std::ostringstream& html, const std::vector<HypothesisFigure>& figures) {
   for (const HypothesisFigure& f : figures) {
     html << "<h2>Location hypotheses of " << E(f.robot_id) << " after a kidnap</h2>\n"
@@ -568,6 +581,7 @@ std::string RenderReportHtml(const Scenario& scenario, const RunMetrics& metrics
   ChartSections(html, metrics, content, &charts);
   TopDownSection(html, scenario, content, &charts);
   CrowdStripSection(html, metrics, content.crowd_frames);
+  DeadlockSection(html, content.first_deadlock);
   HypothesisSection(html, content.hypothesis_figures);
   DetailsTable(html, scenario, metrics);
   if (!metrics.robots.empty()) {

@@ -32,6 +32,13 @@ struct CrowdFrame {
   std::vector<std::uint8_t> png;
 };
 
+// The top-down view around the robot that detected a run's first overlap
+// deadlock (thesis §6.5), at that moment: snapshots/deadlock_first.png.
+struct DeadlockFrame {
+  std::string robot_id;
+  CrowdFrame frame;
+};
+
 // A crowd frame's caption: "t = 120 s", in tenths of a second ("t = 7.5 s")
 // where the time is not within 0.05 s of a whole second.
 std::string CrowdFrameCaption(double time_s);
@@ -44,6 +51,7 @@ struct ReportContent {
   std::optional<PictureExtent> topdown_extent;
   std::vector<HypothesisFigure> hypothesis_figures;
   std::vector<CrowdFrame> crowd_frames;
+  std::optional<DeadlockFrame> first_deadlock;
   // Read back from the run's line files (ReadReportSeries); null: no charts
   // of them.
   const ReportSeries* series = nullptr;

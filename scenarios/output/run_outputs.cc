@@ -127,7 +127,8 @@ void WriteSnapshotsAndReport(const std::filesystem::path& out, const Scenario& s
                              const std::vector<RobotLocalization>& localizations,
                              const RunMetrics& metrics, const CrowdStrip* crowd_strip,
                              const SeriesDecimator* visitors_present,
-                             const ExpectationResults* expectations) {
+                             const ExpectationResults* expectations,
+                             const DeadlockFrame* first_deadlock) {
   std::vector<sim::TopDownTrack> top_tracks;
   for (const auto& t : body_tracks) top_tracks.push_back({t, {200, 40, 40}, 0.4});
   for (const RobotTracks& r : robot_tracks) {
@@ -158,6 +159,12 @@ void WriteSnapshotsAndReport(const std::filesystem::path& out, const Scenario& s
   }
   if (crowd_strip) content.crowd_frames = crowd_strip->Write(out);
   for (const CrowdFrame& f : content.crowd_frames) written.push_back(f.path);
+  if (first_deadlock) {
+    const CrowdFrame& f = first_deadlock->frame;
+    WriteFileAtomically((out / f.path).string(), std::string(f.png.begin(), f.png.end()));
+    written.push_back(f.path);
+    content.first_deadlock = *first_deadlock;
+  }
   std::vector<std::string> robot_order;
   for (const RobotEntry& r : scenario.robots) robot_order.push_back(r.id);
   const ReportSeries series = ReadReportSeries(out, robot_order);

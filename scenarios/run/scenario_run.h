@@ -122,6 +122,8 @@ class ScenarioRun {
   // A walker of body `b` walking at `velocity` is about to touch a robot.
   bool WalkerMeetsRobot(int b, const Eigen::Vector2d& velocity) const;
   void EmitNavigationEvents(RobotRun& r);
+  // Pictures the robot that detected the run's first overlap deadlock (first_deadlock_).
+  void PictureDeadlock(const RobotRun& r, double t);
   void SenseRobots(const sim::TickSnapshot& next, double t_after);
   void MergeRobot(std::size_t k, const sim::TickSnapshot& next, double t_after);
   void RecordCycle(RobotRun& r, const nav::EstimatorCycle& cycle, const core::Pose2& truth,
@@ -171,6 +173,7 @@ class ScenarioRun {
   std::vector<StrideBuffer<Eigen::Vector2d>> body_tracks_;
   std::optional<CrowdTracker> crowd_tracker_;        // runs with a crowd
   std::optional<CrowdStrip> crowd_strip_;            // frames of the crowd around the first robot
+  std::optional<DeadlockFrame> first_deadlock_;      // the run's first overlap deadlock, pictured
   std::optional<SeriesDecimator> visitors_present_;  // the report's chart, runs with a crowd
   std::unique_ptr<EventLog> events_;
   std::optional<EventExpectationMonitor> expect_monitor_;  // scenarios with `expect:`

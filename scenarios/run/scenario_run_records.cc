@@ -2,6 +2,7 @@
 #include <set>
 #include <tuple>
 
+#include "scenarios/output/png.h"
 #include "scenarios/run/scenario_run.h"
 
 // What a tick records (scenario_run.h): contact begins and their classes,
@@ -30,7 +31,23 @@ void ScenarioRun::EmitNavigationEvents(RobotRun& r) {
       fields["duration_s"] = RoundForJson(e.duration_s, 3);
     }
     events_->Emit(e.at_s, nav::ToString(e.type), fields);
+    if (e.type == nav::NavigationEvent::Type::kDeadlockDetected && !first_deadlock_) {
+      PictureDeadlock(r, e.at_s);
+    }
   }
+}
+
+void ScenarioRun::PictureDeadlock(const RobotRun& r, double t) {
+  constexpr double kCropM = 5.0;  // the robot, its neighbours and what pins them
+  constexpr int kSizePx = 360;
+  const int index = static_cast<int>(&r - robots_.data());
+  const Eigen::Vector2d at = world_->robot_state(index).pose.translation();
+  const std::string people = scenario_.crowd ? scenario_.crowd->material : std::string();
+  const core::RgbImage image =
+      RenderCrop(*world_, at, kCropM, kSizePx, scenario_.outputs.section_height_m, people,
+                 CrowdFrameCaption(t) + ", " + r.entry->id);
+  first_deadlock_ = DeadlockFrame{
+      r.entry->id, CrowdFrame{"snapshots/deadlock_first.png", t, kCropM, EncodePng(image)}};
 }
 
 void ScenarioRun::RecordContacts(double t_after) {

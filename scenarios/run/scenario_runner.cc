@@ -530,7 +530,8 @@ RunSummary ScenarioRun::Finish() {
   WriteSnapshotsAndReport(out_, scenario_, *world_, body_paths, tracks, localizations,
                           summary_.metrics, crowd_strip_ ? &*crowd_strip_ : nullptr,
                           visitors_present_ ? &*visitors_present_ : nullptr,
-                          summary_.expectations ? &*summary_.expectations : nullptr);
+                          summary_.expectations ? &*summary_.expectations : nullptr,
+                          first_deadlock_ ? &*first_deadlock_ : nullptr);
   summary_.sim_duration_s = sim_s;
   summary_.robot_sim_s = sim_s * static_cast<double>(robots_.size());
   summary_.ticks = ticks_run_;

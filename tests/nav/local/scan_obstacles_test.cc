@@ -16,6 +16,7 @@
 #include "core/geometry/segment2.h"
 #include "core/types/pose2.h"
 #include "core/types/sensor_data.h"
+#include "nav/reactive/swept_polygon.h"
 
 namespace pavilion::nav {
 namespace {
@@ -250,6 +251,44 @@ TEST(ScanObstacles, RemembersBlindZoneReadingsForTheMemoryTimeOfMotion) {
   stand(standing, kBlindMemoryCapS + 0.3, kBlindMemoryCapS + 0.5);
   standing.InRobot(turned, turned, 3.0, &points);
   EXPECT_TRUE(points.empty());
+}
+
+// A ghost barrier under the robot's polygon cannot be where the belief puts
+// it: the window gets no ghost point deeper than kGhostInsideM inside the
+// polygon (such a point would force braking for good), and every filled
+// point outside the polygon is still there. A barrier 1 cm inside the side is
+// a contact the window escapes, and is kept.
+TEST(ScanObstacles, LeavesOutGhostsDeepUnderTheRobot) {
+  const std::vector<Eigen::Vector2d> ghosts = BarrierRow();  // y = 0, x 0..1
+  const std::vector<Eigen::Vector2d> filled = FillGhostBarriers(ghosts, GhostBarrier{});
+  ScanObstacles obstacles(kSquareFootprint, ghosts);
+  const core::Polygon2 square(kSquareFootprint.begin(), kSquareFootprint.end());
+  for (const double y : {0.1, 0.25, 0.31, 0.36}) {
+    const core::Pose2 robot(0.5, y, 0.0);
+    std::vector<Eigen::Vector2d> window;
+    obstacles.InRobot(robot, robot, 3.0, &window);
+    std::size_t outside = 0, contacts = 0;
+    for (const Eigen::Vector2d& g : filled) {
+      const Eigen::Vector2d q = robot.Inverse() * g;
+      Eigen::Vector2d normal;
+      const double d = SignedDistance(square, q, &normal);
+      outside += d > 0.0 ? 1 : 0;
+      contacts += d <= 0.0 && d >= -kGhostInsideM ? 1 : 0;
+    }
+    std::size_t deep = 0;
+    for (const Eigen::Vector2d& q : window) {
+      Eigen::Vector2d normal;
+      deep += SignedDistance(square, q, &normal) < -kGhostInsideM ? 1 : 0;
+    }
+    EXPECT_EQ(deep, 0u) << "y " << y;
+    EXPECT_EQ(window.size(), outside + contacts) << "y " << y;
+    if (y == 0.31) {
+      EXPECT_GT(contacts, 0u);  // the side 1 cm into the barrier's near face
+    }
+    if (y == 0.1) {
+      EXPECT_LT(window.size(), filled.size());
+    }
+  }
 }
 
 }  // namespace

@@ -507,6 +507,68 @@ TEST(DynamicWindowTest, StopsWhenBoxedInAtOneCentimetre) {
   }
 }
 
+// Crawling at a grid speed, the window's standstill sample is exactly zero —
+// summed from the window's edges it came out as 1e-17 m/s, a "move" that
+// scored the full clearance stopping never gets — so a robot in a passage
+// 5 cm wider than it on each side, a post half across it 4 cm ahead and its
+// target straight ahead, moves (it backs off the post to find room) instead
+// of standing still (two deadlocked Robox stood so for minutes).
+TEST(DynamicWindowTest, MovesOffAPostAheadFromACrawl) {
+  const DynamicWindowOptions o = RoboxOptions();
+  DynamicWindow dwa(o, Octagon());
+  std::vector<Eigen::Vector2d> post;
+  for (double x = -1.0; x <= 1.5; x += 0.02) {
+    post.emplace_back(x, kFlat_m + 0.05);
+    post.emplace_back(x, -kFlat_m - 0.05);
+  }
+  for (double y = -kFlat_m - 0.05; y <= -0.05; y += 0.02) post.emplace_back(kFlat_m + 0.04, y);
+  DwaGoal goal;
+  goal.target_in_robot = {1.5, 0.0};
+  for (const double crawl_mps : {-0.06, -0.04, -0.02, 0.02, 0.04, 0.06, 0.08}) {
+    const DwaResult r = dwa.Choose({crawl_mps, crawl_mps}, post, goal);
+    ASSERT_TRUE(r.admissible_found) << crawl_mps;
+    for (const double w : {r.command.left_mps, r.command.right_mps}) {
+      EXPECT_TRUE(w == 0.0 || std::abs(w) >= 1e-6) << crawl_mps << " " << w;
+    }
+    EXPECT_GT(std::max(std::abs(r.command.left_mps), std::abs(r.command.right_mps)), 0.01)
+        << crawl_mps;
+    EXPECT_FALSE(SweptOctagonTouches(o, r.command, post)) << crawl_mps;
+  }
+}
+
+// A hull whose side is two facets 1.4° apart (as a mesh hull's is), pressed
+// along that side — bumper contacts 1 mm inside both facets — and at the
+// front-right corner: forward and turning press in, and backing slides along
+// the side (its rate is within kSlideSlope of tangential). The robot backs
+// out instead of freezing, and no contact gets more than 1 mm deeper.
+TEST(DynamicWindowTest, BacksAlongAContactOnAFacetedSide) {
+  const DynamicWindowOptions o = RoboxOptions();
+  core::Polygon2 faceted = Octagon();
+  // Octagon() starts at +22.5°: vertices 5 and 6 bound the right flat (y = -kFlat_m).
+  faceted.insert(faceted.begin() + 6, Eigen::Vector2d(0.0, -kFlat_m - 0.0035));
+  DynamicWindow dwa(o, faceted);
+  std::vector<Eigen::Vector2d> contacts;
+  for (const double x : {-0.07, 0.07}) {
+    // 1 mm inside the facet from (±0.14, -kFlat_m) to (0, -kFlat_m - 3.5 mm).
+    const double facet_y =
+        -kFlat_m - 0.0035 * (1.0 - std::abs(x) / (kCorner_m * std::sin(kPi / 8.0)));
+    contacts.emplace_back(x, facet_y + 0.001);
+  }
+  const Eigen::Vector2d diagonal(std::cos(-kPi / 4.0), std::sin(-kPi / 4.0));
+  const Eigen::Vector2d along(diagonal.y(), -diagonal.x());
+  for (const double s : {-0.05, 0.0, 0.05}) {
+    contacts.push_back((kFlat_m - 0.001) * diagonal + s * along);
+  }
+  DwaGoal goal;
+  goal.target_in_robot = {1.5, -0.2};
+  const DwaResult r = dwa.Choose({}, contacts, goal);
+  ASSERT_TRUE(r.admissible_found);
+  EXPECT_EQ(r.contact_points, 5);
+  EXPECT_LT(r.command.left_mps + r.command.right_mps, 0.0);  // backs
+  const ClearanceChange change = SweepClearance(o, r.command, contacts, 0.5);
+  EXPECT_LE(change.worst_drop_m, kEscapeDrop_m);
+}
+
 // Bad options name the field; a clockwise polygon and a too short look-ahead are refused.
 TEST(DynamicWindowTest, RejectsBadOptions) {
   auto message = [](DynamicWindowOptions o) {

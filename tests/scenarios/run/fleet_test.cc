@@ -20,12 +20,12 @@ using nlohmann::json;
 
 // TestDir() starts the test's folder afresh: call it once per test.
 json RunFleet(const fs::path& base, const std::string& scenario, const std::string& tag,
-              double duration_s, int threads) {
+              double duration_s, int threads, int seed = 1) {
   const fs::path out = base / tag;
   const pavilion::testing::PavilionResult r = pavilion::testing::RunPavilion(
       {"run", std::string(PAVILION_SOURCE_DIR) + "/scenarios/" + scenario + ".yaml", "--out",
-       out.string(), "--duration", std::to_string(duration_s), "--threads",
-       std::to_string(threads)},
+       out.string(), "--duration", std::to_string(duration_s), "--threads", std::to_string(threads),
+       "--seed", std::to_string(seed)},
       base);
   EXPECT_EQ(r.exit_code, 0) << r.err;
   return json::parse(pavilion::testing::ReadTextFile(out / "metrics.json"));
@@ -66,13 +66,28 @@ TEST(Fleet, SameBytesForOneTwoAndEightThreads) {
   }
 }
 
-TEST(Fleet, WithTheCoordinationOffNothingIsExchanged) {
-  const json m = RunFleet(pavilion::testing::TestDir(), "expo_tours_fallback", "fallback", 30.0, 2);
+// Seed 5 runs into the §6.5 situation at the robots' bay exit within a
+// minute: robox_05, its front against the end of a glass panel, with
+// robox_06 pressed against its back. The overlap deadlock is detected,
+// resolved, and pictured at the moment of its detection.
+TEST(Fleet, WithTheCoordinationOffNothingIsExchangedAndTheFirstDeadlockIsPictured) {
+  const fs::path base = pavilion::testing::TestDir();
+  const json m = RunFleet(base, "expo_tours_fallback", "fallback", 50.0, 2, 5);
   const json& c = m.at("fleet").at("coordination");
   EXPECT_FALSE(c.at("coordination").get<bool>());
   EXPECT_EQ(c.at("bytes_up").get<int>(), 0);
   EXPECT_EQ(c.at("bytes_down").get<int>(), 0);
   EXPECT_EQ(c.at("fleet_replans").get<int>(), 0);
+  EXPECT_GE(c.at("deadlocks_detected").get<int>(), 1);
+  EXPECT_EQ(c.at("deadlocks_resolved").get<int>(), c.at("deadlocks_detected").get<int>());
+  EXPECT_LE(c.at("longest_deadlock_s").get<double>(), 30.0);
+  const std::string png =
+      pavilion::testing::ReadTextFile(base / "fallback" / "snapshots" / "deadlock_first.png");
+  ASSERT_GT(png.size(), 8u);
+  EXPECT_EQ(png.substr(1, 3), "PNG");
+  const std::string report = pavilion::testing::ReadTextFile(base / "fallback" / "report.html");
+  EXPECT_NE(report.find("The first overlap deadlock"), std::string::npos);
+  EXPECT_NE(report.find("snapshots/deadlock_first.png"), std::string::npos);
 }
 
 }  // namespace
