@@ -276,6 +276,12 @@ std::unique_ptr<nav::Navigator> MakeNavigator(const Scenario& scenario, std::siz
   nav::NavigatorOptions options;
   options.odometry = entry.config.odometry;
   options.start_pose = entry.pose;
+  // A robot that loses its location stands this long before it wanders. In
+  // the hour-long expo_tours runs Robox declared lost by the gate with a few
+  // millimetres of true error turned on the spot into a pedestal or another
+  // Robox within a second, and those that stood relocalized within one.
+  constexpr double kFallbackSettleS = 3.0;
+  options.fallback_settle_s = kFallbackSettleS;
   std::unique_ptr<nav::PoseEstimator> estimator;
   if (entry.localization.enabled) estimator = MakeEstimator(entry, *map);
   auto navigator = std::make_unique<nav::Navigator>(options, std::move(estimator),

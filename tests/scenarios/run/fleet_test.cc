@@ -72,7 +72,7 @@ TEST(Fleet, SameBytesForOneTwoAndEightThreads) {
 // resolved, and pictured at the moment of its detection.
 TEST(Fleet, WithTheCoordinationOffNothingIsExchangedAndTheFirstDeadlockIsPictured) {
   const fs::path base = pavilion::testing::TestDir();
-  const json m = RunFleet(base, "expo_tours_fallback", "fallback", 50.0, 2, 5);
+  const json m = RunFleet(base, "expo_tours_fallback", "fallback", 70.0, 2, 5);
   const json& c = m.at("fleet").at("coordination");
   EXPECT_FALSE(c.at("coordination").get<bool>());
   EXPECT_EQ(c.at("bytes_up").get<int>(), 0);
