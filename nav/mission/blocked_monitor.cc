@@ -12,6 +12,10 @@ void Require(bool ok, const std::string& field, const std::string& range) {
   if (!ok) throw std::invalid_argument("BlockedMonitorOptions." + field + " must be " + range);
 }
 
+// The net turn on the spot is judged over at least this long (s): ten
+// 10 Hz cycles, so that one cycle's turn of a dither does not count.
+constexpr double kTurnWindowS = 1.0;
+
 }  // namespace
 
 void BlockedMonitorOptions::Validate() const {
@@ -40,8 +44,15 @@ void BlockedMonitor::Reset() {
 BlockedMonitor::Step BlockedMonitor::Update(double now_s, double speed_mps, double turn_rate_radps,
                                             bool has_goal) {
   Step step;
-  const bool moving = std::abs(speed_mps) >= options_.speed_mps ||
-                      std::abs(turn_rate_radps) >= options_.turn_rate_radps;
+  const double dt_s = std::max(0.0, now_s - last_s_);
+  bool moving = std::abs(speed_mps) >= options_.speed_mps;
+  if (slow_ && !moving) {
+    // On the spot: moving while the net turn keeps up with the rate.
+    net_turn_rad_ += turn_rate_radps * dt_s;
+    const double elapsed_s = now_s - slow_since_s_;
+    moving = elapsed_s >= kTurnWindowS &&
+             std::abs(net_turn_rad_) >= options_.turn_rate_radps * elapsed_s;
+  }
   if (!has_goal || moving) {
     Reset();  // the episode ended at the last slow sample
     last_s_ = now_s;
@@ -51,6 +62,7 @@ BlockedMonitor::Step BlockedMonitor::Update(double now_s, double speed_mps, doub
   if (!slow_) {
     slow_ = true;
     slow_since_s_ = now_s;
+    net_turn_rad_ = 0.0;
   }
   const double slow_s = now_s - slow_since_s_;
   if (!blocked_ && slow_s > options_.blocked_after_s) {

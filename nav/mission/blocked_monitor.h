@@ -13,7 +13,10 @@ struct BlockedMonitorOptions {
   double blocked_after_s = 5.0;  // not moving this long: blocked (issue 14), (0, 600]
   double replan_after_s = 10.0;  // blocked this long: replan, and again each period, (0, 600]
   double abort_after_s = 45.0;   // blocked this long: abort the mission, (0, 3600]
-  // Turning on the spot counts as moving at this rate (rad/s), (0, 10].
+  // Turning on the spot counts as moving while the net angle turned since
+  // the robot slowed down grows at this rate (rad/s), (0, 10]: a dither
+  // left and right in place is not progress (a Robox stood 267 s wedged
+  // against exhibit_09_kiosk, turning alternately faster than this).
   double turn_rate_radps = 0.05;
 
   void Validate() const;  // throws std::invalid_argument naming the field
@@ -28,8 +31,9 @@ class BlockedMonitor {
     bool replan = false;          // replan now
     bool abort = false;           // give the mission up
   };
-  // One sample at `now_s` of the robot's speed (m/s) and turn rate (rad/s);
-  // with no goal (dwelling, idle) the monitor resets.
+  // One sample at `now_s` of the robot's speed (m/s) and signed turn rate
+  // (rad/s, counter-clockwise positive); with no goal (dwelling, idle) the
+  // monitor resets.
   Step Update(double now_s, double speed_mps, double turn_rate_radps, bool has_goal);
   void Reset();
 
@@ -44,6 +48,7 @@ class BlockedMonitor {
   bool slow_ = false;
   bool blocked_ = false;
   double slow_since_s_ = 0.0;
+  double net_turn_rad_ = 0.0;  // turned since slow_since_s_, signed
   double last_s_ = 0.0;
   double next_replan_s_ = 0.0;
   bool abort_reported_ = false;

@@ -216,7 +216,7 @@ void NavigationController::Cycle(const ControlTick& tick) {
   const double dt_s = tick.now_s - last_cycle_s_;
   const double travelled_m = (tick.odometry.translation() - last_odometry_.translation()).norm();
   const double turned_rad =
-      std::abs(core::NormalizeAngle(tick.odometry.theta_rad - last_odometry_.theta_rad));
+      core::NormalizeAngle(tick.odometry.theta_rad - last_odometry_.theta_rad);
   if (cycled_) odometer_m_ += travelled_m;
   last_odometry_ = tick.odometry;
   last_cycle_s_ = tick.now_s;

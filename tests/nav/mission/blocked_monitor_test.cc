@@ -39,6 +39,27 @@ TEST(BlockedMonitorTest, TurningOrNoGoalIsNotBlocked) {
   EXPECT_EQ(m.time_blocked_s(), 0.0);
 }
 
+// Turning left and right in place, each faster than 0.05 rad/s but with no
+// net turn, is not progress: blocked after 5 s as if standing. Turning
+// steadily either way, or drifting round at 0.06 rad/s net, is.
+TEST(BlockedMonitorTest, ADitherInPlaceIsBlocked) {
+  BlockedMonitor dither{BlockedMonitorOptions{}};
+  int blocked_at = -1;
+  for (int k = 0; k <= 100; ++k) {
+    const double rate = k % 2 == 0 ? 0.3 : -0.3;
+    if (dither.Update(k * kDt, 0.005, rate, true).became_blocked && blocked_at < 0) blocked_at = k;
+  }
+  EXPECT_GE(blocked_at, 50);
+  EXPECT_LE(blocked_at, 53);
+  for (const double net : {0.06, -0.06, -0.3}) {
+    BlockedMonitor turning{BlockedMonitorOptions{}};
+    for (int k = 0; k <= 200; ++k) {
+      const double rate = net + (k % 2 == 0 ? 0.2 : -0.2);
+      EXPECT_FALSE(turning.Update(k * kDt, 0.0, rate, true).became_blocked) << net << " " << k;
+    }
+  }
+}
+
 // A pause shorter than 5 s is not an episode.
 TEST(BlockedMonitorTest, ShortStopIsNotBlocked) {
   BlockedMonitor m{BlockedMonitorOptions{}};
