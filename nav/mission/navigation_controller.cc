@@ -115,6 +115,8 @@ void NavigationControllerOptions::Validate() const {
           "in [0, 1e4] m");
   Require(fleet_station_clear_m >= 0.0 && fleet_station_clear_m <= 5.0, "fleet_station_clear_m",
           "in [0, 5] m");
+  Require(fleet_claim_margin_m >= 0.0 && fleet_claim_margin_m <= 2.0, "fleet_claim_margin_m",
+          "in [0, 2] m");
   Require(fleet_hull_margin_m >= 0.0 && fleet_hull_margin_m <= 0.5, "fleet_hull_margin_m",
           "in [0, 0.5] m");
   ghost_barrier.Validate();

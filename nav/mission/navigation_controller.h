@@ -83,6 +83,11 @@ struct NavigationControllerOptions {
   // this distance of a station of its tour claims it. Chosen: the issue's
   // "never two robots within 1 m of the same station node" plus 5 cm.
   double fleet_station_clear_m = 1.05;
+  // A station the band passes this much further than fleet_station_clear_m
+  // from, within FleetOptions::claim_ahead_m along the band, is claimed for
+  // passage too, m, [0, 2]. Chosen: the dynamic window steers to the band
+  // 1 m ahead and cuts its corners by up to a few decimetres.
+  double fleet_claim_margin_m = 0.3;
   // Every remaining station of the round taken this long: the robot proposes
   // a free station it visited before (MissionSequence::NextFree's revisit),
   // s, [0, 3600]. Chosen: a dwell — robots standing each at the station

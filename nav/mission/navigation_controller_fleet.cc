@@ -125,6 +125,12 @@ void NavigationController::UpdateClaims(const Eigen::Vector2d& at) {
       wanted.push_back(s);
     }
   }
+  // A station another robot holds: the robot waits before it and holds
+  // nothing beyond it (no claim on a way it cannot take yet).
+  const auto held_by_other = [&](int node) {
+    return !std::binary_search(claims_.begin(), claims_.end(), node) &&
+           fleet_.coordinator->board().ClaimedByOther(node, fleet_.robot);
+  };
   // Stations its plan reaches soon (the distance along the plan, as the weights).
   if (driving) {
     double along_m = 0.0;
@@ -135,13 +141,38 @@ void NavigationController::UpdateClaims(const Eigen::Vector2d& at) {
       if (along_m > o.claim_ahead_m) break;
       const std::optional<int> i = graph_.FindIndex(n.id);
       if (!i || !claimable(*i)) continue;
-      // A station another robot holds: the robot waits before it and holds
-      // nothing beyond it (no claim on a way it cannot take yet).
-      if (!std::binary_search(claims_.begin(), claims_.end(), *i) &&
-          fleet_.coordinator->board().ClaimedByOther(*i, fleet_.robot)) {
-        break;
-      }
+      if (held_by_other(*i)) break;
       wanted.push_back(*i);
+    }
+  }
+  // Stations its band passes near soon. The band, not the plan's straight
+  // legs, is the way the robot drives: in an hour-long expo_tours run a
+  // robot bound for station_05 went 2 m off its leg round an exhibit and
+  // crossed station_14's ring unclaimed in the same cycle as another passer.
+  if (driving && local_->has_band()) {
+    const double near_m = options_.fleet_station_clear_m + options_.fleet_claim_margin_m;
+    double along_m = 0.0;
+    Eigen::Vector2d from = at;
+    bool stop = false;
+    for (const Bubble& b : local_->band().bubbles()) {
+      if (stop || along_m >= o.claim_ahead_m) break;
+      // The band's stretch to this bubble, cut at claim_ahead_m.
+      const double length_m = (b.center - from).norm();
+      const Eigen::Vector2d to =
+          along_m + length_m <= o.claim_ahead_m
+              ? b.center
+              : Eigen::Vector2d(from +
+                                (b.center - from) * ((o.claim_ahead_m - along_m) / length_m));
+      for (int s : claimable_) {
+        if (core::PointSegmentDistance(graph_.position(s), from, to) > near_m) continue;
+        if (held_by_other(s)) {
+          stop = true;
+          break;
+        }
+        wanted.push_back(s);
+      }
+      along_m += length_m;
+      from = b.center;
     }
   }
   std::sort(wanted.begin(), wanted.end());

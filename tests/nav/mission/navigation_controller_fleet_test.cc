@@ -137,6 +137,57 @@ TEST(NavigationControllerFleet, APasserKeepsOutWhileAnotherRobotIsInsideTheStati
   EXPECT_LT(through.closest_to_station_m, 0.2);
 }
 
+// Passage claims follow the band, not only the plan's nodes
+// (NavigationControllerOptions::fleet_claim_margin_m): the way a -> b passes
+// 1.2 m from station t, which is on no plan of robot 0's. Robot 0 claims t
+// ahead of passing it (before its centre is within the 1.05 m ring, so that a
+// second passer would find it held) and gives it up once past.
+TEST(NavigationControllerFleet, ClaimsAStationItsBandPassesNearAndReleasesItPast) {
+  core::RobotMap map;
+  map.name = "aside";
+  map.nodes.push_back({"a", {0.0, 0.0, 0.0}, true});
+  map.nodes.push_back({"b", {8.0, 0.0, 0.0}, true});
+  map.nodes.push_back({"t", {4.0, 1.2, 0.0}, true});
+  map.edges.push_back({"a", "b", 8.0});
+  map.edges.push_back({"t", "b", 4.2});
+  constexpr int kT = 2;
+  const Eigen::Vector2d t_at(4.0, 1.2);
+  NavigationControllerOptions options;
+  options.step_s = kStepS;
+  FleetCoordinator coordinator(1, FleetOptions{});
+  coordinator.SetStations({"a", "b", "t"});
+  NavigationController controller(map, Square(), MissionSequence::List({"b"}), options);
+  controller.SetFleet({&coordinator, 0});
+  core::Pose2 pose{0.0, 0.0, 0.0};
+  WheelSpeeds held;
+  double first_claim_m = -1.0;  // robot 0's distance to t when it first claims t
+  double closest_m = std::numeric_limits<double>::infinity();
+  for (std::int64_t tick = 0; tick * kStepS < 40.0; ++tick) {
+    const double now_s = tick * kStepS;
+    if (const std::optional<WheelSpeeds> w =
+            controller.OnTick(ControlTick{tick, now_s, pose, pose, false})) {
+      held = *w;
+    }
+    coordinator.Merge();
+    const std::vector<int>& claims = coordinator.board().message(0).claims;
+    const double d_m = (pose.translation() - t_at).norm();
+    closest_m = std::min(closest_m, d_m);
+    if (first_claim_m < 0.0 && std::count(claims.begin(), claims.end(), kT) > 0) {
+      first_claim_m = d_m;
+    }
+    const core::WheelTravel travel{
+        held.left_radps * options.odometry.left_wheel_radius_m * kStepS,
+        held.right_radps * options.odometry.right_wheel_radius_m * kStepS};
+    pose = core::DiffDriveStep(pose, travel, options.odometry.wheelbase_m);
+  }
+  EXPECT_EQ(controller.navigation()->missions_completed, 1);
+  EXPECT_LT(closest_m, 1.35);  // the way does pass near t
+  ASSERT_GT(first_claim_m, 0.0) << "t was never claimed";
+  EXPECT_GT(first_claim_m, 1.5);  // ahead, not on entering the ring
+  const std::vector<int>& last = coordinator.board().message(0).claims;
+  EXPECT_EQ(std::count(last.begin(), last.end(), kT), 0);  // released past it
+}
+
 // Goal coordination's revisit (NavigationControllerOptions::station_wait_s):
 // robot 0 tours a, s, b and c; robots 1 and 2 hold s and b for good (they
 // stand far away). Robot 0 visits a and c, finds the rest of its round taken,
