@@ -151,11 +151,19 @@ void NavigationController::UpdateClaims(const Eigen::Vector2d& at) {
   // crossed station_14's ring unclaimed in the same cycle as another passer.
   if (driving && local_->has_band()) {
     const double near_m = options_.fleet_station_clear_m + options_.fleet_claim_margin_m;
+    // Claims the stations near the stretch a-b; false at one another robot holds.
+    const auto claim_near = [&](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+      for (int s : claimable_) {
+        if (core::PointSegmentDistance(graph_.position(s), a, b) > near_m) continue;
+        if (held_by_other(s)) return false;
+        wanted.push_back(s);
+      }
+      return true;
+    };
     double along_m = 0.0;
     Eigen::Vector2d from = at;
-    bool stop = false;
     for (const Bubble& b : local_->band().bubbles()) {
-      if (stop || along_m >= o.claim_ahead_m) break;
+      if (along_m >= o.claim_ahead_m) break;
       // The band's stretch to this bubble, cut at claim_ahead_m.
       const double length_m = (b.center - from).norm();
       const Eigen::Vector2d to =
@@ -163,14 +171,7 @@ void NavigationController::UpdateClaims(const Eigen::Vector2d& at) {
               ? b.center
               : Eigen::Vector2d(from +
                                 (b.center - from) * ((o.claim_ahead_m - along_m) / length_m));
-      for (int s : claimable_) {
-        if (core::PointSegmentDistance(graph_.position(s), from, to) > near_m) continue;
-        if (held_by_other(s)) {
-          stop = true;
-          break;
-        }
-        wanted.push_back(s);
-      }
+      if (!claim_near(from, to)) break;
       along_m += length_m;
       from = b.center;
     }

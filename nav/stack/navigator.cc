@@ -5,15 +5,19 @@
 
 namespace pavilion::nav {
 
+void NavigatorOptions::Validate() const {
+  if (!(fallback_settle_s >= 0.0 && fallback_settle_s <= 600.0)) {
+    throw std::invalid_argument("NavigatorOptions.fallback_settle_s must be in [0, 600] s");
+  }
+}
+
 Navigator::Navigator(const NavigatorOptions& options, std::unique_ptr<PoseEstimator> estimator,
                      std::unique_ptr<Controller> controller)
     : odometry_(options.odometry, options.start_pose),
       estimator_(std::move(estimator)),
       controller_(std::move(controller)),
       fallback_settle_s_(options.fallback_settle_s) {
-  if (!(fallback_settle_s_ >= 0.0 && fallback_settle_s_ <= 600.0)) {
-    throw std::invalid_argument("NavigatorOptions.fallback_settle_s must be in [0, 600] s");
-  }
+  options.Validate();
 }
 
 void Navigator::TrackLoss(double now_s) {

@@ -32,6 +32,8 @@ struct NavigatorOptions {
   // still good relocalizes where it stands instead of turning blind into
   // what is beside it. 0: the fallback drives at once.
   double fallback_settle_s = 0.0;
+
+  void Validate() const;  // throws std::invalid_argument naming the field
 };
 
 // The readings of one tick, in the order the sensors produced them.
