@@ -123,6 +123,9 @@ void CheckFeatures(const RobotMap& map) {
   for (const MapBeacon& b : map.beacons) {
     unique_feature("beacon", b.id);
     CheckPoint(b.point, "beacon", b.id, "position");
+    if (!(std::isfinite(b.radius_m) && b.radius_m >= 0.0)) {
+      Fail("beacon", b.id, "radius", "must be finite and >= 0");
+    }
   }
 }
 

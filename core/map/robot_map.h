@@ -54,6 +54,7 @@ struct MapPoint {
 struct MapBeacon {
   std::string id;
   Point2Uncertain point;
+  double radius_m = 0.0;  // 0 for a marker on a face; a foil-wrapped column's radius otherwise
 };
 
 // Topology for the navigation layer (§6.3.1): station nodes are goals with a

@@ -77,29 +77,101 @@ std::vector<Eigen::Vector2d> FillGhostBarriers(std::span<const Eigen::Vector2d> 
   return filled;
 }
 
+ScanObstacles::Buckets::Buckets(std::span<const Eigen::Vector2d> points) {
+  if (points.empty()) return;
+  Eigen::Vector2d lo = points.front(), hi = points.front();
+  for (const Eigen::Vector2d& p : points) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  origin = lo;
+  size = ((hi - lo) / kBucketM).array().floor().cast<int>() + 1;
+  cells.resize(static_cast<std::size_t>(size.x()) * size.y());
+  for (const Eigen::Vector2d& p : points) {
+    const Eigen::Vector2i cell = ((p - lo) / kBucketM).array().floor().cast<int>();
+    cells[static_cast<std::size_t>(cell.y()) * size.x() + cell.x()].push_back(p);
+  }
+}
+
+template <typename Visit>
+void ScanObstacles::Buckets::ForEachNear(const Eigen::Vector2d& centre, double reach_m,
+                                         Visit&& visit) const {
+  if (cells.empty()) return;
+  const double reach2 = reach_m * reach_m;
+  const Eigen::Vector2d lo = (centre.array() - reach_m - origin.array()) / kBucketM;
+  const Eigen::Vector2d hi = (centre.array() + reach_m - origin.array()) / kBucketM;
+  const int x0 = std::max(0, static_cast<int>(std::floor(lo.x())));
+  const int y0 = std::max(0, static_cast<int>(std::floor(lo.y())));
+  const int x1 = std::min(size.x() - 1, static_cast<int>(std::floor(hi.x())));
+  const int y1 = std::min(size.y() - 1, static_cast<int>(std::floor(hi.y())));
+  for (int y = y0; y <= y1; ++y) {
+    for (int x = x0; x <= x1; ++x) {
+      for (const Eigen::Vector2d& p : cells[static_cast<std::size_t>(y) * size.x() + x]) {
+        if ((p - centre).squaredNorm() <= reach2) visit(p);
+      }
+    }
+  }
+}
+
+std::vector<Eigen::Vector2d> MapOutline(const core::RobotMap& map, double spacing_m,
+                                        double clearance_m) {
+  if (!(spacing_m > 0.0)) throw std::invalid_argument("MapOutline: spacing_m must be > 0");
+  if (!(clearance_m >= 0.0 && clearance_m <= 0.2)) {
+    throw std::invalid_argument("MapOutline: clearance_m must be in [0, 0.2] m");
+  }
+  std::vector<Eigen::Vector2d> outline;
+  const auto sample_circle = [&](const Eigen::Vector2d& centre, double radius_m) {
+    const int n =
+        std::max(kGhostRingPoints,
+                 static_cast<int>(std::ceil(2.0 * std::numbers::pi * radius_m / spacing_m)));
+    for (int k = 0; k < n; ++k) {
+      const double a = 2.0 * std::numbers::pi * k / n;
+      outline.push_back(centre + radius_m * Eigen::Vector2d(std::cos(a), std::sin(a)));
+    }
+  };
+  // A face moved clearance_m towards the side it is seen from (eq. B.4: the
+  // points p with n(alpha) . p < r), its two ends rounded off.
+  const auto sample_face = [&](const core::Line& line, const Eigen::Vector2d& a,
+                               const Eigen::Vector2d& b) {
+    const Eigen::Vector2d off =
+        -clearance_m * Eigen::Vector2d(std::cos(line.alpha_rad), std::sin(line.alpha_rad));
+    const int n = std::max(1, static_cast<int>(std::ceil((b - a).norm() / spacing_m)));
+    for (int k = 0; k <= n; ++k) outline.push_back(a + (double(k) / n) * (b - a) + off);
+    if (clearance_m > 0.0) {
+      sample_circle(a, clearance_m);
+      sample_circle(b, clearance_m);
+    }
+  };
+  for (const core::MapSegment& s : map.segments) {
+    sample_face(s.line, s.first_endpoint.position_m, s.second_endpoint.position_m);
+  }
+  for (const core::MapMultiSegmentLine& line : map.multi_segment_lines) {
+    for (const auto& [first, second] : line.segments) {
+      sample_face(line.line, first.position_m, second.position_m);
+    }
+  }
+  for (const core::MapPoint& p : map.points) {
+    if (p.radius_m > 0.0) sample_circle(p.point.position_m, p.radius_m + clearance_m);
+  }
+  for (const core::MapBeacon& b : map.beacons) {
+    if (b.radius_m > 0.0) sample_circle(b.point.position_m, b.radius_m + clearance_m);
+  }
+  return outline;
+}
+
 ScanObstacles::ScanObstacles(std::vector<Eigen::Vector2d> footprint_in_robot,
                              std::vector<Eigen::Vector2d> ghosts_in_world, double blind_memory_s,
                              const GhostBarrier& barrier)
     : footprint_(std::move(footprint_in_robot)),
       ghosts_in_world_(std::move(ghosts_in_world)),
+      barriers_(FillGhostBarriers(ghosts_in_world_, barrier)),
       blind_memory_s_(blind_memory_s) {
   footprint_convex_ = IsConvexCounterClockwise(footprint_);
-  if (footprint_convex_) footprint_radius_m_ = Circumradius(footprint_);
-  const std::vector<Eigen::Vector2d> filled = FillGhostBarriers(ghosts_in_world_, barrier);
-  if (filled.empty()) return;
-  Eigen::Vector2d lo = filled.front(), hi = filled.front();
-  for (const Eigen::Vector2d& p : filled) {
-    lo = lo.cwiseMin(p);
-    hi = hi.cwiseMax(p);
-  }
-  barrier_origin_ = lo;
-  barrier_size_ = ((hi - lo) / kBucketM).array().floor().cast<int>() + 1;
-  barrier_buckets_.resize(static_cast<std::size_t>(barrier_size_.x()) * barrier_size_.y());
-  for (const Eigen::Vector2d& p : filled) {
-    const Eigen::Vector2i cell = ((p - lo) / kBucketM).array().floor().cast<int>();
-    barrier_buckets_[static_cast<std::size_t>(cell.y()) * barrier_size_.x() + cell.x()].push_back(
-        p);
-  }
+  footprint_radius_m_ = Circumradius(footprint_);
+}
+
+void ScanObstacles::SetMapOutline(std::span<const Eigen::Vector2d> outline_in_world) {
+  outline_ = Buckets(outline_in_world);
 }
 
 void ScanObstacles::AddScan(const core::LaserScan& scan, const core::Pose2& odom_from_robot) {
@@ -175,29 +247,24 @@ void ScanObstacles::InRobot(const core::Pose2& odom_from_robot, const core::Pose
       if (q.squaredNorm() <= reach2 && !Covered(q)) points_in_robot->push_back(q);
     }
   }
-  if (barrier_buckets_.empty()) return;
   const core::Pose2 robot_from_world = world_from_robot.Inverse();
   const Eigen::Vector2d centre = world_from_robot.translation();
-  const Eigen::Vector2d lo = (centre.array() - reach_m - barrier_origin_.array()) / kBucketM;
-  const Eigen::Vector2d hi = (centre.array() + reach_m - barrier_origin_.array()) / kBucketM;
-  const int x0 = std::max(0, static_cast<int>(std::floor(lo.x())));
-  const int y0 = std::max(0, static_cast<int>(std::floor(lo.y())));
-  const int x1 = std::min(barrier_size_.x() - 1, static_cast<int>(std::floor(hi.x())));
-  const int y1 = std::min(barrier_size_.y() - 1, static_cast<int>(std::floor(hi.y())));
-  for (int y = y0; y <= y1; ++y) {
-    for (int x = x0; x <= x1; ++x) {
-      for (const Eigen::Vector2d& g :
-           barrier_buckets_[static_cast<std::size_t>(y) * barrier_size_.x() + x]) {
-        if ((g - centre).squaredNorm() > reach2) continue;
-        const Eigen::Vector2d q = robot_from_world * g;
-        if (footprint_convex_ && q.norm() < footprint_radius_m_) {
-          Eigen::Vector2d normal;
-          if (SignedDistance(footprint_, q, &normal) < -kGhostInsideM) continue;
-        }
-        points_in_robot->push_back(q);
-      }
-    }
-  }
+  // A map point deeper than kGhostInsideM in the polygon cannot be where the
+  // belief puts it.
+  const auto under_robot = [&](const Eigen::Vector2d& q) {
+    if (!footprint_convex_ || q.norm() >= footprint_radius_m_) return false;
+    Eigen::Vector2d normal;
+    return SignedDistance(footprint_, q, &normal) < -kGhostInsideM;
+  };
+  barriers_.ForEachNear(centre, reach_m, [&](const Eigen::Vector2d& g) {
+    const Eigen::Vector2d q = robot_from_world * g;
+    if (!under_robot(q)) points_in_robot->push_back(q);
+  });
+  outline_.ForEachNear(centre, std::min(reach_m, footprint_radius_m_ + kOutlineReachM),
+                       [&](const Eigen::Vector2d& w) {
+                         const Eigen::Vector2d q = robot_from_world * w;
+                         if (!Covered(q) && !under_robot(q)) points_in_robot->push_back(q);
+                       });
 }
 
 bool ScanObstacles::Covered(const Eigen::Vector2d& point_in_robot) const {

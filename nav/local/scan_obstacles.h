@@ -32,6 +32,14 @@
 // dynamic window keeps its safety margin plus clearance_m from them. The
 // local grid, whose robot-circle dilation closes such gaps anyway, gets the
 // map's points alone.
+//
+// The blind zones also get the map's solids: its segments and round columns
+// (MapOutline), placed by the belief as ghost points are, where no laser's
+// field of view covers them now and within kOutlineReachM of the hull. The
+// memory of readings cannot tell a pedestal from a robot that has gone; the
+// map can. A Robox blocked for half a minute crept at 5-18 mm/s along a
+// pedestal whose face beside its flank no laser saw and the memory had
+// forgotten, and touched it (docs/benchmarks.md, "Blind sides from the map").
 
 #include <Eigen/Core>
 #include <optional>
@@ -75,6 +83,25 @@ inline constexpr int kGhostRingPoints = 8;
 std::vector<Eigen::Vector2d> FillGhostBarriers(std::span<const Eigen::Vector2d> ghosts,
                                                const GhostBarrier& barrier);
 
+// The map's solids as points at most `spacing_m` apart: its segments and
+// multi-segment members, and the outlines of its points and beacons with a
+// radius (columns). Like the ghost barriers, they are drawn `clearance_m`
+// off the solid, on the side a laser sees it from (segments: eq. B.4's
+// visibility; their ends get a ring of that radius; columns: a larger
+// radius), since the belief that places them is a centimetre or two off
+// (docs/benchmarks.md: a Robox 1.5 cm off turned its flank into a showcase's
+// face). `spacing_m` > 0, `clearance_m` in [0, 0.2].
+std::vector<Eigen::Vector2d> MapOutline(const core::RobotMap& map, double spacing_m,
+                                        double clearance_m = 0.0);
+
+// The map outline's spacing, m. Chosen: as GhostBarrier::fill_m, a corner
+// then reaches 1.5 cm between two points, inside the window's 2 cm margin.
+inline constexpr double kOutlineSpacingM = 0.03;
+// Outline points farther than this from the robot's polygon (its
+// circumradius plus this) are left out, m: the blind zones that matter lie
+// alongside the hull, and farther out a laser sees the solid anyway.
+inline constexpr double kOutlineReachM = 0.5;
+
 // A remembered reading is dropped this long after its scan even if the robot
 // has not moved since, s.
 inline constexpr double kBlindMemoryCapS = 20.0;
@@ -95,12 +122,16 @@ class ScanObstacles {
                 std::vector<Eigen::Vector2d> ghosts_in_world, double blind_memory_s = 1.0,
                 const GhostBarrier& barrier = {});
 
+  // The map's solids (MapOutline) the blind zones get, in the world frame.
+  void SetMapOutline(std::span<const Eigen::Vector2d> outline_in_world);
+
   // Replaces the points of `scan`'s laser; `odom_from_robot` is the robot's
   // odometry pose when the scan arrived.
   void AddScan(const core::LaserScan& scan, const core::Pose2& odom_from_robot);
 
-  // The laser points, the remembered blind-zone points and the filled ghost
-  // barriers within `reach_m` of the robot, in the robot frame (the dynamic
+  // The laser points, the remembered blind-zone points, the filled ghost
+  // barriers and the blind zones' map outline within `reach_m` of the robot,
+  // in the robot frame (the dynamic
   // window's input). `world_from_robot` is the belief, `odom_from_robot` the odometry
   // pose, both now.
   void InRobot(const core::Pose2& odom_from_robot, const core::Pose2& world_from_robot,
@@ -129,16 +160,25 @@ class ScanObstacles {
   // True when a laser's current field of view covers the point (robot frame).
   bool Covered(const Eigen::Vector2d& point_in_robot) const;
 
+  // Points in square buckets of kBucketM, row-major over origin .. + size * kBucketM.
+  struct Buckets {
+    static constexpr double kBucketM = 1.0;
+    std::vector<std::vector<Eigen::Vector2d>> cells;
+    Eigen::Vector2d origin = Eigen::Vector2d::Zero();
+    Eigen::Vector2i size = Eigen::Vector2i::Zero();  // buckets along x, y
+
+    explicit Buckets(std::span<const Eigen::Vector2d> points = {});
+    // Calls visit(p) for every point within `reach_m` of `centre`.
+    template <typename Visit>
+    void ForEachNear(const Eigen::Vector2d& centre, double reach_m, Visit&& visit) const;
+  };
+
   std::vector<Eigen::Vector2d> footprint_;
   bool footprint_convex_ = false;  // the ghost test of kGhostInsideM needs a convex polygon
   double footprint_radius_m_ = 0.0;
   std::vector<Eigen::Vector2d> ghosts_in_world_;
-  // FillGhostBarriers(ghosts_in_world_) in square buckets of kBucketM,
-  // row-major over barrier_origin_ .. + barrier_buckets_ * kBucketM.
-  static constexpr double kBucketM = 1.0;
-  std::vector<std::vector<Eigen::Vector2d>> barrier_buckets_;
-  Eigen::Vector2d barrier_origin_ = Eigen::Vector2d::Zero();
-  Eigen::Vector2i barrier_size_ = Eigen::Vector2i::Zero();  // buckets along x, y
+  Buckets barriers_;  // FillGhostBarriers(ghosts_in_world_)
+  Buckets outline_;   // SetMapOutline's points
   double blind_memory_s_;
   // The motion clock: scan time during which the robot moved.
   double motion_clock_s_ = 0.0;

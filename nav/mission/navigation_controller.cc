@@ -144,6 +144,10 @@ NavigationController::NavigationController(core::RobotMap map,
       deadlock_(options.deadlock, options.seed) {
   options_.Validate();
   walls_ = MapWalls(map_);
+  if (options_.blind_map_outline) {
+    obstacles_.SetMapOutline(
+        MapOutline(map_, kOutlineSpacingM, options_.ghost_barrier.clearance_m));
+  }
   for (const core::MapBeacon& b : map_.beacons) map_beacons_.push_back(b.point.position_m);
   queue_.SetWalls(walls_, options_.local.band.robot_radius_m);
   local_ = std::make_unique<LocalPlanner>(options_.local, MakeInitialPlanner(options_));

@@ -93,6 +93,10 @@ struct NavigationControllerOptions {
   // s, [0, 3600]. Chosen: a dwell — robots standing each at the station
   // another still has to visit otherwise wait for good.
   double station_wait_s = 10.0;
+  // The dynamic window's blind zones get the map's segments and columns
+  // (ScanObstacles::SetMapOutline), placed by the belief and drawn
+  // ghost_barrier.clearance_m off them.
+  bool blind_map_outline = true;
   // Robots seeing robots (§6.3.5.1): the markers of other robots in the scans
   // become virtual robot contours for the dynamic window and the band, held
   // `contour_hold_s` after their laser last saw them (the blind zones). Off

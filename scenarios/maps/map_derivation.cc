@@ -669,7 +669,8 @@ class MapDeriver {
       element_seen_[c.element] = 1;
       const core::Point2Uncertain centre{RoundPosition(Measure(c.center_m)), point_cov_};
       if (elements_[c.element].laser == core::LaserResponse::kRetroReflective) {
-        map_.beacons.push_back({elements_[c.element].id, centre});
+        map_.beacons.push_back(
+            {elements_[c.element].id, centre, core::RoundDecimals(c.radius_m, kPositionDecimals)});
       } else {
         map_.points.push_back(
             {elements_[c.element].id, centre, core::RoundDecimals(c.radius_m, kPositionDecimals)});

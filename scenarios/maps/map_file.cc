@@ -192,7 +192,8 @@ void ReadFeature(YamlDocument* doc, MapReader& r, std::set<std::string>* ids, co
     if (id && p) map->points.push_back({*id, *p, radius});
   } else if (type == "beacon") {
     auto p = UncertainPoint(doc, r, "position", "cov");
-    if (id && p) map->beacons.push_back({*id, *p});
+    const double radius = r.Number("radius", 0.0, 0.0, 1e3);
+    if (id && p) map->beacons.push_back({*id, *p, radius});
   }
   // An unknown type was reported by Choice(); its other keys are not checked.
   if (type.empty()) {
@@ -416,6 +417,7 @@ std::string RobotMapToYaml(const core::RobotMap& map) {
     out.append("  - type: beacon\n    id: ").append(b.id).append("\n");
     out.append("    position: ").append(Vec(b.point.position_m)).append("\n");
     out.append("    cov: ").append(Cov(b.point.covariance)).append("\n");
+    if (b.radius_m > 0.0) out.append("    radius: ").append(Num(b.radius_m)).append("\n");
   }
   out.append(map.nodes.empty() ? "nodes: []\n" : "nodes:\n");
   for (const core::MapNode& n : map.nodes) {

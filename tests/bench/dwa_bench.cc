@@ -12,12 +12,18 @@
 // ghost outline (points every 0.25 m, as `pavilion map derive` puts them)
 // filled and thickened as the navigation gives it to the window
 // (nav::FillGhostBarriers), its near face 6 cm beside the octagon's flank.
+// BM_ScanObstaclesInRobot/{0,1}: gathering the window's points
+// (nav::ScanObstacles::InRobot) from two back-to-back 180-degree scans of the
+// corridor, 20 ghost points, and (/1) the blind zones' map outline
+// (nav::MapOutline of the corridor's two 20 m walls and a 0.25 m column, 2 cm
+// clearance) with the robot 0.6 m from one wall and beside the column.
 #include <benchmark/benchmark.h>
 
 #include <cmath>
 #include <numbers>
 #include <vector>
 
+#include "core/map/robot_map.h"
 #include "nav/local/scan_obstacles.h"
 #include "nav/reactive/dynamic_window.h"
 
@@ -148,5 +154,63 @@ void BM_DynamicWindowChooseBesideVitrine(benchmark::State& state) {
   RunChoose(state, nav::ClearanceGeometry::kLookupTable, Scene::kBesideVitrine);
 }
 BENCHMARK(BM_DynamicWindowChooseBesideVitrine)->Unit(benchmark::kMicrosecond);
+
+// The corridor's walls (y = ±1.2 m) in a 180-degree scan from a scanner
+// mounted at (mount_x_m, 0) looking along heading_rad, the robot's centre at
+// y = offset_y_m and heading along x: Robox's lasers back to back 0.22 m ahead
+// of and behind its centre, with blind zones along its flanks.
+core::LaserScan HalfScan(const char* id, double mount_x_m, double heading_rad, double offset_y_m) {
+  core::LaserScan scan;
+  scan.sensor_id = id;
+  scan.max_range_m = kMaxRange_m;
+  scan.robot_from_sensor = core::Pose2(mount_x_m, 0.0, heading_rad);
+  for (int i = 0; i <= kReadings / 2; ++i) {
+    const double bearing = -kPi / 2.0 + i * (2.0 * kPi / kReadings);
+    const double a = bearing + heading_rad;
+    core::LaserReading r;
+    r.bearing_rad = bearing;
+    const double sy = std::sin(a);
+    const double wall = sy > 0.0 ? kHalfWidth_m - offset_y_m : -kHalfWidth_m - offset_y_m;
+    const double t = sy != 0.0 ? wall / sy : kMaxRange_m;
+    r.valid = t > 0.0 && t < kMaxRange_m;
+    r.range_m = r.valid ? t : kMaxRange_m;
+    scan.readings.push_back(r);
+  }
+  return scan;
+}
+
+void BM_ScanObstaclesInRobot(benchmark::State& state) {
+  const bool outline = state.range(0) != 0;
+  constexpr double kOffsetY_m = 0.6;  // the robot 0.6 m from the wall at y = +1.2
+  std::vector<Eigen::Vector2d> ghosts;
+  for (int k = 0; k < kGhostPoints; ++k) ghosts.emplace_back(3.0 + 0.1 * k, 0.9);
+  nav::ScanObstacles obstacles(Octagon(), ghosts);
+  if (outline) {
+    core::RobotMap map;
+    for (const double y : {kHalfWidth_m, -kHalfWidth_m}) {
+      core::MapSegment wall;
+      wall.line.alpha_rad = y > 0.0 ? kPi / 2.0 : -kPi / 2.0;
+      wall.line.r_m = std::abs(y);
+      wall.first_endpoint.position_m = {-10.0, y};
+      wall.second_endpoint.position_m = {10.0, y};
+      map.segments.push_back(wall);
+    }
+    core::MapPoint column;
+    column.point.position_m = {0.0, -0.1};  // its face 0.45 m right of the centre
+    column.radius_m = 0.25;
+    map.points.push_back(column);
+    obstacles.SetMapOutline(nav::MapOutline(map, nav::kOutlineSpacingM, 0.02));
+  }
+  const core::Pose2 pose(0.0, kHalfWidth_m - kOffsetY_m, 0.0);
+  obstacles.AddScan(HalfScan("front", 0.22, 0.0, pose.y_m), pose);
+  obstacles.AddScan(HalfScan("rear", -0.22, kPi, pose.y_m), pose);
+  std::vector<Eigen::Vector2d> points;
+  for (auto _ : state) {
+    obstacles.InRobot(pose, pose, 3.0, &points);
+    benchmark::DoNotOptimize(points.data());
+  }
+  state.counters["points"] = static_cast<double>(points.size());
+}
+BENCHMARK(BM_ScanObstaclesInRobot)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 
 }  // namespace

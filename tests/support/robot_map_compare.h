@@ -80,6 +80,7 @@ inline void ExpectSameMap(const core::RobotMap& a, const core::RobotMap& b,
   for (std::size_t i = 0; i < a.beacons.size(); ++i) {
     EXPECT_EQ(a.beacons[i].id, b.beacons[i].id);
     ExpectSamePoint(a.beacons[i].point, b.beacons[i].point, tol);
+    EXPECT_LE(std::abs(a.beacons[i].radius_m - b.beacons[i].radius_m), tol.position_m);
   }
   ASSERT_EQ(a.nodes.size(), b.nodes.size());
   for (std::size_t i = 0; i < a.nodes.size(); ++i) {

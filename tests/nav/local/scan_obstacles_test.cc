@@ -14,6 +14,7 @@
 
 #include "core/geometry/polygon.h"
 #include "core/geometry/segment2.h"
+#include "core/map/robot_map.h"
 #include "core/types/pose2.h"
 #include "core/types/sensor_data.h"
 #include "nav/reactive/swept_polygon.h"
@@ -289,6 +290,139 @@ TEST(ScanObstacles, LeavesOutGhostsDeepUnderTheRobot) {
       EXPECT_LT(window.size(), filled.size());
     }
   }
+}
+
+// The map's solids as points: a segment's points lie on it at most the
+// spacing apart, end to end; a column's on its circle; a marker without a
+// radius and an infinite line are not solids.
+TEST(MapOutline, SamplesSegmentsMembersAndColumnsAtTheSpacing) {
+  core::RobotMap map;
+  core::MapSegment seg;
+  seg.first_endpoint.position_m = {0.0, 0.0};
+  seg.second_endpoint.position_m = {1.0, 0.0};
+  map.segments.push_back(seg);
+  core::MapMultiSegmentLine wall;
+  wall.segments.push_back({{}, {}});
+  wall.segments.back().first.position_m = {0.0, 2.0};
+  wall.segments.back().second.position_m = {0.5, 2.0};
+  map.multi_segment_lines.push_back(wall);
+  core::MapPoint column;
+  column.point.position_m = {5.0, 5.0};
+  column.radius_m = 0.25;
+  map.points.push_back(column);
+  core::MapPoint edge;  // a vertical edge: no radius
+  edge.point.position_m = {7.0, 7.0};
+  map.points.push_back(edge);
+  core::MapBeacon foil;
+  foil.point.position_m = {-5.0, 5.0};
+  foil.radius_m = 0.25;
+  map.beacons.push_back(foil);
+  core::MapBeacon marker;
+  marker.point.position_m = {-7.0, -7.0};
+  map.beacons.push_back(marker);
+  map.lines.push_back({});
+
+  const double spacing = 0.03;
+  const std::vector<Eigen::Vector2d> outline = MapOutline(map, spacing);
+  // ceil(1 / 0.03) = 34 pieces (35 points), ceil(0.5 / 0.03) = 17 (18 points),
+  // two circles of ceil(2π 0.25 / 0.03) = 53 points.
+  ASSERT_EQ(outline.size(), 35u + 18u + 2u * 53u);
+  for (double x = 0.0; x <= 1.0; x += 0.001) {
+    double nearest = 1e9;
+    for (const Eigen::Vector2d& p : outline) {
+      nearest = std::min(nearest, (p - Eigen::Vector2d(x, 0.0)).norm());
+    }
+    EXPECT_LE(nearest, 0.5 * spacing + 1e-9) << "x " << x;
+  }
+  for (const Eigen::Vector2d& p : outline) {
+    const bool on_segment = std::abs(p.y()) < 1e-12 && p.x() >= 0.0 && p.x() <= 1.0;
+    const bool on_member = std::abs(p.y() - 2.0) < 1e-12 && p.x() >= 0.0 && p.x() <= 0.5;
+    const bool on_column = std::abs((p - Eigen::Vector2d(5, 5)).norm() - 0.25) < 1e-12;
+    const bool on_foil = std::abs((p - Eigen::Vector2d(-5, 5)).norm() - 0.25) < 1e-12;
+    EXPECT_TRUE(on_segment || on_member || on_column || on_foil) << p.transpose();
+  }
+  EXPECT_THROW(MapOutline(map, 0.0), std::invalid_argument);
+}
+
+// With a clearance, a face is drawn that far towards the side it is seen
+// from, its ends rounded off, and a column that much larger: the belief that
+// places them may be off by as much.
+TEST(MapOutline, DrawsTheClearanceOnTheSideTheSolidIsSeenFrom) {
+  core::RobotMap map;
+  core::MapSegment face;  // y = 1, x 0..1, seen from below (n(alpha) . p < r)
+  face.line.alpha_rad = kPi / 2.0;
+  face.line.r_m = 1.0;
+  face.first_endpoint.position_m = {1.0, 1.0};
+  face.second_endpoint.position_m = {0.0, 1.0};
+  map.segments.push_back(face);
+  core::MapPoint column;
+  column.point.position_m = {5.0, 5.0};
+  column.radius_m = 0.25;
+  map.points.push_back(column);
+  const double c = 0.02;
+  const std::vector<Eigen::Vector2d> outline = MapOutline(map, 0.03, c);
+  // 35 points along the face, a ring at either end, the column's circle.
+  const int column_points = static_cast<int>(std::ceil(2.0 * kPi * (0.25 + c) / 0.03));
+  EXPECT_EQ(outline.size(), 35u + 2u * kGhostRingPoints + column_points);
+  int below_face = 0;
+  for (const Eigen::Vector2d& p : outline) {
+    const double to_ends =
+        std::min((p - Eigen::Vector2d(0, 1)).norm(), (p - Eigen::Vector2d(1, 1)).norm());
+    const bool on_face =
+        std::abs(p.y() - (1.0 - c)) < 1e-12 && p.x() >= -1e-12 && p.x() <= 1.0 + 1e-12;
+    const bool at_end = std::abs(to_ends - c) < 1e-12;
+    const bool on_column = std::abs((p - Eigen::Vector2d(5, 5)).norm() - (0.25 + c)) < 1e-12;
+    EXPECT_TRUE(on_face || at_end || on_column) << p.transpose();
+    below_face += on_face ? 1 : 0;
+  }
+  // The face's 35 and each ring's point straight below its end.
+  EXPECT_EQ(below_face, 35 + 2);
+  EXPECT_THROW(MapOutline(map, 0.03, -0.01), std::invalid_argument);
+}
+
+// The blind zones get the map's solids, the lasers' fields of view do not (a
+// laser reads them there), and only alongside the hull: a wall beside a robot
+// whose laser looks ahead is in the window's points though no scan ever saw
+// it, and drops out once the robot turns the laser onto it.
+TEST(ScanObstacles, TheBlindZonesGetTheMapsSolidsAlongsideTheHull) {
+  core::RobotMap map;
+  core::MapSegment wall;  // along y = -0.4, x from -1 to 3
+  wall.first_endpoint.position_m = {-1.0, -0.4};
+  wall.second_endpoint.position_m = {3.0, -0.4};
+  map.segments.push_back(wall);
+  ScanObstacles obstacles(kSquareFootprint, {});
+  obstacles.SetMapOutline(MapOutline(map, kOutlineSpacingM));
+  core::LaserScan ahead = WallAhead("front", 0.0, 1.0);  // ±0.5 rad ahead
+  for (core::LaserReading& r : ahead.readings) r.valid = false;
+  const core::Pose2 robot(0.0, 0.0, 0.0);
+  obstacles.AddScan(ahead, robot);
+  std::vector<Eigen::Vector2d> window;
+  obstacles.InRobot(robot, robot, 3.0, &window);
+  ASSERT_FALSE(window.empty());
+  const double reach = Circumradius(kSquareFootprint) + kOutlineReachM;
+  bool beside = false;
+  for (const Eigen::Vector2d& q : window) {
+    EXPECT_NEAR(q.y(), -0.4, 1e-9);
+    EXPECT_LE(q.norm(), reach + 1e-9);  // alongside the hull only
+    // Not in the laser's field of view: |bearing| > 0.5 rad.
+    EXPECT_GT(std::abs(std::atan2(q.y(), q.x())), 0.5);
+    beside = beside || std::abs(q.x()) < 0.05;
+  }
+  EXPECT_TRUE(beside);
+  // Facing the wall, the laser covers the part alongside the hull's front.
+  const core::Pose2 facing(0.0, 0.0, -kPi / 2.0);
+  obstacles.AddScan(ahead, facing);
+  std::vector<Eigen::Vector2d> facing_window;
+  obstacles.InRobot(facing, facing, 3.0, &facing_window);
+  EXPECT_LT(facing_window.size(), window.size());
+  for (const Eigen::Vector2d& q : facing_window) {
+    EXPECT_GT(std::abs(std::atan2(q.y(), q.x())), 0.5);
+  }
+  // Without the outline, the window has nothing here.
+  ScanObstacles plain(kSquareFootprint, {});
+  plain.AddScan(ahead, robot);
+  plain.InRobot(robot, robot, 3.0, &window);
+  EXPECT_TRUE(window.empty());
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <optional>
 #include <set>
 #include <string>
@@ -41,25 +42,42 @@ std::vector<Eigen::Vector2d> Square() {
   return {{-0.3, -0.3}, {0.3, -0.3}, {0.3, 0.3}, {-0.3, 0.3}};
 }
 
+// Robox's 0.68 m octagon (robots/robox/robot.yaml): it turns on the spot
+// beside an obstacle its square cousin's corners would sweep into.
+std::vector<Eigen::Vector2d> Octagon() {
+  const double r = 0.34 / std::cos(std::numbers::pi / 8.0);
+  std::vector<Eigen::Vector2d> hull;
+  for (int k = 0; k < 8; ++k) {
+    const double a = std::numbers::pi / 8.0 + k * std::numbers::pi / 4.0;
+    hull.emplace_back(r * std::cos(a), r * std::sin(a));
+  }
+  return hull;
+}
+
 struct RingRun {
   NavigationFigures figures;
   core::Pose2 pose;
   double closest_to_station_m = std::numeric_limits<double>::infinity();
+  double closest_while_other_there_m = std::numeric_limits<double>::infinity();
   double completed_at_s = -1.0;
 };
 
 // Robot 0 (the controller) starts at `start` with `goal`; robot 1 stands at
 // `other` holding `other_station` (-1: none) until `other_leaves_s`, then is
-// published far away.
+// published far away. `other_first`: the other is first in robot order (it
+// wins a claim both make in the same cycle).
 RingRun Drive(const core::Pose2& start, const char* goal, const Eigen::Vector2d& other,
-              int other_station, double other_leaves_s, double duration_s) {
+              int other_station, double other_leaves_s, double duration_s, bool other_first = false,
+              const std::vector<Eigen::Vector2d>& hull = Square()) {
+  const int self = other_first ? 1 : 0;
+  const int them = 1 - self;
   NavigationControllerOptions options;
   options.step_s = kStepS;
   FleetCoordinator coordinator(2, FleetOptions{});
   coordinator.SetStations({"a", "s", "b"});
-  NavigationController controller(Line(), Square(), MissionSequence::List({goal}), options);
-  controller.SetFleet({&coordinator, 0});
-  coordinator.Join(1, Square());
+  NavigationController controller(Line(), hull, MissionSequence::List({goal}), options);
+  controller.SetFleet({&coordinator, self});
+  coordinator.Join(them, hull);
   RingRun run;
   run.pose = start;
   const double b = options.odometry.wheelbase_m;
@@ -76,7 +94,7 @@ RingRun Drive(const core::Pose2& start, const char* goal, const Eigen::Vector2d&
     m.pose = there ? core::Pose2{other.x(), other.y(), 0.0} : core::Pose2{-50.0, -50.0, 0.0};
     m.reserved_station = there ? other_station : -1;
     if (there && other_station >= 0) m.claims = {other_station};
-    coordinator.Send(1, m);
+    coordinator.Send(them, m);
     coordinator.Merge();
     const core::WheelTravel travel{
         held.left_radps * options.odometry.left_wheel_radius_m * kStepS,
@@ -84,6 +102,10 @@ RingRun Drive(const core::Pose2& start, const char* goal, const Eigen::Vector2d&
     run.pose = core::DiffDriveStep(run.pose, travel, b);
     run.closest_to_station_m =
         std::min(run.closest_to_station_m, (run.pose.translation() - kStationAt).norm());
+    if (there) {
+      run.closest_while_other_there_m =
+          std::min(run.closest_while_other_there_m, (run.pose.translation() - kStationAt).norm());
+    }
     controller.TakeEvents(&events);
     for (const NavigationEvent& e : events) {
       if (e.type == NavigationEvent::Type::kMissionCompleted && run.completed_at_s < 0.0) {
@@ -135,6 +157,26 @@ TEST(NavigationControllerFleet, APasserKeepsOutWhileAnotherRobotIsInsideTheStati
   const RingRun through = Drive({0.0, 0.0, 0.0}, "b", {4.5, 0.4}, -1, 0.0, 60.0);
   EXPECT_EQ(through.figures.missions_completed, 1);
   EXPECT_LT(through.closest_to_station_m, 0.2);
+}
+
+// A robot that slipped a few centimetres past the ring of a station another
+// robot holds (the claim came as it arrived, and it braked too late) is not
+// "inside" the way a robot crossing the node is: the ring is drawn just outside
+// its hull, a ratchet that lets it out and not in. Robot 0 starts 1.0 m from
+// the node, 5 cm inside the 1.05 m ring, on its way through s to b, and
+// claims s in the same cycle as the other robot, which comes first in robot
+// order and holds it for 15 s (a passer): robot 0 (Robox's octagon) backs
+// out and waits, then drives on. Without the ratchet it drove straight over
+// the node the other held.
+TEST(NavigationControllerFleet, ARobotThatSlippedPastTheRingBacksOutUntilItIsFree) {
+  const RingRun run = Drive({kStationAt.x() - 1.0, 0.0, 0.0}, "b", {4.0, 1.2}, kStation, 15.0, 60.0,
+                            /*other_first=*/true, Octagon());
+  // While the other holds it, the centre never gets nearer the node than it
+  // started by more than the octagon's corners reach beyond its sides
+  // (2.8 cm) and the window's slack.
+  EXPECT_GE(run.closest_while_other_there_m, 1.0 - 0.04);
+  EXPECT_EQ(run.figures.missions_completed, 1);
+  EXPECT_GT(run.completed_at_s, 15.0);
 }
 
 // Passage claims follow the band, not only the plan's nodes

@@ -265,7 +265,7 @@ TEST(MapDerivationTest, ExpoHallGhostPointsMarkWhatTheLaserMisses) {
 }
 
 // Expo.02 hall: columns are points with their radius; the retro-reflective
-// column a beacon.
+// column a beacon with its radius.
 TEST(MapDerivationTest, ExpoHallColumnsArePointsAndTheRetroColumnABeacon) {
   const ExpoHall expo;
   const core::RobotMap& map = expo.map;
@@ -274,6 +274,7 @@ TEST(MapDerivationTest, ExpoHallColumnsArePointsAndTheRetroColumnABeacon) {
       ASSERT_EQ(map.beacons.size(), 1u);
       EXPECT_EQ(map.beacons[0].id, "column_2");
       EXPECT_LT((map.beacons[0].point.position_m - c.position_m).norm(), 1e-6);
+      EXPECT_DOUBLE_EQ(map.beacons[0].radius_m, c.radius_m);
       EXPECT_EQ(FindPoint(map, c.id), nullptr);
       continue;
     }

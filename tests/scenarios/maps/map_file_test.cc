@@ -55,6 +55,7 @@ core::RobotMap SampleMap() {
   m.points.push_back({"column", {{0.1, 0.7}, Cov(4e-6, 0, 4e-6)}, 0.25});
   m.points.push_back({"edge", {{1e-9, -0.7}, Cov(4e-6, 0, 4e-6)}, 0.0});
   m.beacons.push_back({"reflector", {{2.0 / 7.0, 1.25}, Cov(1e-6, 0, 1e-6)}});
+  m.beacons.push_back({"foil_column", {{-1.5, 0.75}, Cov(1e-6, 0, 1e-6)}, 0.25});
   m.nodes.push_back({"station_1", {1.0, 1.0, std::numbers::pi / 2.0}, true});
   m.nodes.push_back({"via_1", {0.0, 0.0, 0.0}, false});
   m.nodes.push_back({"dock-B", {-1.0, 1.0, -0.1}, true});
