@@ -34,9 +34,7 @@ std::optional<WheelSpeeds> WanderScanController::OnTick(const ControlTick& tick)
 std::optional<WheelSpeeds> WanderScanController::OnScan(const core::LaserScan& scan,
                                                         const ScanContext& context) {
   if (scan.sensor_id != laser_id_ || context.now_s < escape_until_s_) return std::nullopt;
-  const VelocityCommand command =
-      ghosts_ ? wander_.Update(ghosts_->Inject(scan, context.belief).readings)
-              : wander_.Update(scan.readings);
+  const VelocityCommand command = wander_.Update(scan.readings);
   return ToWheelSpeeds(command, odometry_.left_wheel_radius_m, odometry_.right_wheel_radius_m,
                        odometry_.wheelbase_m);
 }

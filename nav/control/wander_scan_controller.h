@@ -5,8 +5,7 @@
 // A pressed bumper (an obstacle the laser does not see: glass, a low bench)
 // makes it back away, turning, for `kBumperEscapeS` before the scans take over
 // again — the reflex of a real robot's bumper rather than wheels spinning
-// against a glass panel. With ghost readings set, the map's ghost points are
-// injected into each scan first (§6.3.1), placed by the robot's belief.
+// against a glass panel.
 
 #include <optional>
 #include <string>
@@ -14,7 +13,6 @@
 #include "core/localization/encoder_odometry.h"
 #include "nav/control/controller.h"
 #include "nav/control/wander_controller.h"
-#include "nav/local/ghost_readings.h"
 
 namespace pavilion::nav {
 
@@ -28,15 +26,12 @@ class WanderScanController : public Controller {
                                     const ScanContext& context) override;
   void OnBumper(const core::BumperReading& reading, const ScanContext& context) override;
 
-  void SetGhostReadings(GhostReadings ghosts) { ghosts_ = std::move(ghosts); }
-
  private:
   WanderController wander_;
   std::string laser_id_;
   core::EncoderOdometryOptions odometry_;
   double escape_until_s_ = -1.0;  // backing away from a bumper contact until then
   bool escaping_ = false;
-  std::optional<GhostReadings> ghosts_;
 };
 
 }  // namespace pavilion::nav

@@ -231,7 +231,8 @@ void ScanObstacles::AddScan(const core::LaserScan& scan, const core::Pose2& odom
 }
 
 void ScanObstacles::InRobot(const core::Pose2& odom_from_robot, const core::Pose2& world_from_robot,
-                            double reach_m, std::vector<Eigen::Vector2d>* points_in_robot) const {
+                            double reach_m, std::vector<Eigen::Vector2d>* points_in_robot,
+                            bool map_outline) const {
   points_in_robot->clear();
   const core::Pose2 robot_from_odom = odom_from_robot.Inverse();
   const double reach2 = reach_m * reach_m;
@@ -260,6 +261,7 @@ void ScanObstacles::InRobot(const core::Pose2& odom_from_robot, const core::Pose
     const Eigen::Vector2d q = robot_from_world * g;
     if (!under_robot(q)) points_in_robot->push_back(q);
   });
+  if (!map_outline) return;
   outline_.ForEachNear(centre, std::min(reach_m, footprint_radius_m_ + kOutlineReachM),
                        [&](const Eigen::Vector2d& w) {
                          const Eigen::Vector2d q = robot_from_world * w;

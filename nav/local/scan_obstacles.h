@@ -108,10 +108,10 @@ inline constexpr double kBlindMemoryCapS = 20.0;
 
 // A ghost point deeper than this inside the robot's polygon cannot be where
 // the belief puts it (the robot would stand on the glass): InRobot leaves it
-// out, as GhostReadings leaves out those under the robot, so that a belief a
-// few centimetres off does not freeze the dynamic window (a point deeper than
-// its max_contact_depth_m forces braking for good). The bumper still reports
-// the real panel. m; the window's default contact depth.
+// out, so that a belief a few centimetres off does not freeze the dynamic
+// window (a point deeper than its max_contact_depth_m forces braking for
+// good). The bumper still reports the real panel. m; the window's default
+// contact depth.
 inline constexpr double kGhostInsideM = 0.02;
 
 class ScanObstacles {
@@ -133,9 +133,11 @@ class ScanObstacles {
   // barriers and the blind zones' map outline within `reach_m` of the robot,
   // in the robot frame (the dynamic
   // window's input). `world_from_robot` is the belief, `odom_from_robot` the odometry
-  // pose, both now.
+  // pose, both now. Without `map_outline` the blind zones get no map solids
+  // (a robot that is not localized: its belief would misplace them).
   void InRobot(const core::Pose2& odom_from_robot, const core::Pose2& world_from_robot,
-               double reach_m, std::vector<Eigen::Vector2d>* points_in_robot) const;
+               double reach_m, std::vector<Eigen::Vector2d>* points_in_robot,
+               bool map_outline = true) const;
   // The same within `reach_m` of the robot in the world frame (the local grid's input).
   void InWorld(const core::Pose2& odom_from_robot, const core::Pose2& world_from_robot,
                double reach_m, std::vector<Eigen::Vector2d>* points_in_world) const;

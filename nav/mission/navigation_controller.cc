@@ -120,6 +120,7 @@ void NavigationControllerOptions::Validate() const {
   Require(fleet_hull_margin_m >= 0.0 && fleet_hull_margin_m <= 0.5, "fleet_hull_margin_m",
           "in [0, 0.5] m");
   ghost_barrier.Validate();
+  explore.Validate();
   ompl.Validate();
   local.Validate();
   dwa.Validate();
@@ -154,6 +155,7 @@ NavigationController::NavigationController(core::RobotMap map,
   dwa_period_ticks_ = PeriodTicks(options_.step_s, options_.dwa_rate_hz);
   band_period_ticks_ = PeriodTicks(options_.step_s, options_.band_rate_hz);
   figures_.min_clearance_m = std::numeric_limits<double>::infinity();
+  circumradius_m_ = Circumradius(footprint_);
   inradius_m_ = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < footprint_.size(); ++i) {
     inradius_m_ =
@@ -228,9 +230,9 @@ void NavigationController::Cycle(const ControlTick& tick) {
   last_cycle_s_ = tick.now_s;
   command_ = {};
   if (tick.now_s + 1e-9 < options_.start_s) return;
-  if (state_ == State::kRelocalizing && !Relocalize(tick)) return;
+  if (state_ == State::kRelocalizing && !Relocalize(tick)) return Explore(tick);
   if (state_ == State::kLost) {
-    if (tick.localization_lost) return;
+    if (tick.localization_lost) return Explore(tick);
     state_ = State::kWaiting;  // relocalized: carry on with the next mission
   }
   if (state_ == State::kDwelling && tick.now_s + 1e-9 >= dwell_until_s_) {
@@ -399,10 +401,11 @@ bool NavigationController::Relocalize(const ControlTick& tick) {
 
 void NavigationController::CheckProgress(const ControlTick& tick) {
   if (tick.localization_lost) {
-    if (options_.relocalization_timeout_s > 0.0) {  // hold the mission, stand
+    lost_since_s_ = tick.now_s;
+    explore_heading_.reset();
+    arc_in_world_.clear();
+    if (options_.relocalization_timeout_s > 0.0) {  // hold the mission
       state_ = State::kRelocalizing;
-      lost_since_s_ = tick.now_s;
-      arc_in_world_.clear();
       return;
     }
     EndMission(tick, false, AbortReason::kLost);
@@ -463,6 +466,42 @@ void NavigationController::Drive(const ControlTick& tick) {
       tick, !result.admissible_found ||
                 std::max(std::abs(command_.left_mps), std::abs(command_.right_mps)) < kStoppedMps);
   arc_in_world_.clear();
+  for (const Eigen::Vector2d& p : dwa_.ChosenArc(result, kArcDrawS)) {
+    arc_in_world_.push_back(tick.belief * p);
+  }
+}
+
+void NavigationController::Explore(const ControlTick& tick) {
+  if (!options_.explore_when_lost || !tick.localization_lost ||
+      tick.now_s - lost_since_s_ < options_.explore.settle_s) {
+    return;
+  }
+  obstacles_.InRobot(tick.odometry, tick.belief, options_.dwa_reach_m, &points_,
+                     /*map_outline=*/false);
+  AppendContours(tick, /*clip=*/false, &points_);
+  if (tick.now_s <= bumper_until_s_) {
+    points_.insert(points_.end(), bumper_points_.begin(), bumper_points_.end());
+  }
+  std::optional<double> current;
+  if (explore_heading_) {
+    current = core::NormalizeAngle(*explore_heading_ - tick.odometry.theta_rad);
+  }
+  const std::optional<double> bearing = ExploreBearing(
+      points_, current, circumradius_m_ + options_.dwa.safety_margin_m, options_.explore);
+  arc_in_world_.clear();
+  if (!bearing) {  // nowhere open: stand until the others or the crowd move
+    explore_heading_.reset();
+    return;
+  }
+  explore_heading_ = core::NormalizeAngle(*bearing + tick.odometry.theta_rad);
+  DwaGoal goal;
+  goal.target_in_robot =
+      options_.band_lookahead_m * Eigen::Vector2d(std::cos(*bearing), std::sin(*bearing));
+  goal.speed_limit_mps = options_.explore.speed_mps;
+  const DwaResult result = dwa_.Choose(held_, points_, goal);
+  ++figures_.dwa_cycles;
+  if (!result.admissible_found) ++figures_.no_admissible_cycles;
+  command_ = result.command;
   for (const Eigen::Vector2d& p : dwa_.ChosenArc(result, kArcDrawS)) {
     arc_in_world_.push_back(tick.belief * p);
   }

@@ -30,6 +30,7 @@
 #include "nav/planning/graph_planner.h"
 #include "nav/planning/topology_graph.h"
 #include "nav/reactive/dynamic_window.h"
+#include "nav/reactive/explore_direction.h"
 
 namespace pavilion::nav {
 
@@ -60,6 +61,16 @@ struct NavigationControllerOptions {
   // mission is aborted as lost only when this long passes first. 0: aborted
   // at once. s, [0, 3600]. Chosen: the kidnap recovery bound of 30 s.
   double relocalization_timeout_s = 30.0;
+  // While not localized (lost or several hypotheses), after explore.settle_s
+  // of standing, the controller drives by its senses alone: towards the
+  // freest bearing (ExploreBearing) through the dynamic window, with the
+  // laser points, the blind zones' memory, the map's ghost barriers placed
+  // by the belief (glass the laser cannot see), other robots' contours and
+  // the bumpers — not the map outline, the others' published hulls or the
+  // station rings, which a wrong belief would misplace. Off: the robot stands
+  // (or a fallback controller the robot stack adds drives it).
+  bool explore_when_lost = false;
+  ExploreOptions explore;
   // Fleet (§6.3.5), with a coordinator only: every this often while driving
   // the robot plans again on the others' current weights from where it is —
   // pushed aside, blocked or merely crossed by another's plan — and takes the
@@ -168,6 +179,8 @@ class NavigationController : public Controller {
   void PlanLocal(const ControlTick& tick, bool replan, const char* cause);
   void UpdateBand(const ControlTick& tick);
   void Drive(const ControlTick& tick);
+  // Not localized: drives towards open space (explore_when_lost).
+  void Explore(const ControlTick& tick);
   void EndMission(const ControlTick& tick, bool completed, AbortReason reason);
   // Fleet: the others' costs per node, publishing, the periodic replan and
   // the others' hulls as obstacle points in the frame `frame_from_world`.
@@ -199,7 +212,8 @@ class NavigationController : public Controller {
   NavigationControllerOptions options_;
   core::RobotMap map_;
   std::vector<Eigen::Vector2d> footprint_;
-  double inradius_m_ = 0.0;  // the footprint's nearest side from the robot's origin
+  double inradius_m_ = 0.0;      // the footprint's nearest side from the robot's origin
+  double circumradius_m_ = 0.0;  // its farthest corner
   MissionSequence missions_;
   TopologyGraph graph_;
   ScanObstacles obstacles_;
@@ -214,7 +228,8 @@ class NavigationController : public Controller {
   Mission current_;
   int mission_index_ = -1;
   double mission_start_s_ = 0.0;
-  double lost_since_s_ = 0.0;  // kRelocalizing: when the estimator declared the loss
+  double lost_since_s_ = 0.0;  // kRelocalizing, kLost: when the estimator declared the loss
+  std::optional<double> explore_heading_;  // Explore's bearing, odometry frame
   double mission_start_odometer_m_ = 0.0;
   double dwell_until_s_ = 0.0;
   std::string local_target_;  // the queue node the band was planned to

@@ -1,41 +1,20 @@
 #include "nav/stack/navigator.h"
 
-#include <stdexcept>
 #include <utility>
 
 namespace pavilion::nav {
-
-void NavigatorOptions::Validate() const {
-  if (!(fallback_settle_s >= 0.0 && fallback_settle_s <= 600.0)) {
-    throw std::invalid_argument("NavigatorOptions.fallback_settle_s must be in [0, 600] s");
-  }
-}
 
 Navigator::Navigator(const NavigatorOptions& options, std::unique_ptr<PoseEstimator> estimator,
                      std::unique_ptr<Controller> controller)
     : odometry_(options.odometry, options.start_pose),
       estimator_(std::move(estimator)),
-      controller_(std::move(controller)),
-      fallback_settle_s_(options.fallback_settle_s) {
-  options.Validate();
-}
-
-void Navigator::TrackLoss(double now_s) {
-  const bool lost = not_localized();
-  if (lost && !was_lost_) lost_since_s_ = now_s;
-  was_lost_ = lost;
-}
+      controller_(std::move(controller)) {}
 
 std::optional<WheelSpeeds> Navigator::Control(std::int64_t tick, double now_s) {
   if (!controller_) return std::nullopt;
-  TrackLoss(now_s);
-  const bool lost = not_localized();
-  const ControlTick control{tick, now_s, belief(), odometry_.pose(), lost};
+  const ControlTick control{tick, now_s, belief(), odometry_.pose(), not_localized()};
   std::optional<WheelSpeeds> command = controller_->OnTick(control);
   if (estimator_) estimator_->SetPaused(controller_->localization_paused(), now_s);
-  if (lost && fallback_) {
-    return Settling(now_s) ? std::optional<WheelSpeeds>(WheelSpeeds{}) : fallback_->OnTick(control);
-  }
   return command;
 }
 
@@ -56,18 +35,10 @@ SenseResult Navigator::Sense(const SensorFrame& frame) {
   }
   if (estimator_) result.cycle = estimator_->Update(frame.encoders, frame.scans);
   if (shadow_) result.shadow_cycle = shadow_->Update(frame.encoders, frame.scans);
-  TrackLoss(frame.now_s);
-  const bool fallback = fallback_ && not_localized();
-  const bool settling = fallback && Settling(frame.now_s);
   if (controller_) {
     const ScanContext context{frame.now_s, belief(), odometry_.pose()};
     for (const core::LaserScan* scan : frame.scans) {
-      if (auto command = controller_->OnScan(*scan, context); command && !fallback) {
-        result.command = command;
-      }
-      if (fallback && !settling) {
-        if (auto command = fallback_->OnScan(*scan, context)) result.command = command;
-      }
+      if (auto command = controller_->OnScan(*scan, context)) result.command = command;
     }
   }
   return result;

@@ -26,14 +26,6 @@ namespace pavilion::nav {
 struct NavigatorOptions {
   core::EncoderOdometryOptions odometry;  // the robot's calibrated odometry model
   core::Pose2 start_pose;                 // where its dead reckoning starts
-  // On losing its location the robot stands this long before the fallback
-  // drives, s, [0, 600]: the global localization searches on scans taken
-  // from a standstill, and a robot declared lost while its estimate was
-  // still good relocalizes where it stands instead of turning blind into
-  // what is beside it. 0: the fallback drives at once.
-  double fallback_settle_s = 0.0;
-
-  void Validate() const;  // throws std::invalid_argument naming the field
 };
 
 // The readings of one tick, in the order the sensors produced them.
@@ -64,12 +56,6 @@ class Navigator {
   // controller sees the scans.
   SenseResult Sense(const SensorFrame& frame);
 
-  // While the estimator is not localized (lost, or several hypotheses, thesis
-  // Fig. 5.17) the fallback drives instead of the controller — the hall
-  // benchmark's wander, rather than steering by a wrong estimate (issue 18) —
-  // after the robot stood for fallback_settle_s; the controller still sees
-  // its ticks (localization_lost) and scans.
-  void SetFallback(std::unique_ptr<Controller> fallback) { fallback_ = std::move(fallback); }
   // An estimator run in shadow on the same readings (a baseline to compare
   // with, e.g. Monte Carlo localization); it never drives the robot.
   void SetShadowEstimator(std::unique_ptr<PoseEstimator> shadow) { shadow_ = std::move(shadow); }
@@ -90,18 +76,8 @@ class Navigator {
   core::DeadReckoning odometry_;
   std::unique_ptr<PoseEstimator> estimator_;
   std::unique_ptr<Controller> controller_;
-  std::unique_ptr<Controller> fallback_;
   std::unique_ptr<PoseEstimator> shadow_;
   std::uint32_t bumper_zones_ = 0;  // pressed at the last bumper reading
-  // Notes when the estimator stopped being localized (lost_since_s_).
-  void TrackLoss(double now_s);
-  // Lost less than fallback_settle_s ago: the robot stands.
-  bool Settling(double now_s) const {
-    return was_lost_ && now_s - lost_since_s_ < fallback_settle_s_;
-  }
-  double fallback_settle_s_ = 0.0;
-  bool was_lost_ = false;
-  double lost_since_s_ = 0.0;
 };
 
 }  // namespace pavilion::nav

@@ -11,7 +11,6 @@
 #include "nav/control/drive_profile.h"
 #include "nav/control/route_controller.h"
 #include "nav/control/wander_scan_controller.h"
-#include "nav/local/ghost_readings.h"
 #include "nav/local/scan_obstacles.h"
 #include "nav/mission/navigation_controller.h"
 #include "nav/reactive/swept_polygon.h"
@@ -194,6 +193,9 @@ std::unique_ptr<nav::Controller> MakeNavigationController(const Scenario& scenar
                                       [](const RobotEntry& r) { return r.mission.has_value(); });
   o.see_robots = missions >= 2;
   o.deadlock.resolve = scenario.fleet.deadlock_resolution;
+  // A robot with global localization drives by its senses while it is not
+  // localized, so that new views let it find its location (issue 18).
+  o.explore_when_lost = entry.localization.enabled && entry.localization.global;
   RemoveEdgesThroughClosedDoors(scenario.world.doors, &map);
   std::vector<std::string> among = mission.tour_among;
   if (among.empty()) {  // a derived map: every station node it has
@@ -276,28 +278,10 @@ std::unique_ptr<nav::Navigator> MakeNavigator(const Scenario& scenario, std::siz
   nav::NavigatorOptions options;
   options.odometry = entry.config.odometry;
   options.start_pose = entry.pose;
-  // A robot that loses its location stands this long before it wanders. In
-  // the hour-long expo_tours runs Robox declared lost by the gate with a few
-  // millimetres of true error turned on the spot into a pedestal or another
-  // Robox within a second, and those that stood relocalized within one.
-  constexpr double kFallbackSettleS = 3.0;
-  options.fallback_settle_s = kFallbackSettleS;
   std::unique_ptr<nav::PoseEstimator> estimator;
   if (entry.localization.enabled) estimator = MakeEstimator(entry, *map);
   auto navigator = std::make_unique<nav::Navigator>(options, std::move(estimator),
                                                     MakeController(scenario, index, map, fleet));
-  // A navigating robot with global localization wanders while it is not
-  // localized (issue 18), on its first laser.
-  // It sees the map's ghost barriers in its scans, placed by its belief, as
-  // the navigation's dynamic window does (§6.3.1).
-  if (entry.localization.enabled && entry.localization.global && entry.mission &&
-      !entry.config.lasers.empty()) {
-    auto wander = MakeWander(scenario, entry, entry.config.lasers.front().id, {});
-    wander->SetGhostReadings(nav::GhostReadings(
-        nav::FillGhostBarriers(nav::GhostPositions(*map), entry.mission->navigation.ghost_barrier),
-        nav::Circumradius(entry.config.description.OutlineWithWheels())));
-    navigator->SetFallback(std::move(wander));
-  }
   if (entry.localization.enabled && entry.localization.shadow_mcl) {
     navigator->SetShadowEstimator(MakeShadowMcl(scenario, entry, *map));
   }

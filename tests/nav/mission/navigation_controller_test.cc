@@ -7,10 +7,14 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <optional>
+#include <utility>
 #include <vector>
 
+#include "core/geometry/segment2.h"
 #include "core/odometry/diff_drive.h"
+#include "nav/local/scan_obstacles.h"
 
 namespace pavilion::nav {
 namespace {
@@ -55,7 +59,7 @@ MissionRun DriveToB(double relocalization_timeout_s, double lost_from_s, double 
             controller.OnTick(ControlTick{tick, now_s, run.pose, run.pose, lost})) {
       held = *w;
     }
-    // While lost the estimator's fallback would drive; here the robot stands.
+    // While lost the robot stands (explore_when_lost is off).
     if (!lost) {
       const core::WheelTravel travel{
           held.left_radps * options.odometry.left_wheel_radius_m * kStepS,
@@ -195,6 +199,101 @@ TEST(NavigationController, StaysDeadlockedWithTheResolutionOff) {
   EXPECT_EQ(run.figures.deadlocks_resolved, 0);
   EXPECT_EQ(run.figures.missions_completed, 0);
   EXPECT_LT(run.pose.translation().norm(), 0.05);  // it never got away
+}
+
+// Lost in a room whose wall stands 0.6 m before the robot's front: a room
+// 5 m x 4 m of segments, a front and a rear laser (180° each, 0.5° steps)
+// cast against them.
+using Wall = std::pair<Eigen::Vector2d, Eigen::Vector2d>;
+
+std::vector<Wall> Room() {
+  const Eigen::Vector2d a(-4.0, -2.0), b(0.9, -2.0), c(0.9, 2.0), d(-4.0, 2.0);
+  return {{a, b}, {b, c}, {c, d}, {d, a}};
+}
+
+core::LaserScan RoomScan(const core::Pose2& pose, const std::vector<Wall>& walls, bool front,
+                         double now_s) {
+  core::LaserScan scan;
+  scan.sensor_id = front ? "front" : "rear";
+  scan.stamp_s = now_s;
+  scan.robot_from_sensor = front ? core::Pose2{0.22, 0.0, 0.0} : core::Pose2{-0.22, 0.0, M_PI};
+  const core::Pose2 world_from_sensor = pose * scan.robot_from_sensor;
+  const Eigen::Vector2d origin = world_from_sensor.translation();
+  for (int i = 0; i <= 360; ++i) {
+    core::LaserReading r;
+    r.bearing_rad = -0.5 * M_PI + i * 0.5 * M_PI / 180.0;
+    const Eigen::Vector2d end =
+        world_from_sensor * Eigen::Vector2d(scan.max_range_m * std::cos(r.bearing_rad),
+                                            scan.max_range_m * std::sin(r.bearing_rad));
+    double t = std::numeric_limits<double>::infinity();
+    for (const Wall& w : walls)
+      t = std::min(t, core::RaySegmentHit(origin, end, w.first, w.second));
+    r.valid = std::isfinite(t);
+    r.range_m = r.valid ? t * scan.max_range_m : scan.max_range_m;
+    scan.readings.push_back(r);
+  }
+  return scan;
+}
+
+struct LostRun {
+  core::Pose2 pose;
+  core::Pose2 pose_at_settle;  // at ExploreOptions::settle_s less a cycle
+  double min_clearance_m = std::numeric_limits<double>::infinity();
+};
+
+// The robot, lost from the start (its belief frozen at the origin), in Room().
+LostRun LostInARoom(bool explore, double duration_s) {
+  NavigationControllerOptions options;
+  options.step_s = kStepS;
+  options.explore_when_lost = explore;
+  NavigationController controller(TwoStations(), Square(), MissionSequence::List({"b"}), options);
+  const std::vector<Wall> walls = Room();
+  std::vector<Eigen::Vector2d> wall_points;
+  for (const Wall& w : walls) {
+    for (double f = 0.0; f <= 1.0; f += 0.002) {
+      wall_points.push_back(w.first + f * (w.second - w.first));
+    }
+  }
+  LostRun run;
+  const double b = options.odometry.wheelbase_m;
+  WheelSpeeds held;
+  std::vector<Eigen::Vector2d> in_robot;
+  for (std::int64_t tick = 0; tick * kStepS < duration_s; ++tick) {
+    const double now_s = tick * kStepS;
+    if (tick % 20 == 0) {  // each laser at 10 Hz
+      for (const bool front : {true, false}) {
+        controller.OnScan(RoomScan(run.pose, walls, front, now_s),
+                          ScanContext{now_s, core::Pose2{}, run.pose});
+      }
+    }
+    if (const std::optional<WheelSpeeds> w =
+            controller.OnTick(ControlTick{tick, now_s, core::Pose2{}, run.pose, true})) {
+      held = *w;
+    }
+    const core::WheelTravel travel{
+        held.left_radps * options.odometry.left_wheel_radius_m * kStepS,
+        held.right_radps * options.odometry.right_wheel_radius_m * kStepS};
+    run.pose = core::DiffDriveStep(run.pose, travel, b);
+    if (now_s < options.explore.settle_s - 0.1) run.pose_at_settle = run.pose;
+    in_robot.clear();
+    for (const Eigen::Vector2d& p : wall_points) in_robot.push_back(run.pose.Inverse() * p);
+    run.min_clearance_m = std::min(run.min_clearance_m, PolygonClearance(Square(), in_robot));
+  }
+  return run;
+}
+
+TEST(NavigationController, ExploresTowardsOpenSpaceWhileLost) {
+  const LostRun run = LostInARoom(true, 20.0);
+  // It stood while settling, then left the wall before it for the room.
+  EXPECT_LT(run.pose_at_settle.translation().norm(), 1e-9);
+  EXPECT_LT(run.pose.x_m, -1.0);
+  // Never nearer the walls than the dynamic window's safety margin allows.
+  EXPECT_GT(run.min_clearance_m, 0.01);
+}
+
+TEST(NavigationController, StandsWhileLostWithoutExploring) {
+  const LostRun run = LostInARoom(false, 20.0);
+  EXPECT_LT(run.pose.translation().norm(), 1e-9);
 }
 
 }  // namespace

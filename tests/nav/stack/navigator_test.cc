@@ -48,23 +48,12 @@ class FakeEstimator : public PoseEstimator {
   LocalizationMode mode_ = LocalizationMode::kLocalized;
 };
 
-// A fallback double: drives at 7 rad/s on every tick and scan.
-class WanderDouble : public Controller {
- public:
-  std::optional<WheelSpeeds> OnTick(const ControlTick& /*tick*/) override {
-    return WheelSpeeds{7.0, 7.0};
-  }
-  std::optional<WheelSpeeds> OnScan(const core::LaserScan& /*scan*/,
-                                    const ScanContext& /*context*/) override {
-    return WheelSpeeds{7.0, -7.0};
-  }
-};
-
 // A controller double: remembers the belief of its last tick, answers scans.
 class RecordingController : public Controller {
  public:
   std::optional<WheelSpeeds> OnTick(const ControlTick& tick) override {
     last_belief = tick.belief;
+    last_lost = tick.localization_lost;
     return WheelSpeeds{1.0, 2.0};
   }
   std::optional<WheelSpeeds> OnScan(const core::LaserScan& scan,
@@ -72,6 +61,7 @@ class RecordingController : public Controller {
     return WheelSpeeds{scan.stamp_s, -scan.stamp_s};
   }
   core::Pose2 last_belief;
+  bool last_lost = false;
 };
 
 NavigatorOptions Options() {
@@ -122,37 +112,24 @@ TEST(NavigatorTest, SteersFromTheEstimateAndPassesScansOn) {
   EXPECT_DOUBLE_EQ(result.command->left_radps, 0.2);
 }
 
-// Lost, the robot first stands fallback_settle_s (its wheels stopped, no
-// scan command from controller or fallback), then the fallback drives; once
-// localized again the controller does, and the next loss settles anew.
-TEST(NavigatorTest, StandsAfterALossBeforeTheFallbackDrives) {
-  NavigatorOptions options = Options();
-  options.fallback_settle_s = 3.0;
+// Not localized (lost, or several hypotheses), the controller is told so and
+// still drives: the chapter 6 navigation explores by its senses then.
+TEST(NavigatorTest, TellsTheControllerWhenTheEstimatorIsNotLocalized) {
   auto estimator = std::make_unique<FakeEstimator>();
+  auto controller = std::make_unique<RecordingController>();
   FakeEstimator* e = estimator.get();
-  Navigator navigator(options, std::move(estimator), std::make_unique<RecordingController>());
-  navigator.SetFallback(std::make_unique<WanderDouble>());
-  core::LaserScan scan;
-  auto sense_scan = [&](double t) {
-    scan.stamp_s = t;
-    return navigator.Sense(SensorFrame{t, {}, {&scan}, {}}).command;
-  };
-  EXPECT_DOUBLE_EQ(navigator.Control(0, 0.5)->right_radps, 2.0);  // the controller's
-  e->mode_ = LocalizationMode::kLost;
-  for (const double t : {1.0, 2.0, 3.95}) {
-    const std::optional<WheelSpeeds> command = navigator.Control(0, t);
-    ASSERT_TRUE(command) << t;
-    EXPECT_EQ(command->left_radps, 0.0) << t;
-    EXPECT_EQ(command->right_radps, 0.0) << t;
-    EXPECT_FALSE(sense_scan(t)) << t;
+  RecordingController* c = controller.get();
+  Navigator navigator(Options(), std::move(estimator), std::move(controller));
+  EXPECT_DOUBLE_EQ(navigator.Control(0, 0.5)->right_radps, 2.0);
+  EXPECT_FALSE(c->last_lost);
+  for (const LocalizationMode mode : {LocalizationMode::kLost, LocalizationMode::kNotLocalized}) {
+    e->mode_ = mode;
+    EXPECT_DOUBLE_EQ(navigator.Control(0, 1.0)->right_radps, 2.0);
+    EXPECT_TRUE(c->last_lost);
   }
-  EXPECT_DOUBLE_EQ(navigator.Control(0, 4.0)->left_radps, 7.0);
-  EXPECT_DOUBLE_EQ(sense_scan(4.05)->right_radps, -7.0);
   e->mode_ = LocalizationMode::kLocalized;
-  EXPECT_DOUBLE_EQ(navigator.Control(0, 5.0)->right_radps, 2.0);
-  e->mode_ = LocalizationMode::kLost;
-  EXPECT_EQ(navigator.Control(0, 6.0)->left_radps, 0.0);
-  EXPECT_DOUBLE_EQ(navigator.Control(0, 9.0)->left_radps, 7.0);
+  navigator.Control(0, 1.5);
+  EXPECT_FALSE(c->last_lost);
 }
 
 // Without a controller the stack commands nothing.

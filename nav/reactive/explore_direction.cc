@@ -1,0 +1,73 @@
+#include "nav/reactive/explore_direction.h"
+
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+#include "core/types/pose2.h"
+
+namespace pavilion::nav {
+
+namespace {
+
+void Require(bool ok, const char* field, const char* what) {
+  if (!ok) throw std::invalid_argument(std::string("ExploreOptions.") + field + " must be " + what);
+}
+
+}  // namespace
+
+void ExploreOptions::Validate() const {
+  Require(bearings >= 4 && bearings <= 360, "bearings", "in [4, 360]");
+  Require(reach_m > 0.0 && reach_m <= 20.0, "reach_m", "in (0, 20] m");
+  Require(min_free_m > 0.0 && min_free_m <= 10.0, "min_free_m", "in (0, 10] m");
+  Require(keep_free_m >= min_free_m && keep_free_m <= reach_m, "keep_free_m",
+          "in [min_free_m, reach_m]");
+  Require(speed_mps > 0.0 && speed_mps <= 2.0, "speed_mps", "in (0, 2] m/s");
+  Require(settle_s >= 0.0 && settle_s <= 600.0, "settle_s", "in [0, 600] s");
+}
+
+double FreeTravel(std::span<const Eigen::Vector2d> points_in_robot, double bearing_rad,
+                  double half_width_m, double reach_m) {
+  const Eigen::Vector2d along(std::cos(bearing_rad), std::sin(bearing_rad));
+  double free_m = reach_m;
+  for (const Eigen::Vector2d& p : points_in_robot) {
+    const double s = p.dot(along);
+    if (s <= 0.0) continue;
+    const double lateral = std::abs(along.x() * p.y() - along.y() * p.x());
+    if (lateral >= half_width_m) continue;
+    // The corridor's round front (a disc of half_width_m swept along the
+    // bearing) touches the point this far along.
+    const double touch = s - std::sqrt(half_width_m * half_width_m - lateral * lateral);
+    free_m = std::min(free_m, std::max(0.0, touch));
+  }
+  return free_m;
+}
+
+std::optional<double> ExploreBearing(std::span<const Eigen::Vector2d> points_in_robot,
+                                     std::optional<double> current, double half_width_m,
+                                     const ExploreOptions& options) {
+  if (current &&
+      FreeTravel(points_in_robot, *current, half_width_m, options.reach_m) >= options.keep_free_m) {
+    return current;
+  }
+  std::optional<double> best;
+  double best_free = 0.0;
+  // Ahead first, then alternately left and right, so that a tie goes to the
+  // bearing that needs the least turning.
+  for (int k = 0; k < options.bearings; ++k) {
+    const int step = (k + 1) / 2;
+    const int sign = (k % 2 == 1) ? 1 : -1;
+    const double bearing =
+        core::NormalizeAngle(sign * step * 2.0 * std::numbers::pi / options.bearings);
+    const double free_m = FreeTravel(points_in_robot, bearing, half_width_m, options.reach_m);
+    if (free_m > best_free + 1e-9) {
+      best_free = free_m;
+      best = bearing;
+    }
+  }
+  if (best_free < options.min_free_m) return std::nullopt;
+  return best;
+}
+
+}  // namespace pavilion::nav

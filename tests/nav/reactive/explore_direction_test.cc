@@ -1,0 +1,90 @@
+#include "nav/reactive/explore_direction.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <vector>
+
+namespace pavilion::nav {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+// A wall of points at x = `at_m`, from y = -half_m to +half_m, every 2 cm.
+std::vector<Eigen::Vector2d> WallAhead(double at_m, double half_m) {
+  std::vector<Eigen::Vector2d> points;
+  for (double y = -half_m; y <= half_m + 1e-9; y += 0.02) points.emplace_back(at_m, y);
+  return points;
+}
+
+TEST(FreeTravel, StopsWhereTheCorridorsRoundFrontTouchesAPoint) {
+  const std::vector<Eigen::Vector2d> one = {{2.0, 0.3}};
+  // Half-width 0.5: the disc touches the point 0.4 along before it (3-4-5).
+  EXPECT_NEAR(FreeTravel(one, 0.0, 0.5, 3.0), 2.0 - 0.4, 1e-12);
+  // Outside the corridor, behind the origin, or beyond the reach: free.
+  EXPECT_DOUBLE_EQ(FreeTravel(one, 0.0, 0.25, 3.0), 3.0);
+  EXPECT_DOUBLE_EQ(FreeTravel(one, kPi, 0.5, 3.0), 3.0);
+  EXPECT_DOUBLE_EQ(FreeTravel(one, 0.0, 0.5, 1.0), 1.0);
+  // A point already within the half-width gives no travel at all.
+  const std::vector<Eigen::Vector2d> close = {{0.1, 0.0}};
+  EXPECT_DOUBLE_EQ(FreeTravel(close, 0.0, 0.5, 3.0), 0.0);
+}
+
+TEST(ExploreBearing, TurnsAwayFromAWallToTheFreestSide) {
+  ExploreOptions options;
+  // A wall 1 m ahead, 4 m wide, and a second one 1.5 m to the left: the
+  // freest bearing of the fan points right or back, and a tie goes to the
+  // smaller turn.
+  std::vector<Eigen::Vector2d> points = WallAhead(1.0, 2.0);
+  for (double x = -2.0; x <= 2.0; x += 0.02) points.emplace_back(x, 1.5);
+  const std::optional<double> bearing = ExploreBearing(points, std::nullopt, 0.45, options);
+  ASSERT_TRUE(bearing.has_value());
+  EXPECT_LT(*bearing, -kPi / 4.0);  // right of the robot
+  EXPECT_GE(FreeTravel(points, *bearing, 0.45, options.reach_m), options.reach_m - 1e-9);
+  // Nothing around: straight ahead.
+  EXPECT_DOUBLE_EQ(*ExploreBearing({}, std::nullopt, 0.45, options), 0.0);
+}
+
+TEST(ExploreBearing, KeepsItsBearingWhileItStaysFree) {
+  ExploreOptions options;
+  // Open ahead and to the left; the robot already heads left and keeps it,
+  // though ahead is as free.
+  const std::optional<double> left = ExploreBearing({}, kPi / 2.0, 0.45, options);
+  ASSERT_TRUE(left.has_value());
+  EXPECT_DOUBLE_EQ(*left, kPi / 2.0);
+  // A wall closer than keep_free_m along the current bearing: a new one.
+  const std::vector<Eigen::Vector2d> wall = WallAhead(1.2, 0.5);
+  const std::optional<double> next = ExploreBearing(wall, 0.0, 0.45, options);
+  ASSERT_TRUE(next.has_value());
+  EXPECT_GT(std::abs(*next), 0.1);
+  EXPECT_GE(FreeTravel(wall, *next, 0.45, options.reach_m), options.keep_free_m);
+}
+
+TEST(ExploreBearing, StandsWhenEveryBearingIsShut) {
+  ExploreOptions options;
+  // A ring of points 0.9 m around the robot: free travel 0.45 m everywhere,
+  // less than min_free_m.
+  std::vector<Eigen::Vector2d> ring;
+  for (int k = 0; k < 360; ++k) {
+    const double a = 2.0 * kPi * k / 360.0;
+    ring.emplace_back(0.9 * std::cos(a), 0.9 * std::sin(a));
+  }
+  EXPECT_FALSE(ExploreBearing(ring, std::nullopt, 0.45, options).has_value());
+  EXPECT_FALSE(ExploreBearing(ring, 0.0, 0.45, options).has_value());
+}
+
+TEST(ExploreOptions, ValidateNamesTheField) {
+  ExploreOptions options;
+  options.keep_free_m = 0.1;  // below min_free_m
+  try {
+    options.Validate();
+    FAIL() << "expected std::invalid_argument";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("keep_free_m"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace pavilion::nav
