@@ -88,7 +88,8 @@ struct NavigationFigures {
   int deadlocks_resolved = 0;
   int deadlocks_unresolved = 0;
   double longest_deadlock_s = 0.0;  // detection to resolution, s
-  // The longest time the robot moved less than kStillMoveM while it had a
+  // The longest time the robot stayed within kStillMoveM (0.3 m, net
+  // displacement: a dither is not progress) of one place while it had a
   // mission to drive (across blocked aborts and new missions; a dwell before
   // it counts in): "stuck" when over 120 s (issue 15).
   double longest_still_s = 0.0;

@@ -27,7 +27,9 @@ constexpr double kDeadlockTouchM = 0.05;
 // The deadlock rule's yield aims this far away (about one and a half Robox
 // lengths), m.
 constexpr double kRetreatM = 1.0;
-// A robot that moved less than this stood still (the longest_still_s figure), m.
+// A robot that stayed within this of where it was stood still (the
+// longest_still_s figure): net displacement, so that a dither back and forth
+// is not progress, m.
 constexpr double kStillMoveM = 0.3;
 
 void Require(bool ok, const std::string& field, const std::string& range) {
@@ -240,8 +242,8 @@ void NavigationController::Cycle(const ControlTick& tick) {
     state_ = State::kWaiting;
   }
   if (state_ == State::kWaiting) StartNextMission(tick);
-  if (odometer_m_ - still_anchor_m_ > kStillMoveM) {
-    still_anchor_m_ = odometer_m_;
+  if ((tick.odometry.translation() - still_anchor_).norm() > kStillMoveM) {
+    still_anchor_ = tick.odometry.translation();
     still_since_s_ = tick.now_s;
   } else if (state_ == State::kDriving || state_ == State::kWaiting ||
              state_ == State::kRelocalizing) {

@@ -273,7 +273,7 @@ class NavigationController : public Controller {
   // The nearest contour touching the hull this cycle (robot frame).
   std::optional<Eigen::Vector2d> nearest_contour_;
   int unresolved_reported_ = 0;
-  double still_anchor_m_ = 0.0;  // odometer when the robot last moved kStillMoveM
+  Eigen::Vector2d still_anchor_ = Eigen::Vector2d::Zero();  // odometry position, kStillMoveM
   double still_since_s_ = 0.0;
 };
 

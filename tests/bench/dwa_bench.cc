@@ -17,15 +17,20 @@
 // corridor, 20 ghost points, and (/1) the blind zones' map outline
 // (nav::MapOutline of the corridor's two 20 m walls and a 0.25 m column, 2 cm
 // clearance) with the robot 0.6 m from one wall and beside the column.
+// BM_ExploreBearing: a lost robot's choice of bearing (nav::ExploreBearing,
+// 16 bearings) among the corridor scan's points within 3 m, no current bearing.
 #include <benchmark/benchmark.h>
 
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <vector>
 
 #include "core/map/robot_map.h"
 #include "nav/local/scan_obstacles.h"
 #include "nav/reactive/dynamic_window.h"
+#include "nav/reactive/explore_direction.h"
+#include "nav/reactive/swept_polygon.h"
 
 namespace {
 
@@ -212,5 +217,19 @@ void BM_ScanObstaclesInRobot(benchmark::State& state) {
   state.counters["points"] = static_cast<double>(points.size());
 }
 BENCHMARK(BM_ScanObstaclesInRobot)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+
+void BM_ExploreBearing(benchmark::State& state) {
+  std::vector<Eigen::Vector2d> points;
+  for (const Eigen::Vector2d& p : CorridorScan()) {
+    if (p.norm() <= 3.0) points.push_back(p);
+  }
+  const nav::ExploreOptions options;
+  const double half_width_m = nav::Circumradius(Octagon()) + 0.02;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(nav::ExploreBearing(points, std::nullopt, half_width_m, options));
+  }
+  state.counters["points"] = static_cast<double>(points.size());
+}
+BENCHMARK(BM_ExploreBearing)->Unit(benchmark::kMicrosecond);
 
 }  // namespace

@@ -291,6 +291,24 @@ TEST(NavigationController, ExploresTowardsOpenSpaceWhileLost) {
   EXPECT_GT(run.min_clearance_m, 0.01);
 }
 
+// A robot that dithers 5 cm back and forth at 0.1 m/s (its odometry says so,
+// whatever it is commanded) is not blocked — it moves — but makes no
+// progress: the still figure counts net displacement, not the odometer.
+TEST(NavigationController, ADitherCountsAsStandingStill) {
+  NavigationControllerOptions options;
+  options.step_s = kStepS;
+  NavigationController controller(TwoStations(), Square(), MissionSequence::List({"b"}), options);
+  for (std::int64_t tick = 0; tick * kStepS < 60.0; ++tick) {
+    const double now_s = tick * kStepS;
+    const double x_m = 0.05 * std::abs(std::remainder(now_s, 1.0)) * 2.0;  // 0.1 m/s
+    const core::Pose2 pose{x_m, 0.0, 0.0};
+    controller.OnTick(ControlTick{tick, now_s, pose, pose, false});
+  }
+  const NavigationFigures& figures = *controller.navigation();
+  EXPECT_EQ(figures.missions_aborted_total(), 0);
+  EXPECT_GT(figures.longest_still_s, 59.0);
+}
+
 TEST(NavigationController, StandsWhileLostWithoutExploring) {
   const LostRun run = LostInARoom(false, 20.0);
   EXPECT_LT(run.pose.translation().norm(), 1e-9);
