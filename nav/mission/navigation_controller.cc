@@ -459,18 +459,23 @@ void NavigationController::Drive(const ControlTick& tick) {
     ++figures_.clearance_samples;
     figures_.min_clearance_m = std::min(figures_.min_clearance_m, clearance_m);
   }
-  const DwaResult result = dwa_.Choose(held_, points_, goal);
-  ++figures_.dwa_cycles;
-  if (!result.admissible_found) ++figures_.no_admissible_cycles;
-  command_ = result.command;
+  const DwaResult result = Steer(tick, goal);
   constexpr double kStoppedMps = 0.01;
   UpdateDeadlock(
       tick, !result.admissible_found ||
                 std::max(std::abs(command_.left_mps), std::abs(command_.right_mps)) < kStoppedMps);
+}
+
+DwaResult NavigationController::Steer(const ControlTick& tick, const DwaGoal& goal) {
+  const DwaResult result = dwa_.Choose(held_, points_, goal);
+  ++figures_.dwa_cycles;
+  if (!result.admissible_found) ++figures_.no_admissible_cycles;
+  command_ = result.command;
   arc_in_world_.clear();
   for (const Eigen::Vector2d& p : dwa_.ChosenArc(result, kArcDrawS)) {
     arc_in_world_.push_back(tick.belief * p);
   }
+  return result;
 }
 
 void NavigationController::Explore(const ControlTick& tick) {
@@ -500,13 +505,7 @@ void NavigationController::Explore(const ControlTick& tick) {
   goal.target_in_robot =
       options_.band_lookahead_m * Eigen::Vector2d(std::cos(*bearing), std::sin(*bearing));
   goal.speed_limit_mps = options_.explore.speed_mps;
-  const DwaResult result = dwa_.Choose(held_, points_, goal);
-  ++figures_.dwa_cycles;
-  if (!result.admissible_found) ++figures_.no_admissible_cycles;
-  command_ = result.command;
-  for (const Eigen::Vector2d& p : dwa_.ChosenArc(result, kArcDrawS)) {
-    arc_in_world_.push_back(tick.belief * p);
-  }
+  Steer(tick, goal);
 }
 
 void NavigationController::EndMission(const ControlTick& tick, bool completed, AbortReason reason) {

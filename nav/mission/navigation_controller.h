@@ -56,7 +56,7 @@ struct NavigationControllerOptions {
   // this much (m of path), so the global planner may pick another way, [0, 1e4].
   double blocked_node_cost_m = 20.0;
   // A robot that declares itself lost during a mission holds the mission
-  // while it relocalizes (the estimator's fallback drives meanwhile) and,
+  // while it relocalizes (explore_when_lost: driving towards open space) and,
   // once localized again, replans from where it is and carries on; the
   // mission is aborted as lost only when this long passes first. 0: aborted
   // at once. s, [0, 3600]. Chosen: the kidnap recovery bound of 30 s.
@@ -67,8 +67,7 @@ struct NavigationControllerOptions {
   // laser points, the blind zones' memory, the map's ghost barriers placed
   // by the belief (glass the laser cannot see), other robots' contours and
   // the bumpers — not the map outline, the others' published hulls or the
-  // station rings, which a wrong belief would misplace. Off: the robot stands
-  // (or a fallback controller the robot stack adds drives it).
+  // station rings, which a wrong belief would misplace. Off: the robot stands.
   bool explore_when_lost = false;
   ExploreOptions explore;
   // Fleet (§6.3.5), with a coordinator only: every this often while driving
@@ -181,6 +180,9 @@ class NavigationController : public Controller {
   void Drive(const ControlTick& tick);
   // Not localized: drives towards open space (explore_when_lost).
   void Explore(const ControlTick& tick);
+  // One dynamic-window cycle on points_ towards `goal`: the command, the
+  // window's figures and the arc drawn (Drive and Explore).
+  DwaResult Steer(const ControlTick& tick, const DwaGoal& goal);
   void EndMission(const ControlTick& tick, bool completed, AbortReason reason);
   // Fleet: the others' costs per node, publishing, the periodic replan and
   // the others' hulls as obstacle points in the frame `frame_from_world`.
