@@ -19,7 +19,7 @@ constexpr std::int64_t kCountBytes = 2;
 constexpr std::int64_t kNodeBytes = 2;
 constexpr std::int64_t kWeightBytes = 4;
 constexpr std::int64_t kPoseFlagBytes = 1;
-constexpr std::int64_t kPoseBytes = 4 * 4;
+constexpr std::int64_t kPoseBytes = 5 * 4;  // x, y, theta, speed, turn rate
 constexpr std::int64_t kStationBytes = 2;
 constexpr std::int64_t kVertexBytes = 2 * 4;
 
@@ -30,7 +30,8 @@ bool SameMessage(const FleetMessage& a, const FleetMessage& b) {
     return false;
   }
   if (a.pose && (a.pose->x_m != b.pose->x_m || a.pose->y_m != b.pose->y_m ||
-                 a.pose->theta_rad != b.pose->theta_rad || a.speed_mps != b.speed_mps)) {
+                 a.pose->theta_rad != b.pose->theta_rad || a.speed_mps != b.speed_mps ||
+                 a.turn_rate_radps != b.turn_rate_radps)) {
     return false;
   }
   for (std::size_t i = 0; i < a.path.size(); ++i) {

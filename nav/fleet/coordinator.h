@@ -94,11 +94,12 @@ struct FleetMessage {
   int occupied_station = -1;        // the station it stands at or is leaving, -1: none
   std::vector<int> claims;          // the stations it holds for passage, ascending
   bool lost = false;                // it declared itself lost: `pose` may be wrong
+  double turn_rate_radps = 0.0;     // its commanded turn rate (with the pose)
 };
 
 // Bytes of the compact encoding of a message (a 2-byte robot index; per path
 // element a 2-byte node index and a 4-byte float weight, plus a 2-byte count;
-// the pose and speed as four 4-byte floats, a 1-byte flag that also holds
+// the pose, speed and turn rate as five 4-byte floats, a 1-byte flag that also holds
 // `lost`; two 2-byte stations;
 // the claims as a 2-byte count and 2 bytes each).
 std::int64_t EncodedBytes(const FleetMessage& message);

@@ -93,6 +93,7 @@ struct NavigationFigures {
   // mission to drive (across blocked aborts and new missions; a dwell before
   // it counts in): "stuck" when over 120 s (issue 15).
   double longest_still_s = 0.0;
+  int escapes = 0;  // escapes from a pocket (EscapeOptions)
 
   int missions_aborted_total() const;
 };

@@ -89,6 +89,20 @@ Eigen::Vector2d OutlineAt(const std::vector<Eigen::Vector2d>& outline, double be
 
 }  // namespace
 
+void EscapeOptions::Validate() const {
+  const auto require = [](bool ok, const std::string& field, const std::string& range) {
+    if (!ok) throw std::invalid_argument("EscapeOptions." + field + " must be " + range);
+  };
+  require(after_s >= 0.0 && after_s <= 3600.0, "after_s", "in [0, 3600] s");
+  require(still_m > 0.0 && still_m <= 5.0, "still_m", "in (0, 5] m");
+  require(drive_s > 0.0 && drive_s <= 60.0, "drive_s", "in (0, 60] s");
+  require(leave_m > 0.0 && leave_m <= 5.0, "leave_m", "in (0, 5] m");
+  require(min_free_m > 0.0 && min_free_m <= 5.0, "min_free_m", "in (0, 5] m");
+  require(speed_mps > 0.0 && speed_mps <= 2.0, "speed_mps", "in (0, 2] m/s");
+  require(remember_s >= 0.0 && remember_s <= 3600.0, "remember_s", "in [0, 3600] s");
+  require(mark_radius_m > 0.0 && mark_radius_m <= 1.0, "mark_radius_m", "in (0, 1] m");
+}
+
 void NavigationControllerOptions::Validate() const {
   Require(step_s > 0.0 && step_s <= 1.0, "step_s", "in (0, 1] s");
   Require(start_s >= 0.0 && start_s <= kMaxStartS, "start_s", "in [0, 1e7] s");
@@ -107,6 +121,8 @@ void NavigationControllerOptions::Validate() const {
   Require(contour_hold_s >= 0.0 && contour_hold_s <= 10.0, "contour_hold_s", "in [0, 10] s");
   Require(mapped_beacon_m >= 0.0 && mapped_beacon_m <= 2.0, "mapped_beacon_m", "in [0, 2] m");
   Require(explained_m >= 0.0 && explained_m <= 2.0, "explained_m", "in [0, 2] m");
+  Require(lost_hull_margin_m >= 0.0 && lost_hull_margin_m <= 2.0, "lost_hull_margin_m",
+          "in [0, 2] m");
   robot_contours.Validate();
   deadlock.Validate();
   Require(fleet_replan_s >= 0.1 && fleet_replan_s <= 600.0, "fleet_replan_s", "in [0.1, 600] s");
@@ -123,6 +139,7 @@ void NavigationControllerOptions::Validate() const {
           "in [0, 0.5] m");
   ghost_barrier.Validate();
   explore.Validate();
+  escape.Validate();
   ompl.Validate();
   local.Validate();
   dwa.Validate();
@@ -273,6 +290,7 @@ void NavigationController::Cycle(const ControlTick& tick) {
     next_fleet_check_s_ = tick.now_s + options_.fleet_replan_s;
     FleetReplan(tick);
   }
+  if (Escape(tick) || state_ != State::kDriving) return;
   if (tick.tick % band_period_ticks_ == 0) UpdateBand(tick);
   Drive(tick);
 }
@@ -318,6 +336,7 @@ void NavigationController::StartNextMission(const ControlTick& tick) {
   Emit(NavigationEvent::Type::kMissionStarted, tick.now_s);
   state_ = State::kDriving;
   blocked_.Reset();
+  ResetProgress(tick);
   if (node == kNoNode || !PlanGlobal(tick, kNoNode)) {
     return EndMission(tick, false, AbortReason::kUnreachable);
   }
@@ -342,6 +361,7 @@ void NavigationController::PlanLocal(const ControlTick& tick, bool replan, const
   if (queue_.empty()) return;
   obstacles_.InWorld(tick.odometry, tick.belief, GridReachM(), &points_);
   AppendOtherRobots(tick.belief, core::Pose2{}, GridReachM(), &points_);
+  AppendPockets(tick.now_s, &points_);
   local_target_ = queue_.current().id;
   local_->Plan(tick.belief.translation(), queue_.current().position_m, points_,
                PlanSeed(options_.seed, plans_++));
@@ -364,6 +384,7 @@ void NavigationController::UpdateBand(const ControlTick& tick) {
   }
   obstacles_.InWorld(tick.odometry, tick.belief, GridReachM(), &points_);
   AppendOtherRobots(tick.belief, core::Pose2{}, GridReachM(), &points_);
+  AppendPockets(tick.now_s, &points_);
   ++figures_.band_updates;
   switch (local_->Update(tick.belief.translation(), points_)) {
     case LocalPlanner::Status::kOk:
@@ -393,6 +414,7 @@ bool NavigationController::Relocalize(const ControlTick& tick) {
   // Localized again, perhaps elsewhere: a new plan from where the robot is.
   state_ = State::kDriving;
   blocked_.Reset();
+  ResetProgress(tick);
   if (!PlanGlobal(tick, kNoNode)) {
     EndMission(tick, false, AbortReason::kUnreachable);
     return false;
@@ -405,6 +427,7 @@ void NavigationController::CheckProgress(const ControlTick& tick) {
   if (tick.localization_lost) {
     lost_since_s_ = tick.now_s;
     explore_heading_.reset();
+    escape_until_s_.reset();
     arc_in_world_.clear();
     if (options_.relocalization_timeout_s > 0.0) {  // hold the mission
       state_ = State::kRelocalizing;
@@ -440,9 +463,7 @@ void NavigationController::Drive(const ControlTick& tick) {
                                        : queue_.current().position_m;
     goal.target_in_robot = robot_from_world * target;
   }
-  obstacles_.InRobot(tick.odometry, tick.belief, options_.dwa_reach_m, &points_);
-  AppendOtherRobots(tick.belief, robot_from_world, options_.dwa_reach_m, &points_);
-  AppendContours(tick, clip_contours_, &points_);
+  GatherDrivePoints(tick);
   if (retreat_ && nearest_contour_ && nearest_contour_->norm() > 0.0) {
     // The deadlock rule's yield: away from the other robot where there is
     // room, the window choosing how among the obstacles.
@@ -450,6 +471,21 @@ void NavigationController::Drive(const ControlTick& tick) {
     goal.target_in_robot =
         kRetreatM * YieldDirection(*nearest_contour_, inradius_m_, kRetreatM, points_);
   }
+  AddBumpersAndMeasure(tick);
+  const DwaResult result = Steer(tick, goal);
+  constexpr double kStoppedMps = 0.01;
+  UpdateDeadlock(
+      tick, !result.admissible_found ||
+                std::max(std::abs(command_.left_mps), std::abs(command_.right_mps)) < kStoppedMps);
+}
+
+void NavigationController::GatherDrivePoints(const ControlTick& tick) {
+  obstacles_.InRobot(tick.odometry, tick.belief, options_.dwa_reach_m, &points_);
+  AppendOtherRobots(tick.belief, tick.belief.Inverse(), options_.dwa_reach_m, &points_);
+  AppendContours(tick, clip_contours_, &points_);
+}
+
+void NavigationController::AddBumpersAndMeasure(const ControlTick& tick) {
   if (tick.now_s <= bumper_until_s_) {
     points_.insert(points_.end(), bumper_points_.begin(), bumper_points_.end());
   }
@@ -459,11 +495,102 @@ void NavigationController::Drive(const ControlTick& tick) {
     ++figures_.clearance_samples;
     figures_.min_clearance_m = std::min(figures_.min_clearance_m, clearance_m);
   }
+}
+
+void NavigationController::ResetProgress(const ControlTick& tick) {
+  progress_anchor_ = tick.odometry.translation();
+  progress_since_s_ = tick.now_s;
+  escape_until_s_.reset();
+}
+
+void NavigationController::AppendPockets(double now_s, std::vector<Eigen::Vector2d>* points) {
+  std::erase_if(pockets_, [&](const PocketMark& p) { return now_s >= p.until_s; });
+  constexpr int kMarkPoints = 12;
+  for (const PocketMark& p : pockets_) {
+    for (int k = 0; k < kMarkPoints; ++k) {
+      const double a = 2.0 * std::numbers::pi * k / kMarkPoints;
+      points->push_back(p.at_in_map +
+                        options_.escape.mark_radius_m * Eigen::Vector2d(std::cos(a), std::sin(a)));
+    }
+  }
+}
+
+bool NavigationController::Escape(const ControlTick& tick) {
+  const EscapeOptions& o = options_.escape;
+  const Eigen::Vector2d at = tick.odometry.translation();
+  if (!escape_until_s_) {
+    if ((at - progress_anchor_).norm() > o.still_m) ResetProgress(tick);
+    if (o.after_s <= 0.0 || tick.now_s - progress_since_s_ < o.after_s || contour_overlap_) {
+      return false;
+    }
+    escape_until_s_ = tick.now_s + o.drive_s;
+    escape_from_ = at;
+    escape_way_ = EscapeWay::kNone;
+    ++figures_.escapes;
+    if (o.remember_s > 0.0)
+      pockets_.push_back({tick.belief.translation(), tick.now_s + o.remember_s});
+  } else if (tick.now_s + 1e-9 >= *escape_until_s_ || (at - escape_from_).norm() >= o.leave_m) {
+    // Out (or as far as it got): a new plan from here, avoiding the node it
+    // could not reach.
+    ResetProgress(tick);
+    const int avoid =
+        graph_.FindIndex(queue_.empty() ? current_.goal : queue_.current().id).value_or(kNoNode);
+    if (!PlanGlobal(tick, avoid)) {
+      EndMission(tick, false, AbortReason::kUnreachable);
+      return true;
+    }
+    PlanLocal(tick, true, "escape");
+    return false;
+  }
+  GatherDrivePoints(tick);
+  AddBumpersAndMeasure(tick);
+  // The way out: the freest bearing it can turn to (its circumcircle swept),
+  // else straight back the way it came, else straight on — each kept while
+  // it stays free for min_free_m.
+  const double margin_m = options_.dwa.safety_margin_m;
+  const auto straight_free = [&](bool reverse) {
+    return StraightFreeTravel(points_, footprint_, reverse, margin_m, options_.explore.reach_m);
+  };
+  ExploreOptions fan = options_.explore;
+  fan.min_free_m = std::min(o.min_free_m, fan.reach_m);
+  fan.keep_free_m = fan.min_free_m;
+  if ((escape_way_ == EscapeWay::kReverse || escape_way_ == EscapeWay::kForward) &&
+      straight_free(escape_way_ == EscapeWay::kReverse) < fan.min_free_m) {
+    escape_way_ = EscapeWay::kNone;
+  }
+  std::optional<double> bearing;
+  if (escape_way_ == EscapeWay::kNone || escape_way_ == EscapeWay::kBearing) {
+    std::optional<double> current;
+    if (escape_way_ == EscapeWay::kBearing) {
+      current = core::NormalizeAngle(escape_heading_ - tick.odometry.theta_rad);
+    }
+    bearing = ExploreBearing(points_, current, circumradius_m_ + margin_m, fan);
+    escape_way_ = bearing                                  ? EscapeWay::kBearing
+                  : straight_free(true) >= fan.min_free_m  ? EscapeWay::kReverse
+                  : straight_free(false) >= fan.min_free_m ? EscapeWay::kForward
+                                                           : EscapeWay::kNone;
+  }
+  arc_in_world_.clear();
+  if (escape_way_ == EscapeWay::kNone) {  // no way out now: stand until the time is up
+    UpdateDeadlock(tick, true);
+    return true;
+  }
+  DwaGoal goal;
+  if (escape_way_ == EscapeWay::kBearing) {
+    escape_heading_ = core::NormalizeAngle(*bearing + tick.odometry.theta_rad);
+    goal.target_in_robot =
+        options_.band_lookahead_m * Eigen::Vector2d(std::cos(*bearing), std::sin(*bearing));
+  } else {
+    goal.reverse = escape_way_ == EscapeWay::kReverse;
+    goal.target_in_robot =
+        Eigen::Vector2d(goal.reverse ? -options_.band_lookahead_m : options_.band_lookahead_m, 0.0);
+  }
+  goal.speed_limit_mps = o.speed_mps;
+  // A pocket is where the table's cell-sized caution leaves only a crawl.
+  goal.exact_clearance = true;
   const DwaResult result = Steer(tick, goal);
-  constexpr double kStoppedMps = 0.01;
-  UpdateDeadlock(
-      tick, !result.admissible_found ||
-                std::max(std::abs(command_.left_mps), std::abs(command_.right_mps)) < kStoppedMps);
+  UpdateDeadlock(tick, !result.admissible_found);
+  return true;
 }
 
 DwaResult NavigationController::Steer(const ControlTick& tick, const DwaGoal& goal) {
@@ -485,6 +612,13 @@ void NavigationController::Explore(const ControlTick& tick) {
   }
   obstacles_.InRobot(tick.odometry, tick.belief, options_.dwa_reach_m, &points_,
                      /*map_outline=*/false);
+  const std::size_t sensed = points_.size();
+  AppendOtherHulls(tick.belief, tick.belief.Inverse(), options_.dwa_reach_m,
+                   options_.lost_hull_margin_m, &points_);
+  const core::Polygon2 own = InflateConvexPolygon(footprint_, options_.dwa.safety_margin_m);
+  points_.erase(std::remove_if(points_.begin() + static_cast<std::ptrdiff_t>(sensed), points_.end(),
+                               [&](const Eigen::Vector2d& p) { return core::Contains(own, p); }),
+                points_.end());
   AppendContours(tick, /*clip=*/false, &points_);
   if (tick.now_s <= bumper_until_s_) {
     points_.insert(points_.end(), bumper_points_.begin(), bumper_points_.end());
@@ -519,6 +653,7 @@ void NavigationController::EndMission(const ControlTick& tick, bool completed, A
   e.duration_s = tick.now_s - mission_start_s_;
   e.path_length_m = odometer_m_ - mission_start_odometer_m_;
   reserved_node_ = kNoNode;
+  escape_until_s_.reset();
   if (completed) {
     occupied_node_ = graph_.FindIndex(current_.goal).value_or(kNoNode);
     ++figures_.missions_completed;

@@ -37,6 +37,39 @@ namespace pavilion::nav {
 // Which planner gives the band its initial path (§6.3.4: NF1).
 enum class InitialPlanner { kNf1, kOmplRrtConnect, kOmplRrtStar };
 
+// The way out of a pocket: a robot driving a mission whose position stays
+// within `still_m` of one place for `after_s` backs out towards the freest
+// bearing its senses and the map show (ExploreBearing over the dynamic
+// window's points, outline and others' hulls included) or, where it cannot
+// turn, straight back the way it came (StraightFreeTravel), for `drive_s` or
+// until it is `leave_m` away, then plans again from there, the node it was
+// heading for made dearer (blocked_node_cost_m). The window alone can dither
+// for minutes where the band's next point lies past an obstacle it must
+// first turn away from (expo_tours: a Robox stood 330 s 4 cm from column_2,
+// each blocked episode ended by a few centimetres of motion). Robots touching
+// another's contour are the deadlock rule's (§6.5), not this.
+struct EscapeOptions {
+  // No net progress this long starts an escape, s, [0, 3600]; 0: never.
+  // Chosen: past two blocked replans (10 s each), below the 45 s abort.
+  double after_s = 20.0;
+  double still_m = 0.3;  // progress is leaving a disc this wide, m, (0, 5]
+  double drive_s = 6.0;  // the escape drives at most this long, s, (0, 60]
+  double leave_m = 0.5;  // ... or until this far from where it began, m, (0, 5]
+  // A bearing free for less than this is not taken, m, (0, 5]. Chosen: less
+  // than ExploreOptions::min_free_m — the robot is in a pocket.
+  double min_free_m = 0.3;
+  double speed_mps = 0.3;  // translation limit while escaping, m/s, (0, 2]
+  // Where an escape began is closed to the band and its initial path (a
+  // disc of virtual points, `mark_radius_m`, in the map frame) for
+  // `remember_s`, so the replan does not lead straight back into the pocket
+  // the local grid sees as open (a gap 3 cm wider than the planning circle,
+  // which the window's margins do not fit), s, [0, 3600]; m, (0, 1].
+  double remember_s = 120.0;
+  double mark_radius_m = 0.1;
+
+  void Validate() const;  // throws std::invalid_argument naming the field
+};
+
 struct NavigationControllerOptions {
   double step_s = 0.005;      // the physics step: the control ticks' period, s, (0, 1]
   double start_s = 0.0;       // the first mission starts then, s, [0, 1e7]
@@ -70,6 +103,16 @@ struct NavigationControllerOptions {
   // station rings, which a wrong belief would misplace. Off: the robot stands.
   bool explore_when_lost = false;
   ExploreOptions explore;
+  // While it explores, the others' published hulls are placed by its belief
+  // grown by this, m, [0, 2]: a robot falsely lost is most often within
+  // decimetres of where it believes (expo_tours: nearly all losses under
+  // 5 cm, up to 0.26 m after exploring), and its lasers see only the others'
+  // recessed bodies. Points of them that fall inside its own outline are
+  // dropped (the belief is that far off). A kidnapped robot sees them where
+  // they are not: it avoids a phantom. (A Robox exploring at 0.3 m/s drove
+  // its flank into another standing 0.8 m off, seed 4, 3,431 s.)
+  double lost_hull_margin_m = 0.3;
+  EscapeOptions escape;
   // Fleet (§6.3.5), with a coordinator only: every this often while driving
   // the robot plans again on the others' current weights from where it is —
   // pushed aside, blocked or merely crossed by another's plan — and takes the
@@ -180,6 +223,16 @@ class NavigationController : public Controller {
   void Drive(const ControlTick& tick);
   // Not localized: drives towards open space (explore_when_lost).
   void Explore(const ControlTick& tick);
+  // Driving: starts, drives or ends an escape (EscapeOptions); true while
+  // the escape has the wheels.
+  bool Escape(const ControlTick& tick);
+  // The dynamic window's obstacle points for a localized robot (points_,
+  // robot frame): senses, map outline, the others' hulls and contours.
+  void GatherDrivePoints(const ControlTick& tick);
+  // Adds the pressed bumpers' points to points_ and records the clearance.
+  void AddBumpersAndMeasure(const ControlTick& tick);
+  // The mission made progress (or starts afresh): the escape's clock restarts.
+  void ResetProgress(const ControlTick& tick);
   // One dynamic-window cycle on points_ towards `goal`: the command, the
   // window's figures and the arc drawn (Drive and Explore).
   DwaResult Steer(const ControlTick& tick, const DwaGoal& goal);
@@ -195,6 +248,10 @@ class NavigationController : public Controller {
   double RemainingPathCost(const Eigen::Vector2d& position, const std::vector<double>& costs) const;
   void AppendOtherRobots(const core::Pose2& belief, const core::Pose2& frame_from_world,
                          double reach_m, std::vector<Eigen::Vector2d>* points) const;
+  // The others' hulls alone, grown by `margin_m` (and swept by their speeds).
+  void AppendOtherHulls(const core::Pose2& belief, const core::Pose2& frame_from_world,
+                        double reach_m, double margin_m,
+                        std::vector<Eigen::Vector2d>* points) const;
   // Rings of virtual points that keep this robot out of the stations the
   // others hold (fleet_station_clear_m), in the frame `frame_from_world`.
   void AppendStationRings(const core::Pose2& belief, const core::Pose2& frame_from_world,
@@ -277,6 +334,24 @@ class NavigationController : public Controller {
   int unresolved_reported_ = 0;
   Eigen::Vector2d still_anchor_ = Eigen::Vector2d::Zero();  // odometry position, kStillMoveM
   double still_since_s_ = 0.0;
+  // Escape: the mission's last progress (odometry position, when), and the
+  // escape under way (where it began, its bearing in the odometry frame, end).
+  Eigen::Vector2d progress_anchor_ = Eigen::Vector2d::Zero();
+  double progress_since_s_ = 0.0;
+  std::optional<double> escape_until_s_;
+  Eigen::Vector2d escape_from_ = Eigen::Vector2d::Zero();
+  // How it escapes: turned to a bearing (escape_heading_, odometry frame),
+  // straight back or straight on.
+  enum class EscapeWay { kNone, kBearing, kReverse, kForward };
+  EscapeWay escape_way_ = EscapeWay::kNone;
+  double escape_heading_ = 0.0;
+  struct PocketMark {
+    Eigen::Vector2d at_in_map;
+    double until_s = 0.0;
+  };
+  std::vector<PocketMark> pockets_;  // escapes' starts, closed to the band
+  // Virtual points of the remembered pockets (map frame) for the local planner.
+  void AppendPockets(double now_s, std::vector<Eigen::Vector2d>* points);
 };
 
 }  // namespace pavilion::nav

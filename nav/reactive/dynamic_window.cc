@@ -316,7 +316,7 @@ double DynamicWindow::NearArc(const Candidate& c, double arc_m) const {
   return arc_m;
 }
 
-bool DynamicWindow::Admissible(Candidate& c) {
+bool DynamicWindow::Admissible(Candidate& c, const Scene& scene) {
   if (!RecedesFromContacts(c)) return false;
   c.near_checked = c.speed_g == 0.0 || (band_points_.empty() && contacts_.empty());
   if (c.speed_g == 0.0) {
@@ -325,7 +325,7 @@ bool DynamicWindow::Admissible(Candidate& c) {
     return true;
   }
   double arc_m = options_.lookahead_m;
-  if (options_.clearance_geometry == ClearanceGeometry::kLookupTable) {
+  if (scene.use_table) {
     double& bin_arc_m = bin_arc_m_[c.bin];
     if (bin_arc_m < 0.0) bin_arc_m = table_.MinArcToCollision(c.bin, cells_);
     arc_m = bin_arc_m;
@@ -380,9 +380,10 @@ double DynamicWindow::Objective(const Candidate& c, const DwaGoal& goal, const S
     const Eigen::Vector3d ahead =
         PoseAfter(c.twist, escaping ? options_.period_s : options_.heading_horizon_s);
     const Eigen::Vector2d d = goal.target_in_robot - ahead.head<2>();
-    heading = 1.0 - std::abs(core::NormalizeAngle(std::atan2(d.y(), d.x()) - ahead.z())) /
-                        std::numbers::pi;
-    speed = c.twist.v_mps / options_.max_speed_mps;
+    const double front = goal.reverse ? ahead.z() + std::numbers::pi : ahead.z();
+    heading =
+        1.0 - std::abs(core::NormalizeAngle(std::atan2(d.y(), d.x()) - front)) / std::numbers::pi;
+    speed = (goal.reverse ? -c.twist.v_mps : c.twist.v_mps) / options_.max_speed_mps;
   } else {
     const double d_pred_m = (goal.goal_in_robot - at).norm();
     const double error_rad =
@@ -401,7 +402,7 @@ void DynamicWindow::ScoreCandidates(const DwaGoal& goal, const Scene& scene) {
   std::fill(bin_arc_m_.begin(), bin_arc_m_.end(), -1.0);
   for (Candidate& c : candidates_) {
     if (!c.within_limits) continue;
-    c.admissible = Admissible(c);
+    c.admissible = Admissible(c, scene);
     if (c.admissible) c.score = Objective(c, goal, scene);
   }
 }
@@ -420,6 +421,8 @@ DwaResult DynamicWindow::Choose(const WheelVelocity& current,
   Scene scene;
   scene.speed_cap_mps = kInfinity;
   scene.turn_cap_radps = options_.max_turn_rate_radps;
+  scene.use_table =
+      options_.clearance_geometry == ClearanceGeometry::kLookupTable && !goal.exact_clearance;
   result.command = BrakeCommand(current);
   result.time_to_collision_s = options_.ttc_horizon_s;
   result.candidates_evaluated = static_cast<int>(candidates_.size());
@@ -442,7 +445,7 @@ DwaResult DynamicWindow::Choose(const WheelVelocity& current,
   }
   if (!shallow) return result;
   ScoreCandidates(goal, scene);
-  const bool use_table = options_.clearance_geometry == ClearanceGeometry::kLookupTable;
+  const bool use_table = scene.use_table;
   for (const Candidate& c : candidates_) result.candidates_admissible += c.admissible ? 1 : 0;
   // Best first: a score before CheckNear is an upper bound (the band and
   // contact points only shorten the arc, and the objective never rises as the

@@ -104,6 +104,15 @@ struct DwaGoal {
   double goal_heading_in_robot_rad = 0.0;
   // The caller's translation limit, m/s, >= 0 (e.g. slower near the goal).
   double speed_limit_mps = 1e9;
+  // Position-only mode: drive backwards, the robot's rear judged as its
+  // front for heading and speed (backing out of a pocket it cannot turn in).
+  bool reverse = false;
+  // Judge every candidate against the exact swept polygon, as
+  // ClearanceGeometry::kExact does, for this cycle. The table's cells make
+  // it a cell diagonal more cautious beside the robot: in a gap a few
+  // centimetres wider than the robot no motion but a crawl is admissible.
+  // Costlier (tens of times the table); for rare cycles such as an escape.
+  bool exact_clearance = false;
 };
 
 struct DwaResult {
@@ -188,6 +197,7 @@ class DynamicWindow {
     double goal_distance_m = 0.0;  // pose mode: |goal_in_robot|
     bool orienting = false;        // pose mode, at the position: turn on the spot
     double reach_arc_m = 0.0;      // the largest generalized arc that matters
+    bool use_table = true;         // the table judges the far points (else exact)
   };
 
   // Sorts the points within reach into far, band and contact points; false
@@ -201,7 +211,7 @@ class DynamicWindow {
   double NearArc(const Candidate& c, double arc_m) const;
   // Admissible against the contact rules and the far points (table or
   // exact); the band and contact points are left to CheckNear.
-  bool Admissible(Candidate& c);
+  bool Admissible(Candidate& c, const Scene& scene);
   // Lowers the arc by the band and contact points; rescores or drops `c`.
   void CheckNear(Candidate& c, const DwaGoal& goal, const Scene& scene);
   void BuildCandidates(const WheelVelocity& current, const DwaGoal& goal, Scene& scene);

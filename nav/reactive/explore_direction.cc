@@ -1,5 +1,6 @@
 #include "nav/reactive/explore_direction.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -40,6 +41,27 @@ double FreeTravel(std::span<const Eigen::Vector2d> points_in_robot, double beari
     // bearing) touches the point this far along.
     const double touch = s - std::sqrt(half_width_m * half_width_m - lateral * lateral);
     free_m = std::min(free_m, std::max(0.0, touch));
+  }
+  return free_m;
+}
+
+double StraightFreeTravel(std::span<const Eigen::Vector2d> points_in_robot,
+                          std::span<const Eigen::Vector2d> footprint, bool reverse, double margin_m,
+                          double reach_m) {
+  const double sign = reverse ? -1.0 : 1.0;
+  double half_width_m = 0.0;
+  double extent_m = 0.0;  // of the outline along the direction of travel
+  for (const Eigen::Vector2d& c : footprint) {
+    half_width_m = std::max(half_width_m, std::abs(c.y()));
+    extent_m = std::max(extent_m, sign * c.x());
+  }
+  half_width_m += margin_m;
+  extent_m += margin_m;
+  double free_m = reach_m;
+  for (const Eigen::Vector2d& p : points_in_robot) {
+    const double s = sign * p.x();
+    if (s <= 0.0 || std::abs(p.y()) >= half_width_m) continue;
+    free_m = std::min(free_m, std::max(0.0, s - extent_m));
   }
   return free_m;
 }

@@ -51,6 +51,15 @@ struct ExploreOptions {
 double FreeTravel(std::span<const Eigen::Vector2d> points_in_robot, double bearing_rad,
                   double half_width_m, double reach_m);
 
+// How far (m) the robot can drive straight ahead (or straight back with
+// `reverse`) before its outline `footprint` grown by `margin_m` — taken as
+// the box of its extents, so conservative — reaches one of
+// `points_in_robot`; capped at `reach_m`. A robot wedged where it cannot
+// turn can still back out the way it came.
+double StraightFreeTravel(std::span<const Eigen::Vector2d> points_in_robot,
+                          std::span<const Eigen::Vector2d> footprint, bool reverse, double margin_m,
+                          double reach_m);
+
 // The bearing to drive along (robot frame, rad in (-pi, pi]): `current` while
 // its free travel is at least keep_free_m, else the freest bearing of the fan
 // (ties to the one nearest ahead), provided it is free for min_free_m; none

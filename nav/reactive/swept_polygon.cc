@@ -188,4 +188,26 @@ double ExactRotationToCollision(const core::Polygon2& polygon_in_robot, bool cou
                               point_in_robot);
 }
 
+void AppendSweptOutline(const core::Polygon2& polygon, const BodyTwist& twist, double duration_s,
+                        double step_m, double spacing_m, const core::Pose2& frame_from_robot,
+                        std::vector<Eigen::Vector2d>* points) {
+  const double sweep_m =
+      (std::abs(twist.v_mps) + std::abs(twist.omega_radps) * Circumradius(polygon)) *
+      std::max(0.0, duration_s);
+  const int copies = 1 + static_cast<int>(std::ceil(sweep_m / step_m));
+  for (int c = 0; c < copies; ++c) {
+    const double t_s = copies == 1 ? 0.0 : duration_s * c / (copies - 1);
+    const Eigen::Vector3d at = PoseAfter(twist, t_s);
+    const core::Pose2 frame_from_copy = frame_from_robot * core::Pose2{at.x(), at.y(), at.z()};
+    for (std::size_t i = 0; i < polygon.size(); ++i) {
+      const Eigen::Vector2d& a = polygon[i];
+      const Eigen::Vector2d& b = polygon[(i + 1) % polygon.size()];
+      const int steps = std::max(1, static_cast<int>(std::ceil((b - a).norm() / spacing_m)));
+      for (int k = 0; k < steps; ++k) {
+        points->push_back(frame_from_copy * (a + (b - a) * (static_cast<double>(k) / steps)));
+      }
+    }
+  }
+}
+
 }  // namespace pavilion::nav

@@ -8,8 +8,10 @@
 // slides along -x when ω = 0.
 
 #include <Eigen/Core>
+#include <vector>
 
 #include "core/geometry/polygon.h"
+#include "core/types/pose2.h"
 
 namespace pavilion::nav {
 
@@ -44,6 +46,15 @@ double SignedDistance(const core::Polygon2& polygon, const Eigen::Vector2d& poin
 
 // The pose reached after driving `twist` for `time_s` from the origin.
 Eigen::Vector3d PoseAfter(const BodyTwist& twist, double time_s);
+
+// The outline of `polygon` (robot frame) at the poses the robot passes while
+// it drives `twist` for `duration_s` >= 0, appended to `points` in the frame
+// `frame_from_robot`: copies from the start to the end pose, no vertex
+// travelling more than `step_m` > 0 between two, each edge sampled at most
+// `spacing_m` > 0 apart. Another robot's hull where it will be.
+void AppendSweptOutline(const core::Polygon2& polygon, const BodyTwist& twist, double duration_s,
+                        double step_m, double spacing_m, const core::Pose2& frame_from_robot,
+                        std::vector<Eigen::Vector2d>* points);
 
 // Time (s) until the world-fixed point, given in the robot frame now, first
 // touches the boundary of the convex polygon while the robot moves with the

@@ -127,7 +127,8 @@ Json NavigationJson(const nav::NavigationFigures& f, const CollisionCounts& coll
       {"global_plans", f.global_plans},
       {"dwa_cycles", f.dwa_cycles},
       {"dwa_no_admissible_cycles", f.no_admissible_cycles},
-      {"band_updates", f.band_updates}};
+      {"band_updates", f.band_updates},
+      {"escapes", f.escapes}};
   if (f.fleet_replans > 0 || f.station_waits > 0 || f.deadlocks_detected > 0) {
     j["fleet_replans"] = f.fleet_replans;
     j["station_wait_cycles"] = f.station_waits;
@@ -187,7 +188,7 @@ Json FleetCoordinationJson(const RunMetrics& m) {
   constexpr double kStuckS = 120.0;
   const FleetRunFigures& f = *m.fleet;
   int completed = 0, robots = 0, detected = 0, resolved = 0, unresolved = 0, stuck = 0;
-  int fleet_replans = 0, revisits = 0;
+  int fleet_replans = 0, revisits = 0, escapes = 0;
   double longest_deadlock_s = 0.0, blocked_s = 0.0, longest_blocked_s = 0.0, distance_m = 0.0;
   double longest_still_s = 0.0;
   std::int64_t up = 0, down = 0;
@@ -201,6 +202,7 @@ Json FleetCoordinationJson(const RunMetrics& m) {
     unresolved += n.deadlocks_unresolved;
     fleet_replans += n.fleet_replans;
     revisits += n.station_revisits;
+    escapes += n.escapes;
     longest_deadlock_s = std::max(longest_deadlock_s, n.longest_deadlock_s);
     blocked_s += n.time_blocked_s;
     longest_blocked_s = std::max(longest_blocked_s, n.longest_blocked_s);
@@ -228,6 +230,7 @@ Json FleetCoordinationJson(const RunMetrics& m) {
            {"longest_blocked_s", RoundForJson(longest_blocked_s, 3)},
            {"longest_still_with_mission_s", RoundForJson(longest_still_s, 3)},
            {"stuck_robots", stuck},
+           {"escapes", escapes},
            {"fleet_replans", fleet_replans},
            {"station_revisits", revisits},
            {"bytes_up", up},

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "core/geometry/segment2.h"
 #include "core/odometry/diff_drive.h"
 #include "nav/fleet/coordinator.h"
 #include "nav/mission/navigation_controller.h"
@@ -295,6 +296,70 @@ TEST(NavigationControllerFleet, RevisitsAVisitedStationAfterWaitingForTakenOnes)
   EXPECT_EQ(started[2].goal, started[0].goal);
   EXPECT_NEAR(started[2].at_s - second_completed_s, options.station_wait_s, 0.2);
   EXPECT_EQ(controller.navigation()->station_revisits, 1);
+}
+
+// The smallest distance between two convex outlines (no overlap assumed
+// when > 0): between their edges.
+double HullDistance(const std::vector<Eigen::Vector2d>& a, const std::vector<Eigen::Vector2d>& b) {
+  double d = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    for (std::size_t j = 0; j < b.size(); ++j) {
+      d = std::min(d, core::SegmentSegmentDistance(a[i], a[(i + 1) % a.size()], b[j],
+                                                   b[(j + 1) % b.size()]));
+    }
+  }
+  return d;
+}
+
+// A robot lost on an empty floor (nothing in its scans: another Robox's
+// recessed body can be all but invisible) explores straight ahead, where
+// another robot stands 1.5 m off. In the fleet it places the other's
+// published hull by its belief, grown by lost_hull_margin_m, and keeps off
+// it; alone, it drives into it.
+double ClosestWhileExploring(bool fleet) {
+  NavigationControllerOptions options;
+  options.step_s = kStepS;
+  options.explore_when_lost = true;
+  FleetCoordinator coordinator(2, FleetOptions{});
+  coordinator.SetStations({"a", "s", "b"});
+  NavigationController controller(Line(), Octagon(), MissionSequence::List({"b"}), options);
+  if (fleet) {
+    controller.SetFleet({&coordinator, 0});
+    coordinator.Join(1, Octagon());
+  }
+  const core::Pose2 other{1.5, 0.0, 0.0};
+  std::vector<Eigen::Vector2d> other_hull;
+  for (const Eigen::Vector2d& c : Octagon()) other_hull.push_back(other * c);
+  core::Pose2 pose;
+  const double b = options.odometry.wheelbase_m;
+  WheelSpeeds held;
+  double closest_m = std::numeric_limits<double>::infinity();
+  for (std::int64_t tick = 0; tick * kStepS < 15.0; ++tick) {
+    const double now_s = tick * kStepS;
+    if (const std::optional<WheelSpeeds> w =
+            controller.OnTick(ControlTick{tick, now_s, pose, pose, true})) {
+      held = *w;
+    }
+    if (fleet) {
+      FleetMessage m;
+      m.pose = other;
+      coordinator.Send(1, m);
+      coordinator.Merge();
+    }
+    const core::WheelTravel travel{
+        held.left_radps * options.odometry.left_wheel_radius_m * kStepS,
+        held.right_radps * options.odometry.right_wheel_radius_m * kStepS};
+    pose = core::DiffDriveStep(pose, travel, b);
+    std::vector<Eigen::Vector2d> own;
+    for (const Eigen::Vector2d& c : Octagon()) own.push_back(pose * c);
+    closest_m = std::min(closest_m, HullDistance(own, other_hull));
+  }
+  return closest_m;
+}
+
+TEST(NavigationControllerFleet, ALostRobotKeepsOffTheOthersPublishedHulls) {
+  EXPECT_GT(ClosestWhileExploring(true), 0.2);
+  EXPECT_LT(ClosestWhileExploring(false), 0.01);
 }
 
 }  // namespace

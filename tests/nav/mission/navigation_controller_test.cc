@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -307,6 +308,117 @@ TEST(NavigationController, ADitherCountsAsStandingStill) {
   const NavigationFigures& figures = *controller.navigation();
   EXPECT_EQ(figures.missions_aborted_total(), 0);
   EXPECT_GT(figures.longest_still_s, 59.0);
+}
+
+// A localized robot driving for b, 8 m ahead, through Room()'s wall 0.6 m
+// before its front: the wall is in no map, so every plan runs into it and the
+// robot stands there. The escape (EscapeOptions) backs it out after after_s.
+struct PocketRun {
+  int escapes = 0;
+  double escape_started_s = -1.0;  // when the first escape began
+  double farthest_after_m = 0.0;   // from the pose then, within the escape's drive_s
+  double still_from_s = 0.0;       // the last time the robot was 0.3 m from its final pose
+  double min_clearance_m = std::numeric_limits<double>::infinity();
+  double max_turn_rad = 0.0;  // the largest heading from the start's
+  double min_x_m = 0.0;       // the farthest back along the start's heading
+  std::vector<NavigationEvent> events;
+};
+
+PocketRun DriveInto(const std::vector<Wall>& walls, double escape_after_s, double duration_s) {
+  NavigationControllerOptions options;
+  options.step_s = kStepS;
+  options.escape.after_s = escape_after_s;
+  NavigationController controller(TwoStations(), Square(), MissionSequence::List({"b"}), options);
+  std::vector<Eigen::Vector2d> wall_points;
+  for (const Wall& w : walls) {
+    for (double f = 0.0; f <= 1.0; f += 0.002)
+      wall_points.push_back(w.first + f * (w.second - w.first));
+  }
+  PocketRun run;
+  core::Pose2 pose;
+  core::Pose2 escape_pose;
+  std::vector<core::Pose2> trail;
+  const double b = options.odometry.wheelbase_m;
+  WheelSpeeds held;
+  std::vector<Eigen::Vector2d> in_robot;
+  for (std::int64_t tick = 0; tick * kStepS < duration_s; ++tick) {
+    const double now_s = tick * kStepS;
+    if (tick % 20 == 0) {
+      for (const bool front : {true, false}) {
+        controller.OnScan(RoomScan(pose, walls, front, now_s), ScanContext{now_s, pose, pose});
+      }
+    }
+    if (const std::optional<WheelSpeeds> w =
+            controller.OnTick(ControlTick{tick, now_s, pose, pose, false})) {
+      held = *w;
+    }
+    const core::WheelTravel travel{
+        held.left_radps * options.odometry.left_wheel_radius_m * kStepS,
+        held.right_radps * options.odometry.right_wheel_radius_m * kStepS};
+    pose = core::DiffDriveStep(pose, travel, b);
+    const int escapes = controller.navigation()->escapes;
+    if (escapes > 0 && run.escapes == 0) {
+      run.escape_started_s = now_s;
+      escape_pose = pose;
+    }
+    run.escapes = escapes;
+    run.max_turn_rad = std::max(run.max_turn_rad, std::abs(pose.theta_rad));
+    run.min_x_m = std::min(run.min_x_m, pose.x_m);
+    if (run.escape_started_s >= 0.0 && now_s <= run.escape_started_s + options.escape.drive_s) {
+      run.farthest_after_m =
+          std::max(run.farthest_after_m, (pose.translation() - escape_pose.translation()).norm());
+    }
+    trail.push_back(pose);
+    in_robot.clear();
+    for (const Eigen::Vector2d& p : wall_points) in_robot.push_back(pose.Inverse() * p);
+    run.min_clearance_m = std::min(run.min_clearance_m, PolygonClearance(Square(), in_robot));
+    controller.TakeEvents(&run.events);
+  }
+  for (std::size_t i = trail.size(); i-- > 0;) {
+    if ((trail[i].translation() - pose.translation()).norm() > 0.3) {
+      run.still_from_s = static_cast<double>(i) * kStepS;
+      break;
+    }
+  }
+  return run;
+}
+
+TEST(NavigationController, BacksOutOfAPocketAndPlansAgain) {
+  const EscapeOptions defaults;
+  const PocketRun run = DriveInto(Room(), defaults.after_s, 45.0);
+  ASSERT_GE(run.escapes, 1);
+  // The robot reached the wall within a few seconds; the escape began
+  // after_s of standing later (a little more: the approach's last
+  // centimetres), not before.
+  EXPECT_GT(run.escape_started_s, defaults.after_s);
+  EXPECT_LT(run.escape_started_s, defaults.after_s + 6.0);
+  // It drove away from the wall by the escape's distance, never nearer the
+  // walls than the window's safety margin, and planned again.
+  EXPECT_GE(run.farthest_after_m, defaults.leave_m - 0.05);
+  EXPECT_GT(run.min_clearance_m, 0.01);
+  const bool replanned = std::any_of(run.events.begin(), run.events.end(), [](const auto& e) {
+    return e.type == NavigationEvent::Type::kReplanned && e.cause == "escape";
+  });
+  EXPECT_TRUE(replanned);
+}
+
+TEST(NavigationController, StandsAtTheWallWithoutTheEscape) {
+  const PocketRun run = DriveInto(Room(), 0.0, 45.0);
+  EXPECT_EQ(run.escapes, 0);
+  EXPECT_LT(run.still_from_s, 5.0);  // at the wall within 5 s, and there since
+}
+
+// A slot 0.66 m wide (the square robot is 0.60 m) closed 5 cm before its
+// front: no bearing it could turn to is free, so it backs straight out.
+TEST(NavigationController, BacksStraightOutOfASlotItCannotTurnIn) {
+  const Eigen::Vector2d a(-3.0, -0.33), b(0.35, -0.33), c(0.35, 0.33), d(-3.0, 0.33);
+  const EscapeOptions defaults;
+  const PocketRun run = DriveInto({{a, b}, {b, c}, {c, d}}, defaults.after_s, 28.0);
+  ASSERT_EQ(run.escapes, 1);
+  EXPECT_GE(run.farthest_after_m, defaults.leave_m - 0.05);
+  EXPECT_LT(run.min_x_m, -defaults.leave_m + 0.05);  // backwards
+  EXPECT_LT(run.max_turn_rad, 0.05);                 // it never turned in the slot
+  EXPECT_GT(run.min_clearance_m, 0.005);
 }
 
 TEST(NavigationController, StandsWhileLostWithoutExploring) {

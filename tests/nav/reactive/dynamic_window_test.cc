@@ -237,6 +237,48 @@ TEST(DynamicWindowTest, RespectsCallerSpeedLimit) {
   EXPECT_GE(0.5 * (w.left_mps + w.right_mps), 0.25 - 0.02);
 }
 
+// A slot 0.76 m wide, closed 5 cm before the front: the octagon (0.68 m
+// across its flats, 0.73 m across its corners) cannot turn in it, and the
+// table's cells leave it no straight motion faster than a crawl (2 cm more
+// than the margin on each side is within a cell diagonal). Told to reverse
+// towards a point behind with the exact geometry, it backs straight out;
+// without `reverse` it cannot turn to face the point, and with the table it
+// crawls.
+double BackOutOfASlot(bool reverse, bool exact) {
+  const DynamicWindowOptions o = RoboxOptions();
+  DynamicWindow dwa(o, Octagon());
+  std::vector<Eigen::Vector2d> walls;
+  for (double x = -3.0; x <= 0.39; x += 0.02) {
+    walls.emplace_back(x, 0.38);
+    walls.emplace_back(x, -0.38);
+  }
+  for (double y = -0.38; y <= 0.38; y += 0.02) walls.emplace_back(0.39, y);
+  core::Pose2 pose;
+  WheelVelocity w;
+  std::vector<Eigen::Vector2d> in_robot;
+  for (int k = 0; k < 50; ++k) {  // 5 s
+    in_robot.clear();
+    for (const Eigen::Vector2d& p : walls) in_robot.push_back(InRobot(pose, p));
+    DwaGoal goal;
+    goal.target_in_robot = InRobot(pose, {-3.0, 0.0});
+    goal.reverse = reverse;
+    goal.exact_clearance = exact;
+    goal.speed_limit_mps = 0.3;
+    const DwaResult r = dwa.Choose(w, in_robot, goal);
+    EXPECT_FALSE(SweptOctagonTouches(o, r.command, in_robot)) << k;
+    w = r.command;
+    pose = Drive(pose, w, o);
+  }
+  EXPECT_LT(std::abs(pose.theta_rad), 5.0 * kDeg);
+  return pose.x_m;
+}
+
+TEST(DynamicWindowTest, BacksOutOfASlotItCannotTurnIn) {
+  EXPECT_LT(BackOutOfASlot(/*reverse=*/true, /*exact=*/true), -1.0);  // up to 0.3 m/s, 5 s
+  EXPECT_GT(BackOutOfASlot(/*reverse=*/false, /*exact=*/true), -0.2);
+  EXPECT_GT(BackOutOfASlot(/*reverse=*/true, /*exact=*/false), -0.3);
+}
+
 // Pose mode: the robot drives to the last node and turns on the spot to its
 // heading, ending within 2 cm and 2 degrees (simulated at 10 Hz).
 TEST(DynamicWindowTest, PoseModeEndsAtGoalPose) {

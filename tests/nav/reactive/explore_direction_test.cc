@@ -32,6 +32,20 @@ TEST(FreeTravel, StopsWhereTheCorridorsRoundFrontTouchesAPoint) {
   EXPECT_DOUBLE_EQ(FreeTravel(close, 0.0, 0.5, 3.0), 0.0);
 }
 
+TEST(StraightFreeTravel, MeasuresFromTheOutlinesFrontOrRearWithinItsWidth) {
+  // A 0.6 m x 0.4 m box robot, its rear 0.2 m behind the origin.
+  const std::vector<Eigen::Vector2d> box = {{-0.2, -0.2}, {0.4, -0.2}, {0.4, 0.2}, {-0.2, 0.2}};
+  const std::vector<Eigen::Vector2d> ahead = {{1.0, 0.15}};
+  EXPECT_NEAR(StraightFreeTravel(ahead, box, false, 0.02, 3.0), 1.0 - 0.42, 1e-12);
+  EXPECT_DOUBLE_EQ(StraightFreeTravel(ahead, box, true, 0.02, 3.0), 3.0);  // behind it
+  const std::vector<Eigen::Vector2d> behind = {{-1.0, -0.21}};
+  EXPECT_NEAR(StraightFreeTravel(behind, box, true, 0.02, 3.0), 1.0 - 0.22, 1e-12);
+  // Outside the width grown by the margin: free; beside the robot: blocked.
+  EXPECT_DOUBLE_EQ(StraightFreeTravel(behind, box, true, 0.0, 3.0), 3.0);
+  const std::vector<Eigen::Vector2d> beside = {{0.1, 0.21}};
+  EXPECT_DOUBLE_EQ(StraightFreeTravel(beside, box, false, 0.02, 3.0), 0.0);
+}
+
 TEST(ExploreBearing, TurnsAwayFromAWallToTheFreestSide) {
   ExploreOptions options;
   // A wall 1 m ahead, 4 m wide, and a second one 1.5 m to the left: the

@@ -4,9 +4,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <vector>
 
 #include "core/geometry/polygon.h"
 #include "core/odometry/diff_drive.h"
@@ -109,6 +111,32 @@ TEST(SweptPolygonTest, NearlyStraightArcMatchesStraightLine) {
 }
 
 // Inflation moves every edge out by the offset and keeps the polygon convex.
+// The swept outline holds the polygon at its start and at the end of the
+// arc, with no vertex moving more than the step between copies.
+TEST(SweptPolygonTest, SweptOutlineFollowsTheArc) {
+  const core::Polygon2 square = {{-0.3, -0.3}, {0.3, -0.3}, {0.3, 0.3}, {-0.3, 0.3}};
+  const auto has_near = [](const std::vector<Eigen::Vector2d>& points, const Eigen::Vector2d& p) {
+    return std::any_of(points.begin(), points.end(),
+                       [&](const Eigen::Vector2d& q) { return (q - p).norm() < 1e-9; });
+  };
+  // A quarter turn left on a 1 m radius: 0.5 m/s, 0.5 rad/s for pi s.
+  std::vector<Eigen::Vector2d> points;
+  const core::Pose2 frame{2.0, 1.0, 0.0};
+  AppendSweptOutline(square, BodyTwist{0.5, 0.5}, std::numbers::pi, 0.1, 0.05, frame, &points);
+  const core::Pose2 end = frame * core::Pose2{1.0, 1.0, std::numbers::pi / 2.0};
+  for (const Eigen::Vector2d& v : square) {
+    EXPECT_TRUE(has_near(points, frame * v));
+    EXPECT_TRUE(has_near(points, end * v));
+  }
+  // A vertex moves at most (0.5 m/s + 0.5 rad/s x 0.42 m) x pi s = 2.24 m:
+  // 23 steps of 0.1 m, 24 copies of 4 edges x 12 samples.
+  EXPECT_EQ(points.size(), 24u * 4u * 12u);
+  // Standing still: one copy.
+  points.clear();
+  AppendSweptOutline(square, BodyTwist{}, 1.0, 0.1, 0.05, core::Pose2{}, &points);
+  EXPECT_EQ(points.size(), 4u * 12u);
+}
+
 TEST(SweptPolygonTest, InflationOffsetsEveryEdge) {
   const core::Polygon2 grown = InflateConvexPolygon(Octagon(), 0.05);
   ASSERT_TRUE(IsConvexCounterClockwise(grown));
