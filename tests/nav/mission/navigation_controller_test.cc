@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <optional>
 #include <utility>
 #include <vector>
@@ -419,6 +420,64 @@ TEST(NavigationController, BacksStraightOutOfASlotItCannotTurnIn) {
   EXPECT_LT(run.min_x_m, -defaults.leave_m + 0.05);  // backwards
   EXPECT_LT(run.max_turn_rad, 0.05);                 // it never turned in the slot
   EXPECT_GT(run.min_clearance_m, 0.005);
+}
+
+// On an open floor the robot, facing away from b, is held at the origin
+// (its wheels spin: the pose stays) until it escapes; then it moves as
+// commanded. The escape takes it straight on, away from b, and the band
+// planned after it keeps out of the remembered pocket at the origin; without
+// the memory it leads straight back through it.
+double BandFromThePocket(double remember_s) {
+  NavigationControllerOptions options;
+  options.step_s = kStepS;
+  options.escape.remember_s = remember_s;
+  NavigationController controller(TwoStations(), Square(), MissionSequence::List({"b"}), options);
+  const std::vector<Wall> walls;
+  core::Pose2 pose{0.0, 0.0, std::numbers::pi};
+  WheelSpeeds held;
+  std::vector<NavigationEvent> events;
+  const double b = options.odometry.wheelbase_m;
+  for (std::int64_t tick = 0; tick * kStepS < 40.0; ++tick) {
+    const double now_s = tick * kStepS;
+    if (tick % 20 == 0) {
+      for (const bool front : {true, false}) {
+        controller.OnScan(RoomScan(pose, walls, front, now_s), ScanContext{now_s, pose, pose});
+      }
+    }
+    if (const std::optional<WheelSpeeds> w =
+            controller.OnTick(ControlTick{tick, now_s, pose, pose, false})) {
+      held = *w;
+    }
+    if (controller.navigation()->escapes > 0) {
+      pose =
+          core::DiffDriveStep(pose,
+                              {held.left_radps * options.odometry.left_wheel_radius_m * kStepS,
+                               held.right_radps * options.odometry.right_wheel_radius_m * kStepS},
+                              b);
+    }
+    controller.TakeEvents(&events);
+    for (const NavigationEvent& e : events) {
+      if (e.type != NavigationEvent::Type::kReplanned || e.cause != "escape") continue;
+      const std::optional<NavigationPicture> picture = controller.picture();
+      double nearest_m = std::numeric_limits<double>::infinity();
+      if (picture) {
+        for (const Eigen::Vector2d& c : picture->band_centers)
+          nearest_m = std::min(nearest_m, c.norm());
+      }
+      return nearest_m;
+    }
+    events.clear();
+  }
+  return -1.0;
+}
+
+TEST(NavigationController, RemembersThePocketItEscapedForTheBand) {
+  const EscapeOptions o;
+  const double forgetting_m = BandFromThePocket(0.0);
+  const double remembering_m = BandFromThePocket(o.remember_s);
+  EXPECT_GE(forgetting_m, 0.0);
+  EXPECT_LT(forgetting_m, 0.25);  // the band runs past within a quarter metre
+  EXPECT_GT(remembering_m, o.mark_radius_m + LocalGridOptions{}.robot_radius_m - 0.05);
 }
 
 TEST(NavigationController, StandsWhileLostWithoutExploring) {
