@@ -175,6 +175,7 @@ NavigationController::NavigationController(core::RobotMap map,
   band_period_ticks_ = PeriodTicks(options_.step_s, options_.band_rate_hz);
   figures_.min_clearance_m = std::numeric_limits<double>::infinity();
   circumradius_m_ = Circumradius(footprint_);
+  margin_outline_ = InflateConvexPolygon(footprint_, options_.dwa.safety_margin_m);
   inradius_m_ = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < footprint_.size(); ++i) {
     inradius_m_ =
@@ -503,6 +504,10 @@ void NavigationController::ResetProgress(const ControlTick& tick) {
   escape_until_s_.reset();
 }
 
+Eigen::Vector2d NavigationController::AheadAlong(double bearing_rad) const {
+  return options_.band_lookahead_m * Eigen::Vector2d(std::cos(bearing_rad), std::sin(bearing_rad));
+}
+
 void NavigationController::AppendPockets(double now_s, std::vector<Eigen::Vector2d>* points) {
   std::erase_if(pockets_, [&](const PocketMark& p) { return now_s >= p.until_s; });
   constexpr int kMarkPoints = 12;
@@ -578,8 +583,7 @@ bool NavigationController::Escape(const ControlTick& tick) {
   DwaGoal goal;
   if (escape_way_ == EscapeWay::kBearing) {
     escape_heading_ = core::NormalizeAngle(*bearing + tick.odometry.theta_rad);
-    goal.target_in_robot =
-        options_.band_lookahead_m * Eigen::Vector2d(std::cos(*bearing), std::sin(*bearing));
+    goal.target_in_robot = AheadAlong(*bearing);
   } else {
     goal.reverse = escape_way_ == EscapeWay::kReverse;
     goal.target_in_robot =
@@ -615,10 +619,10 @@ void NavigationController::Explore(const ControlTick& tick) {
   const std::size_t sensed = points_.size();
   AppendOtherHulls(tick.belief, tick.belief.Inverse(), options_.dwa_reach_m,
                    options_.lost_hull_margin_m, &points_);
-  const core::Polygon2 own = InflateConvexPolygon(footprint_, options_.dwa.safety_margin_m);
-  points_.erase(std::remove_if(points_.begin() + static_cast<std::ptrdiff_t>(sensed), points_.end(),
-                               [&](const Eigen::Vector2d& p) { return core::Contains(own, p); }),
-                points_.end());
+  points_.erase(
+      std::remove_if(points_.begin() + static_cast<std::ptrdiff_t>(sensed), points_.end(),
+                     [&](const Eigen::Vector2d& p) { return core::Contains(margin_outline_, p); }),
+      points_.end());
   AppendContours(tick, /*clip=*/false, &points_);
   if (tick.now_s <= bumper_until_s_) {
     points_.insert(points_.end(), bumper_points_.begin(), bumper_points_.end());
@@ -636,8 +640,7 @@ void NavigationController::Explore(const ControlTick& tick) {
   }
   explore_heading_ = core::NormalizeAngle(*bearing + tick.odometry.theta_rad);
   DwaGoal goal;
-  goal.target_in_robot =
-      options_.band_lookahead_m * Eigen::Vector2d(std::cos(*bearing), std::sin(*bearing));
+  goal.target_in_robot = AheadAlong(*bearing);
   goal.speed_limit_mps = options_.explore.speed_mps;
   Steer(tick, goal);
 }

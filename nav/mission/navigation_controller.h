@@ -236,6 +236,8 @@ class NavigationController : public Controller {
   // One dynamic-window cycle on points_ towards `goal`: the command, the
   // window's figures and the arc drawn (Drive and Explore).
   DwaResult Steer(const ControlTick& tick, const DwaGoal& goal);
+  // The window's target along `bearing_rad` (robot frame), band_lookahead_m off.
+  Eigen::Vector2d AheadAlong(double bearing_rad) const;
   void EndMission(const ControlTick& tick, bool completed, AbortReason reason);
   // Fleet: the others' costs per node, publishing, the periodic replan and
   // the others' hulls as obstacle points in the frame `frame_from_world`.
@@ -273,6 +275,7 @@ class NavigationController : public Controller {
   std::vector<Eigen::Vector2d> footprint_;
   double inradius_m_ = 0.0;      // the footprint's nearest side from the robot's origin
   double circumradius_m_ = 0.0;  // its farthest corner
+  std::vector<Eigen::Vector2d> margin_outline_;  // the footprint grown by the window's margin
   MissionSequence missions_;
   TopologyGraph graph_;
   ScanObstacles obstacles_;

@@ -311,6 +311,23 @@ TEST(NavigationController, ADitherCountsAsStandingStill) {
   EXPECT_GT(figures.longest_still_s, 59.0);
 }
 
+// One physics tick of a localized robot (belief = truth) among `walls`:
+// both lasers every 20 ticks (10 Hz), then the controller's tick; a new
+// command replaces `held`.
+void TickAmongWalls(NavigationController& controller, const std::vector<Wall>& walls,
+                    std::int64_t tick, const core::Pose2& pose, WheelSpeeds* held) {
+  const double now_s = tick * kStepS;
+  if (tick % 20 == 0) {
+    for (const bool front : {true, false}) {
+      controller.OnScan(RoomScan(pose, walls, front, now_s), ScanContext{now_s, pose, pose});
+    }
+  }
+  if (const std::optional<WheelSpeeds> w =
+          controller.OnTick(ControlTick{tick, now_s, pose, pose, false})) {
+    *held = *w;
+  }
+}
+
 // A localized robot driving for b, 8 m ahead, through Room()'s wall 0.6 m
 // before its front: the wall is in no map, so every plan runs into it and the
 // robot stands there. The escape (EscapeOptions) backs it out after after_s.
@@ -344,15 +361,7 @@ PocketRun DriveInto(const std::vector<Wall>& walls, double escape_after_s, doubl
   std::vector<Eigen::Vector2d> in_robot;
   for (std::int64_t tick = 0; tick * kStepS < duration_s; ++tick) {
     const double now_s = tick * kStepS;
-    if (tick % 20 == 0) {
-      for (const bool front : {true, false}) {
-        controller.OnScan(RoomScan(pose, walls, front, now_s), ScanContext{now_s, pose, pose});
-      }
-    }
-    if (const std::optional<WheelSpeeds> w =
-            controller.OnTick(ControlTick{tick, now_s, pose, pose, false})) {
-      held = *w;
-    }
+    TickAmongWalls(controller, walls, tick, pose, &held);
     const core::WheelTravel travel{
         held.left_radps * options.odometry.left_wheel_radius_m * kStepS,
         held.right_radps * options.odometry.right_wheel_radius_m * kStepS};
@@ -438,16 +447,7 @@ double BandFromThePocket(double remember_s) {
   std::vector<NavigationEvent> events;
   const double b = options.odometry.wheelbase_m;
   for (std::int64_t tick = 0; tick * kStepS < 40.0; ++tick) {
-    const double now_s = tick * kStepS;
-    if (tick % 20 == 0) {
-      for (const bool front : {true, false}) {
-        controller.OnScan(RoomScan(pose, walls, front, now_s), ScanContext{now_s, pose, pose});
-      }
-    }
-    if (const std::optional<WheelSpeeds> w =
-            controller.OnTick(ControlTick{tick, now_s, pose, pose, false})) {
-      held = *w;
-    }
+    TickAmongWalls(controller, walls, tick, pose, &held);
     if (controller.navigation()->escapes > 0) {
       pose =
           core::DiffDriveStep(pose,
