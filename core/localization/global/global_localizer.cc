@@ -1,5 +1,6 @@
 #include "core/localization/global/global_localizer.h"
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <algorithm>
 #include <stdexcept>
@@ -53,6 +54,12 @@ void GlobalLocalizerOptions::Validate() const {
   }
   if (!(min_heading_sigma_rad >= 0.0)) {
     throw std::invalid_argument("min_heading_sigma_rad must be >= 0");
+  }
+  if (!(max_localize_position_sigma_m > 0.0)) {
+    throw std::invalid_argument("max_localize_position_sigma_m must be > 0");
+  }
+  if (!(max_localize_heading_sigma_rad > 0.0)) {
+    throw std::invalid_argument("max_localize_heading_sigma_rad must be > 0");
   }
   if (min_cycles_to_localize < 0)
     throw std::invalid_argument("min_cycles_to_localize must be >= 0");
@@ -380,7 +387,20 @@ void GlobalLocalizer::TrackAll(const ObservationBatch& batch, const LaserScan& r
   const int needed =
       (ambiguous_ ? options_.min_cycles_after_ambiguity : options_.min_cycles_to_localize) +
       (generation_limited_ ? kLimitedExtraCycles : 0);
-  if (alone_cycles_ >= needed) Localize(hypotheses_.front());
+  if (alone_cycles_ >= needed && Determined(hypotheses_.front().state.covariance)) {
+    Localize(hypotheses_.front());
+  }
+}
+
+bool GlobalLocalizer::Determined(const Eigen::Matrix3d& covariance) const {
+  const double position_variance =
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(covariance.topLeftCorner<2, 2>())
+          .eigenvalues()
+          .maxCoeff();
+  const double position_sigma = options_.max_localize_position_sigma_m;
+  const double heading_sigma = options_.max_localize_heading_sigma_rad;
+  return position_variance <= position_sigma * position_sigma &&
+         covariance(2, 2) <= heading_sigma * heading_sigma;
 }
 
 // Falsification, ranking and duplicate removal (eqs. 5.70-5.71).

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -278,6 +279,81 @@ TEST(GlobalLocalizerTest, NegativeEvidenceDiscardsTheTwinBeforeThePillarIsSeen) 
   EXPECT_LT(run.PositionError(), kLocalizedPositionM);
 }
 
+// A corridor 16 m long whose walls open by 3 deg (a wedge), closed at both
+// ends, seen by a 5 m laser from its middle: the two long walls fix the
+// heading and the position across, and the width fixes the position along
+// only to a decimetre or so (eq. 5.68 is regular). Driving east, the east end
+// comes into range after about 5 m.
+struct WedgeCorridor {
+  WedgeCorridor() {
+    const double rise = kLengthM * std::tan(3.0 * kDeg);
+    walls = testing::PolygonWalls({{0, 0}, {kLengthM, 0}, {kLengthM, 2.0 + rise}, {0, 2.0}});
+    map = SegmentMap(walls, {8.0, 1.0}, walls.size(), Eigen::Vector2d::Zero());
+    scanner = FullCircle(kRangeM);
+    scanner.robot_from_sensor = {0.0, 0.0, kPi};  // the seam faces forward (see PillarRoom)
+  }
+  static constexpr double kLengthM = 16.0;
+  static constexpr double kRangeM = 5.0;
+  std::vector<testing::Wall> walls;
+  RobotMap map;
+  testing::Scanner scanner;
+  Pose2 start{6.0, 1.0, 0.0};
+};
+
+// (e) A lone hypothesis is localized only when its location is determined
+// (max_localize_position_sigma_m): in the wedge it stays not localized, with
+// its position sigma above the bound, until the end wall is in range; then it
+// is localized near the truth. Without the bound (10 m) the same run is
+// localized before the end wall is seen, with that sigma — the gate does
+// something.
+TEST(GlobalLocalizerTest, ALoneHypothesisIsLocalizedOnlyWhenDetermined) {
+  const WedgeCorridor corridor;
+  const auto run_until_localized = [&](const GlobalLocalizerOptions& options, double* east_gap_m,
+                                       double* sigma_m, int* undetermined_cycles) {
+    SimulatedRobot run(corridor.walls, corridor.map, corridor.start, options, corridor.scanner, 5);
+    for (int cycle = 1; cycle <= 250; ++cycle) {
+      run.Cycle(100, 100);  // straight on, ~0.45 m/s
+      const std::vector<LocationHypothesisData> hypotheses = run.localizer.Hypotheses();
+      if (run.localizer.state() == GlobalLocalizationState::kNotLocalized &&
+          hypotheses.size() == 1) {
+        const Eigen::Matrix3d& p = hypotheses.front().location.covariance;
+        if (std::sqrt(std::max(p(0, 0), p(1, 1))) > options.max_localize_position_sigma_m)
+          ++*undetermined_cycles;
+      }
+      if (run.Localized()) {
+        *east_gap_m = WedgeCorridor::kLengthM - run.drive.pose().x_m;
+        *sigma_m = std::sqrt(run.localizer.Estimate().covariance(0, 0));
+        return run.PositionError();
+      }
+    }
+    return -1.0;
+  };
+  GlobalLocalizerOptions gated = Options();
+  gated.tree.min_pairings = 2;  // the two long walls are all there is to see
+  double gated_gap_m = 0.0, gated_sigma_m = 0.0;
+  int gated_undetermined = 0;
+  const double gated_error_m =
+      run_until_localized(gated, &gated_gap_m, &gated_sigma_m, &gated_undetermined);
+  RecordProperty("gated_east_gap_mm", static_cast<int>(1000 * gated_gap_m));
+  ASSERT_GE(gated_error_m, 0.0) << "never localized";
+  EXPECT_LT(gated_gap_m, WedgeCorridor::kRangeM);  // the east end was in range
+  EXPECT_LT(gated_error_m, kLocalizedPositionM);
+  EXPECT_LE(gated_sigma_m, gated.max_localize_position_sigma_m);
+  EXPECT_GT(gated_undetermined, 10);  // a hypothesis was held, undetermined
+
+  GlobalLocalizerOptions ungated = gated;
+  ungated.max_localize_position_sigma_m = 10.0;
+  double ungated_gap_m = 0.0, ungated_sigma_m = 0.0;
+  int ungated_undetermined = 0;
+  const double ungated_error_m =
+      run_until_localized(ungated, &ungated_gap_m, &ungated_sigma_m, &ungated_undetermined);
+  RecordProperty("ungated_east_gap_mm", static_cast<int>(1000 * ungated_gap_m));
+  RecordProperty("ungated_sigma_mm", static_cast<int>(1000 * ungated_sigma_m));
+  ASSERT_GE(ungated_error_m, 0.0) << "never localized";
+  EXPECT_GT(ungated_gap_m, WedgeCorridor::kRangeM + 0.5);  // the east end out of range
+  EXPECT_GT(ungated_sigma_m, gated.max_localize_position_sigma_m);
+}
+
 // Every option is validated, naming the field.
 TEST(GlobalLocalizerTest, ValidatesOptions) {
   const auto expect_field = [](const GlobalLocalizerOptions& o, const std::string& field) {
@@ -313,6 +389,12 @@ TEST(GlobalLocalizerTest, ValidatesOptions) {
   o = Options();
   o.min_heading_sigma_rad = -0.01;
   expect_field(o, "min_heading_sigma_rad");
+  o = Options();
+  o.max_localize_position_sigma_m = 0.0;
+  expect_field(o, "max_localize_position_sigma_m");
+  o = Options();
+  o.max_localize_heading_sigma_rad = 0.0;
+  expect_field(o, "max_localize_heading_sigma_rad");
   o = Options();
   o.generation_window_s = -1.0;
   expect_field(o, "generation_window_s");
