@@ -461,37 +461,47 @@ void SocialForceModel::RobotContacts(double dt, double weight,
   const SocialForceOptions& o = options_;
   // Robots: the person feels the full body force of the machine; the machine
   // feels the person's push, bounded by what a person can exert, unless the
-  // person is pinned against a wall or other people: then the machine meets
-  // what holds the person, through the person (Newton's third law), and
-  // cannot squeeze them flat.
+  // person is pinned against a wall, other people or another robot: then the
+  // machine meets what holds the person, through the person (Newton's third
+  // law), and cannot squeeze them flat. Pinned is judged after all the
+  // robots' contacts of the substep, so that two robots squeezing a person
+  // both meet the other's push; judged robot by robot, the first robot
+  // felt a bounded push and drove on while the second took the whole spring
+  // (expo_tours seed 5: a visitor between two Robox tipped one by 17 deg).
   robot_contacts_.clear();
+  struct Touch {
+    int robot, person;
+    Eigen::Vector2d force_n, closest_m;
+  };
+  std::vector<Touch> touches;
   for (const auto& [r, i] : near_robots_) {
     if (static_cast<std::size_t>(r) >= robots_.size()) continue;
     const RobotObstacle& robot = robots_[r];
-    {
-      const Agent& a = agents_[i];
-      if (!a.active) continue;
-      Eigen::Vector2d normal, closest;
-      const double d = SignedDistanceToConvex(robot.hull_m, a.position_m, &normal, &closest);
-      const double overlap = a.radius_m - d;
-      if (overlap <= 0.0) continue;
-      Overlap(2, overlap);
-      const Eigen::Vector2d arm = closest - robot.center_m;
-      const Eigen::Vector2d surface_velocity =
-          robot.velocity_mps + robot.yaw_rate_radps * Perp(arm);
-      const Eigen::Vector2d f = ContactForce(a, normal, overlap, surface_velocity, dt);
-      const bool pinned = touched_[i] != 0;
-      force_[i] += f;
-      touched_[i] = 1;
-      robot_contacts_.emplace_back(i, r);
-      if (robot_forces) {
-        Eigen::Vector2d on_robot = -f;
-        const double magnitude = on_robot.norm();
-        if (!pinned && magnitude > o.max_push_force_n) on_robot *= o.max_push_force_n / magnitude;
-        robot_forces->push_back({r, i, weight * on_robot, closest, pinned});
-      }
+    const Agent& a = agents_[i];
+    if (!a.active) continue;
+    Eigen::Vector2d normal, closest;
+    const double d = SignedDistanceToConvex(robot.hull_m, a.position_m, &normal, &closest);
+    const double overlap = a.radius_m - d;
+    if (overlap <= 0.0) continue;
+    Overlap(2, overlap);
+    const Eigen::Vector2d arm = closest - robot.center_m;
+    const Eigen::Vector2d surface_velocity = robot.velocity_mps + robot.yaw_rate_radps * Perp(arm);
+    touches.push_back({r, i, ContactForce(a, normal, overlap, surface_velocity, dt), closest});
+  }
+  std::vector<int> robots_touching(agents_.size(), 0);
+  for (const Touch& t : touches) ++robots_touching[t.person];
+  for (const Touch& t : touches) {
+    const bool pinned = touched_[t.person] != 0 || robots_touching[t.person] > 1;
+    force_[t.person] += t.force_n;
+    robot_contacts_.emplace_back(t.person, t.robot);
+    if (robot_forces) {
+      Eigen::Vector2d on_robot = -t.force_n;
+      const double magnitude = on_robot.norm();
+      if (!pinned && magnitude > o.max_push_force_n) on_robot *= o.max_push_force_n / magnitude;
+      robot_forces->push_back({t.robot, t.person, weight * on_robot, t.closest_m, pinned});
     }
   }
+  for (const Touch& t : touches) touched_[t.person] = 1;
 }
 
 void SocialForceModel::Integrate(double dt) {

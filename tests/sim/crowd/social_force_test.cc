@@ -87,5 +87,49 @@ TEST(SocialForceTest, FundamentalDiagramFollowsWeidmann) {
   }
 }
 
+// A square robot footprint of half-width h centred at (x, 0).
+RobotObstacle SquareRobot(double x, double h) {
+  RobotObstacle r;
+  r.hull_m = {{x - h, -h}, {x + h, -h}, {x + h, h}, {x - h, h}};
+  r.center_m = {x, 0.0};
+  return r;
+}
+
+// A person squeezed between two robots is pinned for both: each meets the
+// full body force (Newton's third law through the person), equal and
+// opposite, above what a free person can push with. Judged robot by robot,
+// the first robot felt only the bounded push and the second the whole spring.
+TEST(SocialForceTest, APersonSqueezedBetweenTwoRobotsPinsBoth) {
+  SocialForceOptions options;
+  SocialForceModel model{options};
+  constexpr double kHalf = 0.3;
+  Agent a;
+  a.radius_m = 0.22;
+  a.active = true;
+  model.agents().push_back(a);  // at the origin, standing
+  // Each robot's face 0.19 m from the person's centre: 3 cm into the body.
+  model.SetRobots({SquareRobot(-(0.19 + kHalf), kHalf), SquareRobot(0.19 + kHalf, kHalf)});
+  std::vector<RobotContactForce> forces;
+  model.Step(0.001, &forces);
+  ASSERT_EQ(forces.size(), 2u);
+  const RobotContactForce& left = forces[0].robot == 0 ? forces[0] : forces[1];
+  const RobotContactForce& right = forces[0].robot == 0 ? forces[1] : forces[0];
+  EXPECT_TRUE(left.pinned);
+  EXPECT_TRUE(right.pinned);
+  EXPECT_LT(left.force_n.x(), -options.max_push_force_n);  // pushed away from the person
+  EXPECT_GT(right.force_n.x(), options.max_push_force_n);
+  EXPECT_NEAR(left.force_n.x(), -right.force_n.x(), 1e-6 * right.force_n.x());
+
+  // A person touching one robot only is free: the push is bounded.
+  SocialForceModel alone{options};
+  alone.agents().push_back(a);
+  alone.SetRobots({SquareRobot(0.19 + kHalf, kHalf)});
+  std::vector<RobotContactForce> one;
+  alone.Step(0.001, &one);
+  ASSERT_EQ(one.size(), 1u);
+  EXPECT_FALSE(one[0].pinned);
+  EXPECT_NEAR(one[0].force_n.norm(), options.max_push_force_n, 1e-6);
+}
+
 }  // namespace
 }  // namespace pavilion::sim::crowd
