@@ -127,6 +127,8 @@ void NavigationControllerOptions::Validate() const {
   deadlock.Validate();
   Require(fleet_replan_s >= 0.1 && fleet_replan_s <= 600.0, "fleet_replan_s", "in [0.1, 600] s");
   Require(station_wait_s >= 0.0 && station_wait_s <= 3600.0, "station_wait_s", "in [0, 3600] s");
+  Require(seen_station_look_m >= 0.0 && seen_station_look_m <= 20.0, "seen_station_look_m",
+          "in [0, 20] m");
   Require(fleet_commit_s >= fleet_replan_s && fleet_commit_s <= 600.0, "fleet_commit_s",
           "in [fleet_replan_s, 600] s");
   Require(fleet_replan_gain_m >= 0.0 && fleet_replan_gain_m <= 1e4, "fleet_replan_gain_m",
@@ -282,11 +284,8 @@ void NavigationController::Cycle(const ControlTick& tick) {
   }
   CheckProgress(tick);
   if (state_ != State::kDriving) return;
-  if (fleet_.coordinator && reserved_node_ != kNoNode &&
-      fleet_.coordinator->board().ReservationLost(reserved_node_, fleet_.robot)) {
-    SwitchGoal(tick);
-    if (state_ != State::kDriving) return;
-  }
+  SwitchTakenGoal(tick);
+  if (state_ != State::kDriving) return;
   if (fleet_.coordinator && tick.now_s + 1e-9 >= next_fleet_check_s_) {
     next_fleet_check_s_ = tick.now_s + options_.fleet_replan_s;
     FleetReplan(tick);
@@ -316,7 +315,9 @@ void NavigationController::StartNextMission(const ControlTick& tick) {
     revisit_ = p.revisit;
     if (p.revisit) ++figures_.station_revisits;
   } else {
-    goal = missions_.Next();
+    const MissionSequence::Proposal p = NextGoalBySight(tick);
+    if (p.wait) return;
+    goal = p.goal;
   }
   if (!goal) {
     state_ = State::kDone;

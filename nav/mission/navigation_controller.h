@@ -10,6 +10,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -146,6 +147,16 @@ struct NavigationControllerOptions {
   // s, [0, 3600]. Chosen: a dwell — robots standing each at the station
   // another still has to visit otherwise wait for good.
   double station_wait_s = 10.0;
+  // With the coordination off, goal coordination from the robot's own
+  // sensing (the fall-back of §6.5): a robot this close to its goal station
+  // that sees another robot (a marker's implied centre, §6.3.5.1) within
+  // fleet_station_clear_m of the station gives it back to its round and
+  // drives on to a station it does not see occupied, m, [0, 20]; 0: off.
+  // Chosen: about four robot lengths, where a robot that turns away still
+  // has room, and within the markers' 6 m range. Without it, four robots
+  // bound for one station piled up around it (expo_tours_fallback seed 5,
+  // a deadlock unresolved for 30 s).
+  double seen_station_look_m = 3.0;
   // The dynamic window's blind zones get the map's segments and columns
   // (ScanObstacles::SetMapOutline), placed by the belief and drawn
   // ghost_barrier.clearance_m off them.
@@ -245,7 +256,21 @@ class NavigationController : public Controller {
   void Publish(const ControlTick& tick);
   // The passage claims after this cycle, the robot at `at` (map frame).
   void UpdateClaims(const Eigen::Vector2d& at);
-  void SwitchGoal(const ControlTick& tick);
+  // The current goal is given back and another station proposed, the same
+  // mission driving on (or waiting when none is free); `taken` by node index.
+  void SwitchGoal(const ControlTick& tick, const std::function<bool(int)>& taken,
+                  const char* cause);
+  // With the coordination off: whether the robot sees another robot within
+  // fleet_station_clear_m of the station `node` (markers' implied centres).
+  bool SeesRobotAt(const ControlTick& tick, int node) const;
+  // Switches the goal when the board took its station (coordination on) or a
+  // robot is seen at it (off, seen_station_look_m).
+  void SwitchTakenGoal(const ControlTick& tick);
+  // Whether the goal station, within seen_station_look_m, is seen taken.
+  bool GoalSeenTaken(const ControlTick& tick) const;
+  // The next goal without the coordinator: the sequence's next, or another
+  // when a robot is seen at it (wait when every remaining one is seen taken).
+  MissionSequence::Proposal NextGoalBySight(const ControlTick& tick);
   void FleetReplan(const ControlTick& tick);
   double RemainingPathCost(const Eigen::Vector2d& position, const std::vector<double>& costs) const;
   void AppendOtherRobots(const core::Pose2& belief, const core::Pose2& frame_from_world,

@@ -30,16 +30,15 @@ constexpr double kRatchetGapM = 0.005;
 
 }  // namespace
 
-void NavigationController::SwitchGoal(const ControlTick& tick) {
-  // Another robot chose the same station in the same cycle and keeps it: the
-  // station goes back to the round and the robot proposes another, the same
-  // mission driving on to a new goal (or waiting when none is free).
+void NavigationController::SwitchGoal(const ControlTick& tick,
+                                      const std::function<bool(int)>& taken, const char* cause) {
+  // The station goes back to the round and the robot proposes another, the
+  // same mission driving on to a new goal (or waiting when none is free).
   if (!revisit_) missions_.GiveBack(current_.goal);
   revisit_ = false;
-  const FleetBoard& board = fleet_.coordinator->board();
   const MissionSequence::Proposal p = missions_.NextFree([&](const std::string& id) {
     const std::optional<int> n = graph_.FindIndex(id);
-    return n && (board.StationTaken(*n, fleet_.robot) || *n == reserved_node_);
+    return n && (taken(*n) || *n == reserved_node_);
   });
   const int node = p.goal ? graph_.FindIndex(*p.goal).value_or(kNoNode) : kNoNode;
   if (node == kNoNode) {  // nothing else free: stand until the board changes
@@ -57,7 +56,51 @@ void NavigationController::SwitchGoal(const ControlTick& tick) {
   current_.goal_pose = map_.nodes[node].pose;
   reserved_node_ = node;
   if (!PlanGlobal(tick, kNoNode)) return EndMission(tick, false, AbortReason::kUnreachable);
-  PlanLocal(tick, true, "station_taken");
+  PlanLocal(tick, true, cause);
+}
+
+bool NavigationController::SeesRobotAt(const ControlTick& tick, int node) const {
+  const core::Pose2 world_from_odom = tick.belief * tick.odometry.Inverse();
+  const Eigen::Vector2d station = map_.nodes[static_cast<std::size_t>(node)].pose.translation();
+  return std::any_of(markers_.begin(), markers_.end(), [&](const SeenMarker& m) {
+    return (world_from_odom * m.centre_in_odom - station).norm() < options_.fleet_station_clear_m;
+  });
+}
+
+void NavigationController::SwitchTakenGoal(const ControlTick& tick) {
+  if (fleet_.coordinator) {
+    // Another robot chose the same station in the same cycle and keeps it.
+    const FleetBoard& board = fleet_.coordinator->board();
+    if (reserved_node_ != kNoNode && board.ReservationLost(reserved_node_, fleet_.robot)) {
+      SwitchGoal(
+          tick, [&](int n) { return board.StationTaken(n, fleet_.robot); }, "station_taken");
+    }
+  } else if (GoalSeenTaken(tick)) {
+    SwitchGoal(
+        tick, [&](int n) { return SeesRobotAt(tick, n); }, "station_seen_taken");
+  }
+}
+
+bool NavigationController::GoalSeenTaken(const ControlTick& tick) const {
+  return options_.seen_station_look_m > 0.0 && reserved_node_ != kNoNode &&
+         (tick.belief.translation() - current_.goal_pose.translation()).norm() <
+             options_.seen_station_look_m &&
+         SeesRobotAt(tick, reserved_node_);
+}
+
+MissionSequence::Proposal NavigationController::NextGoalBySight(const ControlTick& tick) {
+  MissionSequence::Proposal p{missions_.Next(), false, false};
+  // A station where another robot is seen is not proposed while another one
+  // is free.
+  const auto seen_taken = [&](const std::string& id) {
+    const std::optional<int> n = graph_.FindIndex(id);
+    return options_.seen_station_look_m > 0.0 && n && SeesRobotAt(tick, *n);
+  };
+  if (!p.goal || !seen_taken(*p.goal)) return p;
+  missions_.GiveBack(*p.goal);
+  p = missions_.NextFree(seen_taken);
+  if (p.wait) ++figures_.station_waits;  // every remaining station is seen taken
+  return p;
 }
 
 void NavigationController::SetFleet(FleetLink link) {

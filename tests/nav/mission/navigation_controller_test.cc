@@ -11,6 +11,7 @@
 #include <limits>
 #include <numbers>
 #include <optional>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -201,6 +202,93 @@ TEST(NavigationController, StaysDeadlockedWithTheResolutionOff) {
   EXPECT_EQ(run.figures.deadlocks_resolved, 0);
   EXPECT_EQ(run.figures.missions_completed, 0);
   EXPECT_LT(run.pose.translation().norm(), 0.05);  // it never got away
+}
+
+// The fall-back's goal coordination by sight (seen_station_look_m): another
+// robot stands at the station the tour chose first (its marker faces the
+// robot), on a floor with stations b (5, 0) and c (0, 5) around the start a.
+struct SeenStationRun {
+  std::string first_goal;              // the station the tour chose first (occupied)
+  std::string first_completed;         // the first station reached
+  double closest_to_occupied_m = 1e9;  // the robot's centre from the occupied station
+  int switches = 0;                    // `replanned` with cause station_seen_taken
+  int station_waits = 0;
+};
+
+SeenStationRun DriveToAnOccupiedStation(double look_m) {
+  core::RobotMap map;
+  map.name = "corner";
+  map.nodes.push_back({"a", {0.0, 0.0, 0.0}, true});
+  map.nodes.push_back({"b", {5.0, 0.0, 0.0}, true});
+  map.nodes.push_back({"c", {0.0, 5.0, 0.0}, true});
+  map.edges.push_back({"a", "b", 5.0});
+  map.edges.push_back({"a", "c", 5.0});
+  NavigationControllerOptions options;
+  options.step_s = kStepS;
+  options.see_robots = true;
+  options.seen_station_look_m = look_m;
+  NavigationController controller(
+      map, Square(), MissionSequence::Tour({"b", "c"}, 2, false, core::RandomStream(3, 1)),
+      options);
+  SeenStationRun out;
+  core::Pose2 pose;
+  WheelSpeeds held;
+  std::optional<Eigen::Vector2d> occupied, marker;
+  std::vector<NavigationEvent> events;
+  for (std::int64_t tick = 0; tick * kStepS < 60.0; ++tick) {
+    const double now_s = tick * kStepS;
+    if (const std::optional<WheelSpeeds> w =
+            controller.OnTick(ControlTick{tick, now_s, pose, pose, false})) {
+      held = *w;
+    }
+    controller.TakeEvents(&events);
+    for (const NavigationEvent& e : events) {
+      if (e.type == NavigationEvent::Type::kMissionStarted && !occupied) {
+        out.first_goal = e.goal;
+        occupied = e.goal == "b" ? Eigen::Vector2d(5.0, 0.0) : Eigen::Vector2d(0.0, 5.0);
+        marker = *occupied - 0.34 * occupied->normalized();  // facing the start
+      }
+      if (e.type == NavigationEvent::Type::kMissionCompleted && out.first_completed.empty())
+        out.first_completed = e.goal;
+      if (e.type == NavigationEvent::Type::kReplanned && e.cause == "station_seen_taken")
+        ++out.switches;
+    }
+    events.clear();
+    const core::WheelTravel travel{
+        held.left_radps * options.odometry.left_wheel_radius_m * kStepS,
+        held.right_radps * options.odometry.right_wheel_radius_m * kStepS};
+    pose = core::DiffDriveStep(pose, travel, options.odometry.wheelbase_m);
+    if (marker && tick % 40 == 0) {  // 5 Hz
+      controller.OnScan(MarkerScan(pose, *marker, now_s), ScanContext{now_s, pose, pose});
+    }
+    if (occupied) {
+      out.closest_to_occupied_m =
+          std::min(out.closest_to_occupied_m, (pose.translation() - *occupied).norm());
+    }
+  }
+  out.station_waits = controller.navigation()->station_waits;
+  return out;
+}
+
+// Seeing a robot at its station from 3 m, the robot gives the station back to
+// its round and goes to the other first; back within 3 m of the occupied one
+// with nothing else left, it waits there. Without the rule it drives on into
+// the occupied station (this test has no body there, only a marker).
+TEST(NavigationController, GoesElsewhereWhileItSeesARobotAtItsStation) {
+  const SeenStationRun seen = DriveToAnOccupiedStation(3.0);
+  ASSERT_FALSE(seen.first_goal.empty());
+  EXPECT_GE(seen.switches, 1);
+  EXPECT_FALSE(seen.first_completed.empty());
+  EXPECT_NE(seen.first_completed, seen.first_goal);
+  EXPECT_GT(seen.closest_to_occupied_m, 2.0);
+  EXPECT_GT(seen.station_waits, 0);
+
+  const SeenStationRun blind = DriveToAnOccupiedStation(0.0);
+  EXPECT_EQ(blind.first_goal, seen.first_goal);
+  EXPECT_EQ(blind.switches, 0);
+  EXPECT_LT(blind.closest_to_occupied_m, 1.05);  // into the station's clear radius
+  RecordProperty("closest_with_mm", static_cast<int>(1000 * seen.closest_to_occupied_m));
+  RecordProperty("closest_without_mm", static_cast<int>(1000 * blind.closest_to_occupied_m));
 }
 
 // Lost in a room whose wall stands 0.6 m before the robot's front: a room
