@@ -469,11 +469,8 @@ void SocialForceModel::RobotContacts(double dt, double weight,
   // felt a bounded push and drove on while the second took the whole spring
   // (expo_tours seed 5: a visitor between two Robox tipped one by 17 deg).
   robot_contacts_.clear();
-  struct Touch {
-    int robot, person;
-    Eigen::Vector2d force_n, closest_m;
-  };
-  std::vector<Touch> touches;
+  std::vector<RobotTouch>& touches = robot_touches_;
+  touches.clear();
   for (const auto& [r, i] : near_robots_) {
     if (static_cast<std::size_t>(r) >= robots_.size()) continue;
     const RobotObstacle& robot = robots_[r];
@@ -488,10 +485,13 @@ void SocialForceModel::RobotContacts(double dt, double weight,
     const Eigen::Vector2d surface_velocity = robot.velocity_mps + robot.yaw_rate_radps * Perp(arm);
     touches.push_back({r, i, ContactForce(a, normal, overlap, surface_velocity, dt), closest});
   }
-  std::vector<int> robots_touching(agents_.size(), 0);
-  for (const Touch& t : touches) ++robots_touching[t.person];
-  for (const Touch& t : touches) {
-    const bool pinned = touched_[t.person] != 0 || robots_touching[t.person] > 1;
+  // People touching more than one robot: few, so a scan of the few touches.
+  const auto robots_touching = [&](int person) {
+    return std::count_if(touches.begin(), touches.end(),
+                         [&](const RobotTouch& t) { return t.person == person; });
+  };
+  for (const RobotTouch& t : touches) {
+    const bool pinned = touched_[t.person] != 0 || robots_touching(t.person) > 1;
     force_[t.person] += t.force_n;
     robot_contacts_.emplace_back(t.person, t.robot);
     if (robot_forces) {
@@ -501,7 +501,7 @@ void SocialForceModel::RobotContacts(double dt, double weight,
       robot_forces->push_back({t.robot, t.person, weight * on_robot, t.closest_m, pinned});
     }
   }
-  for (const Touch& t : touches) touched_[t.person] = 1;
+  for (const RobotTouch& t : touches) touched_[t.person] = 1;
 }
 
 void SocialForceModel::Integrate(double dt) {

@@ -210,6 +210,12 @@ class SocialForceModel {
   std::vector<Eigen::Vector2d> force_;
   std::vector<char> touched_;
   std::vector<std::pair<int, int>> robot_contacts_;
+  // A person's contact with a robot in the current substep (RobotContacts).
+  struct RobotTouch {
+    int robot, person;
+    Eigen::Vector2d force_n, closest_m;
+  };
+  std::vector<RobotTouch> robot_touches_;               // reused across substeps
   std::array<double, 3> max_overlap_m_{0.0, 0.0, 0.0};  // people, walls, robots
   void Overlap(int kind, double overlap_m) {
     max_overlap_m_[kind] = std::max(max_overlap_m_[kind], overlap_m);

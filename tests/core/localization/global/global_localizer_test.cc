@@ -306,52 +306,56 @@ struct WedgeCorridor {
 // is localized near the truth. Without the bound (10 m) the same run is
 // localized before the end wall is seen, with that sigma — the gate does
 // something.
-TEST(GlobalLocalizerTest, ALoneHypothesisIsLocalizedOnlyWhenDetermined) {
+// Where a wedge run was first localized (see the test below).
+struct WedgeLocalization {
+  bool localized = false;
+  double error_m = 0.0;         // position error then
+  double east_gap_m = 0.0;      // from the corridor's east end then
+  double sigma_m = 0.0;         // the estimate's sigma along the corridor then
+  int undetermined_cycles = 0;  // before: one hypothesis above the position bound
+};
+
+WedgeLocalization DriveTheWedge(const GlobalLocalizerOptions& options) {
   const WedgeCorridor corridor;
-  const auto run_until_localized = [&](const GlobalLocalizerOptions& options, double* east_gap_m,
-                                       double* sigma_m, int* undetermined_cycles) {
-    SimulatedRobot run(corridor.walls, corridor.map, corridor.start, options, corridor.scanner, 5);
-    for (int cycle = 1; cycle <= 250; ++cycle) {
-      run.Cycle(100, 100);  // straight on, ~0.45 m/s
-      const std::vector<LocationHypothesisData> hypotheses = run.localizer.Hypotheses();
-      if (run.localizer.state() == GlobalLocalizationState::kNotLocalized &&
-          hypotheses.size() == 1) {
-        const Eigen::Matrix3d& p = hypotheses.front().location.covariance;
-        if (std::sqrt(std::max(p(0, 0), p(1, 1))) > options.max_localize_position_sigma_m)
-          ++*undetermined_cycles;
-      }
-      if (run.Localized()) {
-        *east_gap_m = WedgeCorridor::kLengthM - run.drive.pose().x_m;
-        *sigma_m = std::sqrt(run.localizer.Estimate().covariance(0, 0));
-        return run.PositionError();
-      }
+  SimulatedRobot run(corridor.walls, corridor.map, corridor.start, options, corridor.scanner, 5);
+  WedgeLocalization out;
+  for (int cycle = 1; cycle <= 250 && !out.localized; ++cycle) {
+    run.Cycle(100, 100);  // straight on, ~0.45 m/s
+    const std::vector<LocationHypothesisData> hypotheses = run.localizer.Hypotheses();
+    if (run.localizer.state() == GlobalLocalizationState::kNotLocalized && hypotheses.size() == 1) {
+      const Eigen::Matrix3d& p = hypotheses.front().location.covariance;
+      if (std::sqrt(std::max(p(0, 0), p(1, 1))) > options.max_localize_position_sigma_m)
+        ++out.undetermined_cycles;
     }
-    return -1.0;
-  };
+    if (run.Localized()) {
+      out.localized = true;
+      out.error_m = run.PositionError();
+      out.east_gap_m = WedgeCorridor::kLengthM - run.drive.pose().x_m;
+      out.sigma_m = std::sqrt(run.localizer.Estimate().covariance(0, 0));
+    }
+  }
+  return out;
+}
+
+TEST(GlobalLocalizerTest, ALoneHypothesisIsLocalizedOnlyWhenDetermined) {
   GlobalLocalizerOptions gated = Options();
   gated.tree.min_pairings = 2;  // the two long walls are all there is to see
-  double gated_gap_m = 0.0, gated_sigma_m = 0.0;
-  int gated_undetermined = 0;
-  const double gated_error_m =
-      run_until_localized(gated, &gated_gap_m, &gated_sigma_m, &gated_undetermined);
-  RecordProperty("gated_east_gap_mm", static_cast<int>(1000 * gated_gap_m));
-  ASSERT_GE(gated_error_m, 0.0) << "never localized";
-  EXPECT_LT(gated_gap_m, WedgeCorridor::kRangeM);  // the east end was in range
-  EXPECT_LT(gated_error_m, kLocalizedPositionM);
-  EXPECT_LE(gated_sigma_m, gated.max_localize_position_sigma_m);
-  EXPECT_GT(gated_undetermined, 10);  // a hypothesis was held, undetermined
+  const WedgeLocalization with = DriveTheWedge(gated);
+  RecordProperty("gated_east_gap_mm", static_cast<int>(1000 * with.east_gap_m));
+  ASSERT_TRUE(with.localized);
+  EXPECT_LT(with.east_gap_m, WedgeCorridor::kRangeM);  // the east end was in range
+  EXPECT_LT(with.error_m, kLocalizedPositionM);
+  EXPECT_LE(with.sigma_m, gated.max_localize_position_sigma_m);
+  EXPECT_GT(with.undetermined_cycles, 10);  // a hypothesis was held, undetermined
 
   GlobalLocalizerOptions ungated = gated;
   ungated.max_localize_position_sigma_m = 10.0;
-  double ungated_gap_m = 0.0, ungated_sigma_m = 0.0;
-  int ungated_undetermined = 0;
-  const double ungated_error_m =
-      run_until_localized(ungated, &ungated_gap_m, &ungated_sigma_m, &ungated_undetermined);
-  RecordProperty("ungated_east_gap_mm", static_cast<int>(1000 * ungated_gap_m));
-  RecordProperty("ungated_sigma_mm", static_cast<int>(1000 * ungated_sigma_m));
-  ASSERT_GE(ungated_error_m, 0.0) << "never localized";
-  EXPECT_GT(ungated_gap_m, WedgeCorridor::kRangeM + 0.5);  // the east end out of range
-  EXPECT_GT(ungated_sigma_m, gated.max_localize_position_sigma_m);
+  const WedgeLocalization without = DriveTheWedge(ungated);
+  RecordProperty("ungated_east_gap_mm", static_cast<int>(1000 * without.east_gap_m));
+  RecordProperty("ungated_sigma_mm", static_cast<int>(1000 * without.sigma_m));
+  ASSERT_TRUE(without.localized);
+  EXPECT_GT(without.east_gap_m, WedgeCorridor::kRangeM + 0.5);  // the east end out of range
+  EXPECT_GT(without.sigma_m, gated.max_localize_position_sigma_m);
 }
 
 // Every option is validated, naming the field.
