@@ -14,6 +14,7 @@
 #include "scenarios/cli/calibrate_command.h"
 #include "scenarios/cli/extract_command.h"
 #include "scenarios/cli/map_command.h"
+#include "scenarios/cli/realism_command.h"
 #include "scenarios/cli/run_command.h"
 #include "scenarios/cli/scan_command.h"
 #include "scenarios/cli/sweep_command.h"
@@ -173,6 +174,8 @@ struct Commands {
   CLI::App* bench_hall = nullptr;
   cli::SweepArgs sweep_args;
   CLI::App* sweep = nullptr;
+  cli::RealismArgs realism_args;
+  CLI::App* realism_report = nullptr;
 };
 
 void AddCommands(CLI::App* app, Commands* c) {
@@ -196,6 +199,9 @@ void AddCommands(CLI::App* app, Commands* c) {
   // --- sweep: seeds x parameter grid (scenarios/cli/sweep_command.cc) ---
   c->sweep = cli::AddSweepCommand(app, &c->sweep_args);
   // --- end sweep ---
+  // --- realism: the laser's errors against real logs (scenarios/cli/realism_command.cc) ---
+  c->realism_report = cli::AddRealismCommand(app, &c->realism_args);
+  // --- end realism ---
 }
 
 // Runs the parsed subcommand; its exit code.
@@ -221,6 +227,7 @@ int Dispatch(Commands& c) {
     return cli::RunBenchCommand(c.bench_args);
   }
   if (*c.sweep) return cli::RunSweepCommand(c.sweep_args);  // sweep
+  if (*c.realism_report) return cli::RunRealismCommand(c.realism_args);
   return kExitBadUsage;
 }
 

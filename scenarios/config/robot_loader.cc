@@ -282,7 +282,8 @@ class RobotReader {
     MapReader r(doc_, node, "systematic");
     ReadOptions(r, &s,
                 {{"wheel_radius_ratio", &sim::SystematicErrors::wheel_radius_ratio},
-                 {"wheelbase_factor", &sim::SystematicErrors::wheelbase_factor}});
+                 {"wheelbase_factor", &sim::SystematicErrors::wheelbase_factor},
+                 {"mean_radius_factor", &sim::SystematicErrors::mean_radius_factor}});
     r.Finish();
     return s;
   }

@@ -12,6 +12,8 @@ constexpr double kMaxLocalizationRateHz = 1000.0;
 constexpr double kMinSignificance = 0.5;
 constexpr double kMaxSignificance = 0.999999;
 constexpr double kMaxDerivedMapNoiseM = 0.1;  // tape-measure noise, not a different map
+constexpr double kMaxLineFloorRM = 0.1;       // a floor, not a different sensor
+constexpr double kMaxLineFloorAlphaRad = 5.0 * 3.14159265358979323846 / 180.0;
 constexpr double kMaxStartS = 1e7;
 constexpr double kMaxControlRateHz = 1000.0;
 constexpr double kMaxTrajectoryRateHz = 1e4;
@@ -30,6 +32,10 @@ bool InRange(double v, double lo, double hi) { return v >= lo && v <= hi; }  // 
 void LocalizationEntry::Validate() const {
   Require(!derive_map_noise_m || InRange(*derive_map_noise_m, 0.0, kMaxDerivedMapNoiseM),
           "LocalizationEntry", "derive_map_noise_m", "in [0, 0.1] m");
+  Require(!line_floor_r_m || InRange(*line_floor_r_m, 0.0, kMaxLineFloorRM), "LocalizationEntry",
+          "line_floor_r_m", "in [0, 0.1] m");
+  Require(!line_floor_alpha_rad || InRange(*line_floor_alpha_rad, 0.0, kMaxLineFloorAlphaRad),
+          "LocalizationEntry", "line_floor_alpha_rad", "in [0, 5] deg");
   Require(InRange(rate_hz, 0.01, kMaxLocalizationRateHz), "LocalizationEntry", "rate_hz",
           "in [0.01, 1000] Hz");
   Require(initial_sigma.allFinite() && (initial_sigma.array() > 0.0).all(), "LocalizationEntry",

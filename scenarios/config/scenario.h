@@ -10,6 +10,7 @@
 #include "nav/control/wander_controller.h"
 #include "nav/fleet/coordinator.h"
 #include "nav/mission/navigation_controller.h"
+#include "scenarios/config/realism.h"
 #include "scenarios/events/event.h"
 #include "scenarios/expect/expectation.h"
 #include "sim/bodies/body_motion.h"
@@ -58,7 +59,14 @@ struct LocalizationEntry {
   // the world frame, theta), with standard deviations `initial_sigma`.
   core::Pose2 initial_offset;
   Eigen::Vector3d initial_sigma{0.01, 0.01, 0.0175};  // m, m, rad; each finite and > 0
-  double significance = 0.95;       // of the validation gate (eq. 4.16), [0.5, 0.999999]
+  double significance = 0.95;  // of the validation gate (eq. 4.16), [0.5, 0.999999]
+  // The extracted lines' covariance floor (core::LineExtractionOptions'
+  // r_sigma_floor_m, alpha_sigma_floor_rad; §2.2.1.3 correlated error): the
+  // filter's answer to errors that repeat from scan to scan. Unset: the laser
+  // preset's (LMS 200: 1 mm, 0.02°). Keys line_floor_r_m, m, [0, 0.1], and
+  // line_floor_alpha_deg, [0, 5] deg.
+  std::optional<double> line_floor_r_m;
+  std::optional<double> line_floor_alpha_rad;
   std::vector<std::string> lasers;  // lasers that feed it; empty: all
   // `method: global`: global localization (thesis chapter 5, Fig. 5.17) —
   // lost is not final, the robot relocalizes itself; `ekf` (default): the
@@ -196,6 +204,10 @@ struct Scenario {
   std::vector<std::string> notes;
   OutputOptions outputs;
   FleetEntry fleet;
+  // `realism: ideal | realistic` (scenarios/config/realism.h): the robots'
+  // draws are applied at load time; the world's (clutter, doors, the survey's
+  // wall offsets) when the run builds its world.
+  RealismProfile realism;
 };
 
 // Command-line adjustments applied before validation.

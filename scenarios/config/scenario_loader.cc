@@ -10,6 +10,7 @@
 #include "scenarios/config/data_paths.h"
 #include "scenarios/config/mission_reader.h"
 #include "scenarios/config/options_reader.h"
+#include "scenarios/config/realism_reader.h"
 #include "scenarios/config/robot_loader.h"
 #include "scenarios/config/scenario.h"
 #include "scenarios/config/world_loader.h"
@@ -19,6 +20,7 @@
 #include "scenarios/events/random_events.h"
 #include "scenarios/expect/expect_reader.h"
 #include "scenarios/maps/map_derivation.h"
+#include "scenarios/realism/robot_realism.h"
 
 namespace pavilion::scenarios {
 namespace {
@@ -285,7 +287,10 @@ void ReadLocalization(YamlDocument* doc, MapReader& r, const std::string& base,
   std::vector<OptionField<LocalizationEntry>> fields = {
       {"rate_hz", &LocalizationEntry::rate_hz},
       {"initial_sigma", &LocalizationEntry::initial_sigma},
-      {"significance", &LocalizationEntry::significance}};
+      {"significance", &LocalizationEntry::significance},
+      {"line_floor_r_m", &LocalizationEntry::line_floor_r_m},
+      {"line_floor_alpha_deg", "line_floor_alpha_rad", &LocalizationEntry::line_floor_alpha_rad,
+       kRadPerDeg}};
   if (l.derive_map_noise_m) {
     fields.push_back({"map_noise_m", "derive_map_noise_m", &LocalizationEntry::derive_map_noise_m});
   }
@@ -408,7 +413,8 @@ void ReadModelAdjustments(YamlDocument* doc, MapReader& r, const Scenario& s, Ro
     MapReader m(doc, sys, r.PathOf("systematic"));
     ReadOptions(m, &robot->config.systematic,
                 {{"wheel_radius_ratio", &sim::SystematicErrors::wheel_radius_ratio},
-                 {"wheelbase_factor", &sim::SystematicErrors::wheelbase_factor}});
+                 {"wheelbase_factor", &sim::SystematicErrors::wheelbase_factor},
+                 {"mean_radius_factor", &sim::SystematicErrors::mean_radius_factor}});
     m.Finish();
   }
   robot->wheel_model = ReadWheelModel(r, s.wheel_model);
@@ -747,6 +753,8 @@ Scenario LoadScenarioFile(const std::string& path, const ScenarioOverrides& over
   ReadWorldAndAdditions(&doc, top, base, &s);
   ReadBodies(&doc, top, s.world, &s);
   ReadRobots(&doc, top, base, &s);
+  ReadRealism(&doc, top, &s.realism);
+  for (RobotEntry& r : s.robots) DrawRealisticRobot(s.realism, s.seed, &r);
   ReadCrowd(&doc, top, &s);
   ReadEvents(&doc, top, file_duration_s, &s);
   s.expectations = ReadExpectations(top, MetricIdsOf(s));

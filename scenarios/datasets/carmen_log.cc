@@ -196,7 +196,7 @@ Eigen::Vector2d Point(const core::LaserReading& r, double bearing_rad) {
 // pieces that are straight within `split_distance_m`.
 void SplitRun(const std::vector<Eigen::Vector2d>& points, const std::vector<int>& indices,
               std::size_t first, std::size_t last, const CarmenStraightnessOptions& options,
-              std::size_t scan, std::vector<Run>* runs) {
+              std::vector<std::vector<int>>* runs) {
   if (last < first + 2) return;  // too short to matter
   const Eigen::Vector2d a = points[first];
   const Eigen::Vector2d chord = points[last] - a;
@@ -213,16 +213,42 @@ void SplitRun(const std::vector<Eigen::Vector2d>& points, const std::vector<int>
     }
   }
   if (worst_distance > options.split_distance_m) {
-    SplitRun(points, indices, first, worst, options, scan, runs);
-    SplitRun(points, indices, worst, last, options, scan, runs);
+    SplitRun(points, indices, first, worst, options, runs);
+    SplitRun(points, indices, worst, last, options, runs);
     return;
   }
   if (static_cast<int>(last - first + 1) < options.min_points || length < options.min_length_m) {
     return;
   }
-  runs->push_back(
-      {scan, std::vector<int>(indices.begin() + static_cast<std::ptrdiff_t>(first),
-                              indices.begin() + static_cast<std::ptrdiff_t>(last) + 1)});
+  runs->emplace_back(indices.begin() + static_cast<std::ptrdiff_t>(first),
+                     indices.begin() + static_cast<std::ptrdiff_t>(last) + 1);
+}
+
+// The straight runs of `readings` with reading i at bearing bearings_rad[i].
+std::vector<std::vector<int>> StraightRunsOf(const std::vector<core::LaserReading>& readings,
+                                             const std::vector<double>& bearings_rad,
+                                             const CarmenStraightnessOptions& options) {
+  std::vector<std::vector<int>> runs;
+  std::vector<Eigen::Vector2d> points;
+  std::vector<int> indices;
+  const auto flush = [&] {
+    if (!points.empty()) SplitRun(points, indices, 0, points.size() - 1, options, &runs);
+    points.clear();
+    indices.clear();
+  };
+  for (std::size_t i = 0; i < readings.size(); ++i) {
+    const core::LaserReading& r = readings[i];
+    if (!r.valid) {
+      flush();
+      continue;
+    }
+    const Eigen::Vector2d p = Point(r, bearings_rad[i]);
+    if (!points.empty() && (p - points.back()).norm() > options.break_distance_m) flush();
+    points.push_back(p);
+    indices.push_back(static_cast<int>(i));
+  }
+  flush();
+  return runs;
 }
 
 // Sum of squared perpendicular residuals of the total-least-squares line
@@ -268,6 +294,15 @@ void CarmenStraightnessOptions::Validate() const {
   if (!std::isfinite(min_length_m) || min_length_m <= 0.0) {
     throw std::invalid_argument("CarmenStraightnessOptions.min_length_m must be > 0");
   }
+}
+
+std::vector<std::vector<int>> FindStraightRuns(const core::LaserScan& scan,
+                                               const CarmenStraightnessOptions& options) {
+  options.Validate();
+  std::vector<double> bearings_rad;
+  bearings_rad.reserve(scan.readings.size());
+  for (const core::LaserReading& r : scan.readings) bearings_rad.push_back(r.bearing_rad);
+  return StraightRunsOf(scan.readings, bearings_rad, options);
 }
 
 int CarmenLog::UnknownOdometryIntervals() const {
@@ -336,28 +371,17 @@ double InterpolatedBearing(int i, int n, double t) {
 // between the two candidates.
 std::vector<Run> StraightRuns(const CarmenLog& log, const CarmenStraightnessOptions& options) {
   std::vector<Run> runs;
+  std::vector<double> bearings_rad;
   for (std::size_t s = 0; s < log.scans.size(); ++s) {
     const std::vector<core::LaserReading>& readings = log.scans[s].scan.readings;
     const int n = static_cast<int>(readings.size());
-    std::vector<Eigen::Vector2d> points;
-    std::vector<int> indices;
-    const auto flush = [&] {
-      if (!points.empty()) SplitRun(points, indices, 0, points.size() - 1, options, s, &runs);
-      points.clear();
-      indices.clear();
-    };
+    bearings_rad.resize(readings.size());
     for (int i = 0; i < n; ++i) {
-      const core::LaserReading& r = readings[static_cast<std::size_t>(i)];
-      if (!r.valid) {
-        flush();
-        continue;
-      }
-      const Eigen::Vector2d p = Point(r, InterpolatedBearing(i, n, 0.5));
-      if (!points.empty() && (p - points.back()).norm() > options.break_distance_m) flush();
-      points.push_back(p);
-      indices.push_back(i);
+      bearings_rad[static_cast<std::size_t>(i)] = InterpolatedBearing(i, n, 0.5);
     }
-    flush();
+    for (std::vector<int>& indices : StraightRunsOf(readings, bearings_rad, options)) {
+      runs.push_back({s, std::move(indices)});
+    }
   }
   return runs;
 }

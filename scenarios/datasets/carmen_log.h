@@ -88,6 +88,20 @@ struct CarmenStraightnessOptions {
   void Validate() const;
 };
 
+// The long straight runs ("walls") of one scan, as the ascending indices of
+// their readings, runs in reading order. Chains of consecutive valid readings
+// (an invalid reading, or two consecutive points more than break_distance_m
+// apart, ends a chain) are split by iterative end-point fit at the point
+// farthest from the chord while that distance exceeds split_distance_m; the
+// pieces of at least min_points readings whose end points are at least
+// min_length_m apart are kept (docs/carmen_logs.md). Points are at each
+// reading's range_m and bearing_rad in the sensor frame. The segmentation of
+// DecideCarmenAngleStep and of the residual statistics of
+// scenarios/realism/scan_residuals.h. Throws std::invalid_argument for invalid
+// options.
+std::vector<std::vector<int>> FindStraightRuns(const core::LaserScan& scan,
+                                               const CarmenStraightnessOptions& options = {});
+
 // Outcome of DecideCarmenAngleStep, with the numbers that justify it.
 struct CarmenAngleStepDecision {
   CarmenAngleStep step = CarmenAngleStep::kFovOverN;

@@ -268,6 +268,8 @@ void MapDerivationOptions::Validate() const {
         "low_height_m", "(0, beam_height_m) m");
   check(std::isfinite(noise_sigma_m) && noise_sigma_m >= 0.0 && noise_sigma_m <= 0.1,
         "noise_sigma_m", "[0, 0.1] m");
+  check(wall_offset_sigma_m >= 0.0 && wall_offset_sigma_m <= 0.1, "wall_offset_sigma_m",
+        "[0, 0.1] m");
   check(std::isfinite(robot_radius_m) && robot_radius_m >= 0.05 && robot_radius_m <= 2.0,
         "robot_radius_m", "[0.05, 2] m");
   check(std::isfinite(via_spacing_m) && via_spacing_m >= 0.5 && via_spacing_m <= 20.0,
@@ -308,6 +310,7 @@ class MapDeriver {
         recorded_sigma_(std::max(sigma_, kMinRecordedSigmaM)),
         point_cov_(recorded_sigma_ * recorded_sigma_ * Eigen::Matrix2d::Identity()),
         noise_(options.seed, core::RandomStream::StreamId("map_derive")),
+        wall_offsets_(options.seed, core::RandomStream::StreamId("map_wall_offsets")),
         beam_(world.SectionAt(options.beam_height_m)),
         low_(world.SectionAt(options.low_height_m)),
         elements_(beam_.elements),
@@ -341,7 +344,8 @@ class MapDeriver {
                   d_.name.c_str(), options_.beam_height_m, sigma_ * 1000.0,
                   static_cast<unsigned long long>(options_.seed), radius_, options_.via_spacing_m,
                   options_.low_height_m, options_.ghost_spacing_m);
-    return buf;
+    if (options_.wall_offset_sigma_m == 0.0) return buf;
+    return buf + ("; walls off by sigma " + std::to_string(options_.wall_offset_sigma_m) + " m.");
   }
 
   bool Opaque(int e) const {
@@ -618,11 +622,17 @@ class MapDeriver {
       corners.push_back(Measure(foot + s0 * along));
       corners.push_back(Measure(foot + s1 * along));
     }
+    const double w = options_.wall_offset_sigma_m;  // the whole wall off along its normal
+    const Vec2 offset = w > 0.0 ? Vec2(wall_offsets_.Normal(0.0, w) * g.normal) : Vec2::Zero();
+    for (Vec2& c : corners) c += offset;
     const auto [alpha_fit, r_fit] = FitLine(corners, g.normal);
     core::Line line;
     line.alpha_rad = RoundAlpha(alpha_fit);
     line.r_m = core::RoundDecimals(r_fit, kPositionDecimals);
-    line.covariance = RoundCovariance(FitCovariance(corners, g.normal, recorded_sigma_));
+    Eigen::Matrix2d covariance = FitCovariance(corners, g.normal, recorded_sigma_);
+    // The surveyor states the method's accuracy: the whole wall's offset, in r.
+    covariance(1, 1) += options_.wall_offset_sigma_m * options_.wall_offset_sigma_m;
+    line.covariance = RoundCovariance(covariance);
     if (line.r_m == 0.0) {
       throw std::runtime_error("map line " + id +
                                " passes through the world origin (r = 0), which eq. B.4 cannot "
@@ -733,6 +743,7 @@ class MapDeriver {
   const double recorded_sigma_;
   const Eigen::Matrix2d point_cov_;
   core::RandomStream noise_;
+  core::RandomStream wall_offsets_;
   const core::PlanarSection beam_;
   const core::PlanarSection low_;
   const std::vector<core::SectionElement>& elements_;

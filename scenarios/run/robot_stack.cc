@@ -41,6 +41,12 @@ core::LocalizerOptions LocalizerOptionsFor(const RobotEntry& robot) {
   for (const sim::LaserMount& mount : robot.config.lasers) {
     core::LaserSensorOptions laser;
     laser.id = mount.id;
+    if (robot.localization.line_floor_r_m) {
+      laser.lines.r_sigma_floor_m = *robot.localization.line_floor_r_m;
+    }
+    if (robot.localization.line_floor_alpha_rad) {
+      laser.lines.alpha_sigma_floor_rad = *robot.localization.line_floor_alpha_rad;
+    }
     o.lasers.push_back(laser);
   }
   return o;
@@ -255,6 +261,9 @@ core::RobotMap LoadRobotMap(const RobotEntry& robot, const Scenario& scenario,
     if (entry.derive_map_noise_m) {
       MapDerivationOptions options;
       options.noise_sigma_m = *entry.derive_map_noise_m;
+      if (scenario.realism.realistic) {
+        options.wall_offset_sigma_m = scenario.realism.wall_offset_sigma_m;
+      }
       options.seed = scenario.seed;
       return DeriveRobotMap(world, options);
     }

@@ -35,6 +35,7 @@
 #include "scenarios/output/run_outputs.h"
 #include "scenarios/output/scan_log.h"
 #include "scenarios/output/series_decimator.h"
+#include "scenarios/realism/world_realism.h"
 #include "scenarios/run/body_spawner.h"
 #include "scenarios/run/progress_line.h"
 #include "scenarios/run/robot_stack.h"
@@ -141,6 +142,7 @@ class ScenarioRun {
   std::filesystem::path out_;
   Clock::time_point t_start_;
   std::unique_ptr<sim::World> world_;
+  RealWorldChanges real_world_;  // what `realism: realistic` added to the surveyed world
   std::vector<std::unique_ptr<sim::BodyMotion>> motions_;
   std::vector<sim::PlanarVelocity> body_commands_;  // this tick's, by body
   std::unique_ptr<sim::PlanarCaster> planar_;

@@ -18,12 +18,24 @@ ScenarioRun::ScenarioRun(const Scenario& scenario, const RunOptions& options,
   for (const RobotEntry& r : scenario.robots) {
     configs.push_back(WithWorldMaterials(r.config, &description));
   }
-  world_ = std::make_unique<sim::World>(std::move(description), scenario.physics);
+  world_ = std::make_unique<sim::World>(description, scenario.physics);
   // Maps before any body enters the world (a derived map is a survey of the
   // static geometry).
   std::vector<std::optional<core::RobotMap>> maps(scenario.robots.size());
   for (std::size_t k = 0; k < scenario.robots.size(); ++k) {
     if (NeedsMap(scenario.robots[k])) maps[k] = LoadRobotMap(scenario.robots[k], scenario, *world_);
+  }
+  if (scenario.realism.realistic) {
+    // The real world is the surveyed one plus what the survey left out:
+    // clutter against the walls, doors standing otherwise (issue 20).
+    ClutterKeepOut keep_out;
+    for (const RobotEntry& r : scenario.robots) keep_out.points_m.push_back(r.pose.translation());
+    for (const auto& map : maps) {
+      if (map) AddRoads(*map, &keep_out);
+    }
+    real_world_ = DrawRealWorld(scenario.realism, scenario.seed, *world_, description, keep_out);
+    ApplyRealWorld(real_world_, &description);
+    world_ = std::make_unique<sim::World>(std::move(description), scenario.physics);
   }
   motions_ = SpawnBodies(scenario, world_.get());
   // The planar laser caster, shared by every robot's scanners (one slice per

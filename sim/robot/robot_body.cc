@@ -116,7 +116,8 @@ RobotBody::PartLayout RobotBody::LayOutParts() const {
       std::clamp(m.chassis_com_m.z(), m.chassis_base_z_m, m.chassis_base_z_m + m.chassis_height_m);
   layout.chassis_com_z_m = layout.com_z_m;
   const double ratio = systematic_.wheel_radius_ratio;
-  const double mean_radius = 0.5 * (m.left_wheel.radius_m + m.right_wheel.radius_m);
+  const double mean_radius =
+      0.5 * (m.left_wheel.radius_m + m.right_wheel.radius_m) * systematic_.mean_radius_factor;
   layout.radius[0] = 2.0 * mean_radius / (1.0 + ratio);
   layout.radius[1] = 2.0 * mean_radius * ratio / (1.0 + ratio);
   const double mid_y = 0.5 * (m.left_wheel.position_m.y() + m.right_wheel.position_m.y());

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <numeric>
 #include <sstream>
@@ -29,6 +30,9 @@ constexpr double kHalfUniformStep = 0x1.0p-54;
 // The reflector bit is set when retro-reflective surfaces return more than this
 // share of a reading's amplitude.
 constexpr double kReflectorAmplitudeShare = 0.5;
+// The intensity bias reaches its full size this many decades below the white
+// target's relative amplitude (LaserSystematicErrors::intensity_bias_m).
+constexpr double kIntensityBiasDecades = 3.0;
 
 // Reflectivities relative to the white target of §2.2.1.3 (Kodak gray scale
 // card white): paint and plaster are close to it; retro-reflective sheeting
@@ -73,6 +77,14 @@ void Require(bool ok, const char* field, const char* expected, double value) {
   }
 }
 
+// The robot file's mount composed with the mount error; exactly the file's
+// without one (no rounding in a composition with the identity).
+core::Pose2 TrueMount(const core::Pose2& robot_from_sensor, const core::Pose2& mount_error) {
+  const bool none =
+      mount_error.x_m == 0.0 && mount_error.y_m == 0.0 && mount_error.theta_rad == 0.0;
+  return none ? robot_from_sensor : robot_from_sensor * mount_error;
+}
+
 bool IsFullTurn(double fov_rad) { return fov_rad >= kTwoPi - kFullTurnToleranceRad; }
 
 double AngularSpacing(const LaserScannerOptions& o) {
@@ -111,6 +123,35 @@ double LaserReflectivity(core::LaserResponse response) {
 double RelativeAmplitude(double reflectivity, double range_m, double cos_incidence) {
   const double r = std::max(range_m, kMinAmplitudeRangeM) / kAmplitudeReferenceRangeM;
   return reflectivity * std::max(cos_incidence, 0.0) / (r * r);
+}
+
+bool LaserSystematicErrors::Any() const {
+  return mount_error.translation().squaredNorm() > 0.0 || mount_error.theta_rad != 0.0 ||
+         surface_bias_sigma_m > 0.0 || correlated_sigma_m > 0.0 || intensity_bias_m > 0.0 ||
+         stamp_jitter_s > 0.0;
+}
+
+void LaserSystematicErrors::Validate() const {
+  constexpr double kMaxMountErrorM = 0.1;
+  constexpr double kMaxMountErrorRad = 0.1;
+  constexpr double kMaxBiasM = 0.5;
+  constexpr double kMaxCorrelationReadings = 1e4;
+  constexpr double kMaxJitterS = 0.1;
+  Require(
+      std::abs(mount_error.x_m) <= kMaxMountErrorM && std::abs(mount_error.y_m) <= kMaxMountErrorM,
+      "systematic.mount_error", "within 0.1 m in x and y", mount_error.translation().norm());
+  Require(std::abs(mount_error.theta_rad) <= kMaxMountErrorRad, "systematic.mount_error",
+          "within 0.1 rad in heading", mount_error.theta_rad);
+  Require(surface_bias_sigma_m >= 0.0 && surface_bias_sigma_m <= kMaxBiasM,
+          "systematic.surface_bias_sigma_m", "in [0, 0.5] m", surface_bias_sigma_m);
+  Require(correlated_sigma_m >= 0.0 && correlated_sigma_m <= kMaxBiasM,
+          "systematic.correlated_sigma_m", "in [0, 0.5] m", correlated_sigma_m);
+  Require(correlation_readings >= 0.1 && correlation_readings <= kMaxCorrelationReadings,
+          "systematic.correlation_readings", "in [0.1, 1e4]", correlation_readings);
+  Require(intensity_bias_m >= 0.0 && intensity_bias_m <= kMaxBiasM, "systematic.intensity_bias_m",
+          "in [0, 0.5] m", intensity_bias_m);
+  Require(stamp_jitter_s >= 0.0 && stamp_jitter_s <= kMaxJitterS, "systematic.stamp_jitter_s",
+          "in [0, 0.1] s", stamp_jitter_s);
 }
 
 void LaserScannerOptions::Validate() const {
@@ -159,6 +200,7 @@ void LaserScannerOptions::Validate() const {
           "beam_divergence_rad", "in [0, 0.1]", beam_divergence_rad);
   Require(mixed_pixel_min_gap_m > 0.0 && mixed_pixel_min_gap_m <= kMaxMixedPixelGapM,
           "mixed_pixel_min_gap_m", "in (0, 100] m", mixed_pixel_min_gap_m);
+  systematic.Validate();
 }
 
 LaserScannerOptions LaserScannerOptions::Profile(const std::string& name) {
@@ -194,9 +236,12 @@ LaserScanner::LaserScanner(std::string id, LaserScannerOptions options,
                            core::RandomStream stream)
     : id_(std::move(id)),
       options_(std::move(options)),
-      robot_from_sensor_(robot_from_sensor),
+      reported_robot_from_sensor_(robot_from_sensor),
+      robot_from_sensor_(TrueMount(robot_from_sensor, options_.systematic.mount_error)),
       mount_height_m_(mount_height_m),
-      stream_(stream) {
+      stream_(stream),
+      correlated_stream_(options_.systematic.seed, core::RandomStream::StreamId("correlated")),
+      jitter_stream_(options_.systematic.seed, core::RandomStream::StreamId("stamp_jitter")) {
   options_.Validate();
   if (!std::isfinite(mount_height_m_)) {
     throw std::invalid_argument("laser scanner mount_height_m must be finite");
@@ -471,9 +516,16 @@ core::LaserScan LaserScanner::Finalize(const Sweep& sweep) {
   const LaserScannerOptions& o = options_;
   core::LaserScan scan;
   scan.sensor_id = id_;
+  const LaserSystematicErrors& sys = o.systematic;
   scan.stamp_s = sweep.start_s + o.timestamp_bias_s;  // constant bias, §2.2.1.5
+  if (sys.stamp_jitter_s > 0.0) scan.stamp_s += jitter_stream_.Normal(0.0, sys.stamp_jitter_s);
   scan.max_range_m = o.max_range_m;
-  scan.robot_from_sensor = robot_from_sensor_;
+  scan.robot_from_sensor = reported_robot_from_sensor_;
+  // Correlated range noise, one AR(1) step per reading in index order whatever
+  // it returns, so that its law does not depend on the scene.
+  const bool correlated = o.noise && sys.correlated_sigma_m > 0.0;
+  const double rho = correlated ? std::exp(-1.0 / sys.correlation_readings) : 0.0;
+  const double innovation_sigma_m = sys.correlated_sigma_m * std::sqrt(1.0 - rho * rho);
   scan.readings.resize(o.beams);
   auto quantize = [&](double r) {
     return o.range_resolution_m > 0.0 ? std::round(r / o.range_resolution_m) * o.range_resolution_m
@@ -485,6 +537,13 @@ core::LaserScan LaserScanner::Finalize(const Sweep& sweep) {
     reading.time_offset_s = offsets_s_[i];
     reading.range_m = o.max_range_m;
     const ReadingGeometry& g = sweep.geometry[i];
+    if (correlated) {
+      correlated_state_m_ =
+          correlated_started_
+              ? rho * correlated_state_m_ + correlated_stream_.Normal(0.0, innovation_sigma_m)
+              : correlated_stream_.Normal(0.0, sys.correlated_sigma_m);
+      correlated_started_ = true;
+    }
 
     // Outlier (§2.2.1.6): a uniform range in (0, max range), whatever was hit.
     if (o.noise && o.outlier_probability > 0.0 && stream_.Uniform() < o.outlier_probability) {
@@ -494,23 +553,14 @@ core::LaserScan LaserScanner::Finalize(const Sweep& sweep) {
       continue;
     }
 
-    // The footprint's parts: centre, and the parts beyond an edge on either
-    // side. The return is their amplitude-weighted mean range (mixed pixel).
-    const RaySample* parts[3] = {&g.centre, &g.edge[0], &g.edge[1]};
-    const double weights[3] = {1.0 - g.edge_fraction[0] - g.edge_fraction[1], g.edge_fraction[0],
-                               g.edge_fraction[1]};
     double amplitude = 0.0;
-    double weighted_range_m = 0.0;
     double retro_amplitude = 0.0;
-    for (int p = 0; p < 3; ++p) {
-      if (weights[p] <= 0.0) continue;
-      const double a = weights[p] * Amplitude(*parts[p]);
-      amplitude += a;
-      weighted_range_m += a * parts[p]->range_m;
-      if (parts[p]->response == core::LaserResponse::kRetroReflective) retro_amplitude += a;
-    }
+    double range_m = FootprintReturn(g, &amplitude, &retro_amplitude);
     if (!(amplitude > 0.0)) continue;  // no return
-    double range_m = weighted_range_m / amplitude;
+    if (sys.intensity_bias_m > 0.0) {
+      range_m += sys.intensity_bias_m *
+                 std::clamp(-std::log10(amplitude) / kIntensityBiasDecades, 0.0, 1.0);
+    }
 
     const bool dark = o.effects && g.centre.hit && g.centre.response == core::LaserResponse::kDark;
     if (dark && o.noise && o.dark_dropout_probability > 0.0 &&
@@ -524,6 +574,7 @@ core::LaserScan LaserScanner::Finalize(const Sweep& sweep) {
       if (dark) sigma_m *= o.dark_sigma_factor;
       if (sigma_m > 0.0) range_m += stream_.Normal(0.0, sigma_m);
     }
+    if (correlated) range_m += correlated_state_m_;
     range_m = quantize(std::max(range_m, 0.0));
     if (range_m >= o.max_range_m) continue;  // beyond the measuring range
     reading.range_m = range_m;
@@ -532,6 +583,42 @@ core::LaserScan LaserScanner::Finalize(const Sweep& sweep) {
     reading.reflector = retro_amplitude > kReflectorAmplitudeShare * amplitude;
   }
   return scan;
+}
+
+// The footprint's parts: centre, and the parts beyond an edge on either side.
+// The return is their amplitude-weighted mean range (mixed pixel), each part's
+// range with its surface's bias.
+double LaserScanner::FootprintReturn(const ReadingGeometry& g, double* amplitude,
+                                     double* retro_amplitude) {
+  const RaySample* parts[3] = {&g.centre, &g.edge[0], &g.edge[1]};
+  const double weights[3] = {1.0 - g.edge_fraction[0] - g.edge_fraction[1], g.edge_fraction[0],
+                             g.edge_fraction[1]};
+  const bool biased = options_.systematic.surface_bias_sigma_m > 0.0;
+  double weighted_range_m = 0.0;
+  for (int p = 0; p < 3; ++p) {
+    if (weights[p] <= 0.0) continue;
+    const double a = weights[p] * Amplitude(*parts[p]);
+    *amplitude += a;
+    const double bias_m = biased && a > 0.0 ? SurfaceBias(parts[p]->element) : 0.0;
+    weighted_range_m += a * (parts[p]->range_m + bias_m);
+    if (parts[p]->response == core::LaserResponse::kRetroReflective) *retro_amplitude += a;
+  }
+  return *amplitude > 0.0 ? weighted_range_m / *amplitude : 0.0;
+}
+
+double LaserScanner::SurfaceBias(int element) {
+  if (element < 0) return 0.0;
+  if (static_cast<std::size_t>(element) >= surface_bias_m_.size()) {
+    surface_bias_m_.resize(element + 1, std::numeric_limits<double>::quiet_NaN());
+  }
+  double& bias = surface_bias_m_[element];
+  if (std::isnan(bias)) {
+    // One stream per element: the bias depends on the seed and the element
+    // alone, not on which scanner meets it first.
+    core::RandomStream draw(options_.systematic.surface_seed, static_cast<std::uint64_t>(element));
+    bias = draw.Normal(0.0, options_.systematic.surface_bias_sigma_m);
+  }
+  return bias;
 }
 
 }  // namespace pavilion::sim

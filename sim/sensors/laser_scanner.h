@@ -22,6 +22,44 @@ namespace pavilion::sim {
 inline constexpr double kLms200MirrorRateHz = 75.0;
 inline constexpr double kLms200SweepS = (1.0 + 179.5 / 360.0) / kLms200MirrorRateHz;  // ≈ 19.98 ms
 
+// How one physical scanner differs from its datasheet and from the robot file
+// (issue 20, docs/realism.md): errors that repeat from scan to scan or are
+// correlated, unlike the white noise the extraction models. All zero (the
+// default, and everything under `realism: ideal`): the ideal scanner.
+struct LaserSystematicErrors {
+  // The true mount is the robot file's mount composed with this (x, y in the
+  // sensor frame, m; heading, rad). The mirror's angular offset (§2.2.1.2: the
+  // zero angle calibrated at start-up) is part of the heading: for a planar
+  // scanner a turned mirror zero and a turned mount are the same error. Scans
+  // report the robot file's mount. |x|, |y| <= 0.1 m, |heading| <= 0.1 rad.
+  core::Pose2 mount_error;
+  // Range bias per surface (world element), normal with this σ, drawn once
+  // per element from `seed`: the same wall reads long by the same millimetres
+  // in every scan (its paint, its angle to the floor). m, [0, 0.5].
+  double surface_bias_sigma_m = 0.0;
+  // Range noise correlated between neighbouring readings: a stationary AR(1)
+  // process along the reading index with this σ and correlation length (the
+  // correlation of readings k apart is exp(-k / length)). m, [0, 0.5]; readings, [0.1, 1e4].
+  double correlated_sigma_m = 0.0;
+  double correlation_readings = 1.0;
+  // Intensity-dependent bias (§2.2.1.3: "indicated range can vary as much as
+  // 7.6 cm between very weak and very strong signals"): the range reads long
+  // by intensity_bias_m · clamp(-log10(a) / 3, 0, 1) for a relative amplitude
+  // a (RelativeAmplitude below): nothing for the white target at 2 m, the
+  // whole bias at a thousandth of its signal. m, [0, 0.5].
+  double intensity_bias_m = 0.0;
+  // White error of each scan's stamp (scheduling and bus jitter, §2.2.1.5,
+  // §4.4.3), σ; a constant latency is LaserScannerOptions::timestamp_bias_s. s, [0, 0.1].
+  double stamp_jitter_s = 0.0;
+  // Seeds the surface biases (shared by the scanners that should see the
+  // same surfaces alike), and this scanner's correlated noise and jitter streams.
+  std::uint64_t surface_seed = 0;
+  std::uint64_t seed = 0;
+
+  bool Any() const;       // any error set
+  void Validate() const;  // throws std::invalid_argument naming the field
+};
+
 // Parameters of a simulated 2D laser scanner. Defaults are the SICK LMS 200 as
 // the thesis configured it (§2.2.2: 180°, 0.5°, 8 m, σ_ρ = 1 cm, 1 mm resolution).
 struct LaserScannerOptions {
@@ -57,6 +95,9 @@ struct LaserScannerOptions {
   // the reflector flag is still reported. Both off: the geometric range, quantized.
   bool noise = true;
   bool effects = true;
+  // The physical scanner's systematic and correlated errors (off by default).
+  // The correlated noise follows `noise`; the rest applies whatever it is.
+  LaserSystematicErrors systematic;
 
   // Throws std::invalid_argument naming the field.
   void Validate() const;
@@ -113,8 +154,11 @@ struct LaserFault {
 
 class LaserScanner {
  public:
-  // `stream` draws every random number of this sensor. Throws
-  // std::invalid_argument for invalid options.
+  // `stream` draws every random number of this sensor but those of
+  // options.systematic (streams of their own, so that turning one error on
+  // leaves every other draw as it was). `robot_from_sensor` is the robot
+  // file's mount; the rays leave from it composed with the mount error.
+  // Throws std::invalid_argument for invalid options.
   LaserScanner(std::string id, LaserScannerOptions options, core::Pose2 robot_from_sensor,
                double mount_height_m, core::RandomStream stream);
 
@@ -157,7 +201,9 @@ class LaserScanner {
   double mount_height_m() const { return mount_height_m_; }
   // Faults the scans that finish from now until fault.until_s.
   void SetFault(const LaserFault& fault);
+  // The true mount (the rays'), and the mount the scans report (the robot file's).
   const core::Pose2& robot_from_sensor() const { return robot_from_sensor_; }
+  const core::Pose2& reported_robot_from_sensor() const { return reported_robot_from_sensor_; }
 
  private:
   // What one ray met.
@@ -204,9 +250,21 @@ class LaserScanner {
 
   std::string id_;
   LaserScannerOptions options_;
+  // The amplitude-weighted range of a reading's footprint; adds its amplitude
+  // and the retro-reflective part of it.
+  double FootprintReturn(const ReadingGeometry& g, double* amplitude, double* retro_amplitude);
+  // The range bias of world element `element` (LaserSystematicErrors).
+  double SurfaceBias(int element);
+
+  core::Pose2 reported_robot_from_sensor_;
   core::Pose2 robot_from_sensor_;
   double mount_height_m_;
   core::RandomStream stream_;
+  core::RandomStream correlated_stream_;
+  core::RandomStream jitter_stream_;
+  double correlated_state_m_ = 0.0;     // the AR(1) process at the last reading
+  bool correlated_started_ = false;     // drawn from its stationary law at first
+  std::vector<double> surface_bias_m_;  // by element, NaN until drawn
   std::vector<double> bearings_rad_;
   std::vector<double> offsets_s_;
   std::vector<int> order_;  // reading indices in the order they are taken

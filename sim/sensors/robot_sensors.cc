@@ -34,6 +34,9 @@ void SystematicErrors::Validate() const {
   if (!(wheelbase_factor >= 0.9 && wheelbase_factor <= 1.1)) {
     throw std::invalid_argument("SystematicErrors.wheelbase_factor must be in [0.9, 1.1]");
   }
+  if (!(mean_radius_factor >= 0.9 && mean_radius_factor <= 1.1)) {
+    throw std::invalid_argument("SystematicErrors.mean_radius_factor must be in [0.9, 1.1]");
+  }
 }
 
 WheelEncoders::WheelEncoders(EncoderOptions options, double left_radius_m, double right_radius_m,

@@ -28,6 +28,7 @@ struct EncoderOptions {
 struct SystematicErrors {
   double wheel_radius_ratio = 1.0;  // true right radius / true left radius, [0.9, 1.1]
   double wheelbase_factor = 1.0;    // true wheelbase / nominal wheelbase, [0.9, 1.1]
+  double mean_radius_factor = 1.0;  // true mean wheel radius / nominal, [0.9, 1.1]
 
   void Validate() const;  // throws std::invalid_argument naming the field
 };

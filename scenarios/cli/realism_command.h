@@ -1,0 +1,29 @@
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <string>
+#include <vector>
+
+#include "scenarios/realism/realism_comparison.h"
+
+namespace pavilion::cli {
+
+// `pavilion realism report --log LOG... [--scans SCANS_BIN...] [--json FILE]`
+// (issue 20, docs/carmen_logs.md "Residuals of long walls"): the range step,
+// no-return and isolated fractions and the residuals of long walls per range
+// bin of each real CARMEN log, and of each Pavilion scans.bin raw and
+// requantized to every log's step, side by side with the logs.
+struct RealismArgs {
+  std::vector<std::string> logs;   // CARMEN .log/.log.gz files
+  std::vector<std::string> scans;  // Pavilion scans.bin files
+  std::string json;                // optional JSON output file
+};
+
+// Adds `realism` with its `report` subcommand; returns `report`.
+CLI::App* AddRealismCommand(CLI::App* app, RealismArgs* args);
+
+// Prints the report (and writes --json); returns the exit code. Throws for
+// unreadable files (one-line message naming the file).
+int RunRealismCommand(const RealismArgs& args);
+
+}  // namespace pavilion::cli

@@ -1,0 +1,79 @@
+#pragma once
+
+// The scenario's `realism:` profile (issue 20, docs/realism.md): the error
+// sources a real robot meets and an ideal simulator leaves out. `ideal` (the
+// default) adds none of them; `realistic` draws them from the scenario's seed
+// with the magnitudes below, calibrated against the real CARMEN logs and the
+// thesis' Table 4.2. The profile changes the world and the physical robot,
+// never the robot's software: the extraction, filter and odometry options the
+// robot files give stay as they are.
+//
+//   realism: realistic                  # or ideal
+//   realism: {profile: realistic, wall_offset_sigma_m: 0.03}   # magnitudes overridden
+//
+// Each draw comes from a stream named after what it draws ("realism/<robot>/
+// <laser>/mount", ...), so one magnitude changed leaves every other draw as it was.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace pavilion::scenarios {
+
+struct RealismProfile {
+  bool realistic = false;  // `profile: ideal | realistic`
+
+  // The laser (each laser of each robot), thesis §2.2.1. Mount error: the true
+  // mount is off the robot file's by these σ (per axis, and in heading); the
+  // mirror's zero angle by another (the two add: a planar scanner cannot tell
+  // them apart).
+  double laser_mount_sigma_m = 0.003;         // m, [0, 0.05]
+  double laser_mount_yaw_sigma_rad = 0.0017;  // rad, [0, 0.05] (0.1°)
+  double laser_angle_offset_sigma_rad = 0.0017;
+  // The true white range noise σ (the robot file's laser profile says what
+  // the datasheet and the extraction assume: 1 cm for the LMS 200). The real
+  // logs' wall residuals are smaller near the sensor (docs/realism.md). m, [0, 0.1].
+  double laser_range_sigma_m = 0.005;
+  // Range bias per surface, correlated range noise along the scan and the
+  // intensity-dependent bias (sim::LaserSystematicErrors).
+  double laser_surface_bias_sigma_m = 0.004;  // m, [0, 0.5]
+  double laser_correlated_sigma_m = 0.004;    // m, [0, 0.5]
+  double laser_correlation_readings = 4.0;    // readings, [0.1, 1e4]
+  double laser_intensity_bias_m = 0.01;       // m, [0, 0.5]
+  // Time (§4.4.3): each scan's stamp jitters with this σ; each laser's stamps
+  // lag (or lead) the encoders' by a constant drawn with this σ, the residual
+  // of a timestamp calibration (§2.2.1.5).
+  double laser_stamp_jitter_s = 0.0005;  // s, [0, 0.1]
+  double laser_latency_sigma_s = 0.003;  // s, [0, 0.1]
+
+  // Odometry: the true wheels differ from those the calibration found, within
+  // its residuals (UMBmark leaves about a tenth of the uncorrected errors).
+  double wheel_radius_ratio_sigma = 0.0005;  // [0, 0.02]
+  double wheelbase_factor_sigma = 0.001;     // [0, 0.02]
+  double mean_radius_factor_sigma = 0.0005;  // [0, 0.02]
+  // Wheel-space noise (§2.3, eq. 2.9: variance k·|Δs| per wheel): what an
+  // uneven floor, joints and slip do to the wheels' travel and the encoders
+  // do not see. The thesis measured k_L = k_R = 5e-6 m on Pygmalion; the
+  // simulated wheels on a flat floor give 3e-8 m. The encoders get it as
+  // injected noise, and the robot's calibration as it would measure it (the
+  // localizer adds injected k to the calibrated k, as for `encoder_noise`). m, [0, 1e-3].
+  double wheel_noise_k_m = 5.0e-6;
+
+  // The map and the world. Each wall of a derived map is surveyed off by
+  // one draw of this σ along its normal (the whole wall, beside the
+  // tape-measure noise of its corners).
+  double wall_offset_sigma_m = 0.015;  // m, [0, 0.1]
+  // Unmapped objects against the walls (radiators, cabinets, plants, framed
+  // posters), per metre of free wall face; never in the map.
+  double clutter_per_m = 0.12;  // 1/m, [0, 2]
+  // Chance that a door stands otherwise than the map (and the world file) say.
+  double door_flip_probability = 0.2;  // [0, 1]
+
+  // Throws std::invalid_argument naming the field.
+  void Validate() const;
+};
+
+// "ideal" or "realistic".
+const char* ProfileName(const RealismProfile& profile);
+
+}  // namespace pavilion::scenarios

@@ -1,0 +1,175 @@
+// The `realism:` profile (issue 20): what it changes in the robots, the map
+// and the world, and that `ideal` changes nothing.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "core/geometry/segment2.h"
+#include "scenarios/config/input_error.h"
+#include "scenarios/config/scenario.h"
+#include "scenarios/maps/map_derivation.h"
+#include "scenarios/realism/robot_realism.h"
+#include "scenarios/realism/world_realism.h"
+#include "sim/world/world.h"
+
+namespace pavilion::scenarios {
+namespace {
+
+Scenario OfficeTour(std::vector<std::string> sets, std::uint64_t seed = 1) {
+  ScenarioOverrides overrides;
+  overrides.seed = seed;
+  overrides.assignments = std::move(sets);
+  return LoadScenarioFile(std::string(PAVILION_SOURCE_DIR) + "/scenarios/office_tour.yaml",
+                          overrides);
+}
+
+const sim::RobotConfig& Robot(const Scenario& s) { return s.robots.front().config; }
+
+TEST(RealismProfileTest, IdealChangesNothing) {
+  const Scenario plain = OfficeTour({});
+  const Scenario ideal = OfficeTour({"realism=ideal"});
+  EXPECT_FALSE(plain.realism.realistic);
+  EXPECT_FALSE(ideal.realism.realistic);
+  for (const Scenario* s : {&plain, &ideal}) {
+    EXPECT_EQ(Robot(*s).systematic.wheel_radius_ratio, 1.0);
+    EXPECT_EQ(Robot(*s).systematic.mean_radius_factor, 1.0);
+    EXPECT_FALSE(Robot(*s).encoders.noise);
+    for (const sim::LaserMount& m : Robot(*s).lasers) {
+      EXPECT_FALSE(m.options.systematic.Any()) << m.id;
+      EXPECT_EQ(m.options.range_sigma_m, 0.01);
+      EXPECT_EQ(m.options.timestamp_bias_s, 0.0);
+    }
+  }
+}
+
+TEST(RealismProfileTest, RealisticBuildsARealRobotFromTheSeed) {
+  const Scenario a = OfficeTour({"realism=realistic"}, 1);
+  const Scenario b = OfficeTour({"realism=realistic"}, 1);
+  const Scenario c = OfficeTour({"realism=realistic"}, 2);
+  ASSERT_TRUE(a.realism.realistic);
+  const sim::RobotConfig& r = Robot(a);
+  EXPECT_NE(r.systematic.wheel_radius_ratio, 1.0);
+  EXPECT_NEAR(r.systematic.wheel_radius_ratio, 1.0, 5 * a.realism.wheel_radius_ratio_sigma);
+  EXPECT_TRUE(r.encoders.noise);
+  EXPECT_EQ(r.encoders.k_left_m, a.realism.wheel_noise_k_m);
+  ASSERT_EQ(r.lasers.size(), 2u);
+  std::set<std::uint64_t> seeds;
+  for (std::size_t k = 0; k < r.lasers.size(); ++k) {
+    const sim::LaserSystematicErrors& e = r.lasers[k].options.systematic;
+    EXPECT_TRUE(e.Any());
+    EXPECT_NEAR(e.mount_error.x_m, 0.0, 5 * a.realism.laser_mount_sigma_m);
+    EXPECT_EQ(e.surface_seed, SurfaceBiasSeed(1));  // shared by every laser of the run
+    EXPECT_EQ(e.correlated_sigma_m, a.realism.laser_correlated_sigma_m);
+    EXPECT_EQ(r.lasers[k].options.range_sigma_m, a.realism.laser_range_sigma_m);
+    seeds.insert(e.seed);
+    // The same seed draws the same robot; another seed another one.
+    EXPECT_EQ(e.mount_error.x_m, Robot(b).lasers[k].options.systematic.mount_error.x_m);
+    EXPECT_NE(e.mount_error.x_m, Robot(c).lasers[k].options.systematic.mount_error.x_m);
+  }
+  EXPECT_EQ(seeds.size(), 2u);  // each laser its own streams
+}
+
+// One magnitude changed leaves the other draws as they were (streams by name).
+TEST(RealismProfileTest, AMagnitudeChangesOnlyItsOwnDraws) {
+  const Scenario a = OfficeTour({"realism=realistic"});
+  const Scenario b = OfficeTour({"realism.profile=realistic", "realism.laser_mount_sigma_m=0.006"});
+  EXPECT_EQ(Robot(a).systematic.wheelbase_factor, Robot(b).systematic.wheelbase_factor);
+  const auto& ea = Robot(a).lasers[0].options.systematic;
+  const auto& eb = Robot(b).lasers[0].options.systematic;
+  EXPECT_DOUBLE_EQ(eb.mount_error.x_m, 2.0 * ea.mount_error.x_m);
+  EXPECT_EQ(eb.mount_error.theta_rad, ea.mount_error.theta_rad);
+  EXPECT_EQ(eb.seed, ea.seed);
+}
+
+TEST(RealismProfileTest, BadInputNamesTheKey) {
+  try {
+    OfficeTour({"realism=harsh"});
+    FAIL() << "expected an error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("realism"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("ideal, realistic"), std::string::npos) << e.what();
+  }
+  try {
+    OfficeTour({"realism.profile=realistic", "realism.clutter_per_m=5"});
+    FAIL() << "expected an error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("realism.clutter_per_m"), std::string::npos) << e.what();
+  }
+}
+
+// The survey's wall offsets: each line moved along its normal by its own
+// draw, its angle kept; the recorded covariance states it.
+TEST(RealismProfileTest, WallOffsetsMoveWholeWalls) {
+  const Scenario s = OfficeTour({});
+  const sim::World world(s.world, s.physics);
+  MapDerivationOptions exact;
+  exact.noise_sigma_m = 0.0;
+  MapDerivationOptions offset = exact;
+  offset.wall_offset_sigma_m = 0.02;
+  const core::RobotMap a = DeriveRobotMap(world, exact);
+  const core::RobotMap b = DeriveRobotMap(world, offset);
+  ASSERT_EQ(a.segments.size(), b.segments.size());
+  double sum2 = 0.0;
+  for (std::size_t k = 0; k < a.segments.size(); ++k) {
+    const core::Line& la = a.segments[k].line;
+    const core::Line& lb = b.segments[k].line;
+    EXPECT_NEAR(lb.alpha_rad, la.alpha_rad, 1e-4) << a.segments[k].id;
+    sum2 += (lb.r_m - la.r_m) * (lb.r_m - la.r_m);
+    EXPECT_NEAR(lb.covariance(1, 1), la.covariance(1, 1) + 0.02 * 0.02, 1e-6);
+  }
+  const double rms = std::sqrt(sum2 / a.segments.size());
+  // 30-odd draws: the sample sigma within 40 % of 2 cm.
+  EXPECT_GT(a.segments.size(), 20u);
+  EXPECT_NEAR(rms, 0.02, 0.008) << a.segments.size() << " segments";
+}
+
+// Clutter stands against inner wall faces, off the map's roads, never on
+// another object; doors only open; the same seed the same world.
+TEST(RealismProfileTest, ClutterStandsAgainstWallsOffTheRoads) {
+  const Scenario s = OfficeTour({"realism=realistic"});
+  const sim::World survey(s.world, s.physics);
+  MapDerivationOptions options;
+  const core::RobotMap map = DeriveRobotMap(survey, options);
+  ClutterKeepOut keep_out;
+  AddRoads(map, &keep_out);
+  const RealWorldChanges a = DrawRealWorld(s.realism, 1, survey, s.world, keep_out);
+  const RealWorldChanges b = DrawRealWorld(s.realism, 1, survey, s.world, keep_out);
+  ASSERT_GT(a.boxes.size() + a.cylinders.size(), 10u);
+  EXPECT_EQ(a.boxes.size(), b.boxes.size());
+  for (const sim::Box& box : a.boxes) {
+    const Eigen::Vector2d c = box.pose.translation();
+    for (const auto& [p, q] : keep_out.roads_m) {
+      EXPECT_GE(core::PointSegmentDistance(c, p, q), keep_out.clearance_m) << box.id;
+    }
+    // Against a wall: a ray from the centre backwards meets one within its depth and a gap.
+    const Eigen::Vector2d back(std::sin(box.pose.theta_rad), -std::cos(box.pose.theta_rad));
+    const double reach = 0.5 * box.size_m.y() + 0.06;
+    const Eigen::Vector3d from(c.x(), c.y(), 0.5);
+    const sim::RayHit toward_a =
+        survey.CastRay(from, from + reach * Eigen::Vector3d(back.x(), back.y(), 0));
+    const sim::RayHit toward_b =
+        survey.CastRay(from, from - reach * Eigen::Vector3d(back.x(), back.y(), 0));
+    EXPECT_TRUE(toward_a.hit || toward_b.hit) << box.id << " stands free of any wall";
+  }
+  for (const std::string& id : a.opened_doors) {
+    for (const sim::Door& d : s.world.doors) {
+      if (d.id == id) {
+        EXPECT_FALSE(d.open) << id;
+      }
+    }
+  }
+  // Twice the density, about twice the objects (the free faces limit it).
+  RealismProfile dense = s.realism;
+  dense.clutter_per_m *= 2.0;
+  const RealWorldChanges c = DrawRealWorld(dense, 1, survey, s.world, keep_out);
+  EXPECT_GT(c.boxes.size() + c.cylinders.size(), 1.4 * (a.boxes.size() + a.cylinders.size()));
+  RealismProfile none = s.realism;
+  none.clutter_per_m = 0.0;
+  EXPECT_TRUE(DrawRealWorld(none, 1, survey, s.world, keep_out).boxes.empty());
+}
+
+}  // namespace
+}  // namespace pavilion::scenarios
