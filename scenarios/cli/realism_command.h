@@ -1,6 +1,7 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -8,7 +9,8 @@
 
 namespace pavilion::cli {
 
-// `pavilion realism report --log LOG... [--scans SCANS_BIN...] [--json FILE]`
+// `pavilion realism report --log LOG... [--scans SCANS_BIN...] [--scenario FILE]
+// [--json FILE]`
 // (issue 20, docs/carmen_logs.md "Residuals of long walls"): the range step,
 // no-return and isolated fractions and the residuals of long walls per range
 // bin of each real CARMEN log, and of each Pavilion scans.bin raw and
@@ -17,6 +19,12 @@ struct RealismArgs {
   std::vector<std::string> logs;   // CARMEN .log/.log.gz files
   std::vector<std::string> scans;  // Pavilion scans.bin files
   std::string json;                // optional JSON output file
+  // --scenario: runs it under `realism: ideal` and `realistic` (seed `seed`,
+  // outputs under out_dir/<profile>), adds both runs' scans to the residual
+  // comparison and prints their localization beside the thesis' Table 4.2.
+  std::string scenario;
+  std::uint64_t seed = 1;
+  std::string out_dir = "out/realism";
 };
 
 // Adds `realism` with its `report` subcommand; returns `report`.
