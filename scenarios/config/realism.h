@@ -58,11 +58,19 @@ struct RealismProfile {
   // injected noise, and the robot's calibration as it would measure it (the
   // localizer adds injected k to the calibrated k, as for `encoder_noise`). m, [0, 1e-3].
   double wheel_noise_k_m = 5.0e-6;
+  // Slip the encoders do not see (sim::EncoderOptions): in turns (the
+  // calibrated k_turn's model; the localizer adds it as it adds k), and with
+  // acceleration (no term of the filter models it).
+  double turn_slip_k_m = 1.0e-5;    // m, [0, 1e-2]
+  double accel_slip_k_s2 = 1.0e-5;  // s², [0, 1e-2]
+  // Carpet: this share of the floor, in 4 m squares, where the wheels turn
+  // 0.5-1.5 % farther per metre (pile compressed under the tyre).
+  double carpet_fraction = 0.25;  // [0, 1]
 
-  // The map and the world. Each wall of a derived map is surveyed off by
-  // one draw of this σ along its normal (the whole wall, beside the
-  // tape-measure noise of its corners).
-  double wall_offset_sigma_m = 0.015;  // m, [0, 0.1]
+  // The map and the world. Each end of each wall of a derived map is
+  // surveyed off along the wall's normal by a draw of this σ (the whole wall
+  // shifted and turned, beside the tape-measure noise of its corners).
+  double wall_offset_sigma_m = 0.02;  // m, [0, 0.1]
   // Unmapped objects against the walls (radiators, cabinets, plants, framed
   // posters), per metre of free wall face; never in the map.
   double clutter_per_m = 0.12;  // 1/m, [0, 2]

@@ -38,6 +38,9 @@ void ReadRealism(YamlDocument* doc, MapReader& top, RealismProfile* profile) {
                {"wheelbase_factor_sigma", &P::wheelbase_factor_sigma},
                {"mean_radius_factor_sigma", &P::mean_radius_factor_sigma},
                {"wheel_noise_k_m", &P::wheel_noise_k_m},
+               {"turn_slip_k_m", &P::turn_slip_k_m},
+               {"accel_slip_k_s2", &P::accel_slip_k_s2},
+               {"carpet_fraction", &P::carpet_fraction},
                {"wall_offset_sigma_m", &P::wall_offset_sigma_m},
                {"clutter_per_m", &P::clutter_per_m},
                {"door_flip_probability", &P::door_flip_probability}});

@@ -19,6 +19,7 @@
 #include "core/types/pose2.h"
 #include "nav/route/free_space_grid.h"
 #include "nav/route/roadmap_builder.h"
+#include "scenarios/maps/survey_line_fit.h"
 
 namespace pavilion::scenarios {
 namespace {
@@ -187,46 +188,6 @@ struct LineGroup {
 };
 
 Vec2 AlongDir(const Vec2& n) { return {-n.y(), n.x()}; }
-
-// Total-least-squares line through points (orthogonal distances, equal
-// weights), its normal oriented like `hint`: (alpha, r) with eq. B.4's sign.
-std::pair<double, double> FitLine(const std::vector<Vec2>& pts, const Vec2& hint) {
-  Vec2 c = Vec2::Zero();
-  for (const Vec2& p : pts) c += p;
-  c /= static_cast<double>(pts.size());
-  double sxx = 0, syy = 0, sxy = 0;
-  for (const Vec2& p : pts) {
-    const Vec2 d = p - c;
-    sxx += d.x() * d.x();
-    syy += d.y() * d.y();
-    sxy += d.x() * d.y();
-  }
-  const double dir = 0.5 * std::atan2(2.0 * sxy, sxx - syy);  // of largest spread
-  Vec2 n(-std::sin(dir), std::cos(dir));
-  if (n.dot(hint) < 0.0) n = -n;
-  return {std::atan2(n.y(), n.x()), n.dot(c)};
-}
-
-// Covariance of (alpha, r) of FitLine when every coordinate has variance
-// sigma^2, by first-order propagation with a central-difference Jacobian.
-Eigen::Matrix2d FitCovariance(const std::vector<Vec2>& pts, const Vec2& hint, double sigma) {
-  const std::size_t n = pts.size();
-  Eigen::MatrixXd J(2, 2 * n);
-  constexpr double kStep = 1e-6;
-  std::vector<Vec2> q = pts;
-  for (std::size_t i = 0; i < n; ++i) {
-    for (int k = 0; k < 2; ++k) {
-      q[i](k) = pts[i](k) + kStep;
-      const auto plus = FitLine(q, hint);
-      q[i](k) = pts[i](k) - kStep;
-      const auto minus = FitLine(q, hint);
-      q[i](k) = pts[i](k);
-      J(0, 2 * i + k) = core::NormalizeAngle(plus.first - minus.first) / (2.0 * kStep);
-      J(1, 2 * i + k) = (plus.second - minus.second) / (2.0 * kStep);
-    }
-  }
-  return sigma * sigma * (J * J.transpose());
-}
 
 std::string Numbered(const std::string& prefix, int k) {
   char buf[32];
@@ -622,16 +583,18 @@ class MapDeriver {
       corners.push_back(Measure(foot + s0 * along));
       corners.push_back(Measure(foot + s1 * along));
     }
-    const double w = options_.wall_offset_sigma_m;  // the whole wall off along its normal
-    const Vec2 offset = w > 0.0 ? Vec2(wall_offsets_.Normal(0.0, w) * g.normal) : Vec2::Zero();
-    for (Vec2& c : corners) c += offset;
+    const double w = options_.wall_offset_sigma_m;  // each end of the wall off along its normal
+    if (w > 0.0) {
+      const double e_first = wall_offsets_.Normal(0.0, w);
+      ShiftWall(g.normal, along, e_first, wall_offsets_.Normal(0.0, w), &corners);
+    }
     const auto [alpha_fit, r_fit] = FitLine(corners, g.normal);
     core::Line line;
     line.alpha_rad = RoundAlpha(alpha_fit);
     line.r_m = core::RoundDecimals(r_fit, kPositionDecimals);
     Eigen::Matrix2d covariance = FitCovariance(corners, g.normal, recorded_sigma_);
-    // The surveyor states the method's accuracy: the whole wall's offset, in r.
-    covariance(1, 1) += options_.wall_offset_sigma_m * options_.wall_offset_sigma_m;
+    // The surveyor states the method's accuracy, the ends' errors included.
+    if (w > 0.0) covariance += WallEndCovariance(corners, g.normal, along, w);
     line.covariance = RoundCovariance(covariance);
     if (line.r_m == 0.0) {
       throw std::runtime_error("map line " + id +

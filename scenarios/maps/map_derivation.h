@@ -22,10 +22,11 @@ struct MapDerivationOptions {
   // Tape-measure error, one standard deviation, applied to every measured corner
   // and centre, [0, 0.1] m. The recorded covariances use max(noise, 1 mm).
   double noise_sigma_m = 0.005;
-  // Survey error of whole walls (issue 20, `realism: realistic`): each line
-  // feature is measured off along its normal by one draw of this sigma, beside
-  // the tape-measure noise of its corners. The recorded (alpha, r) covariance
-  // includes it (the surveyor states the method's accuracy). [0, 0.1] m.
+  // Survey error of whole walls (issue 20, `realism: realistic`): each end of
+  // a line feature is measured off along its normal by its own draw of this
+  // sigma (the wall shifted and turned), beside the tape-measure noise of its
+  // corners. The recorded (alpha, r) covariance includes it (the surveyor
+  // states the method's accuracy). [0, 0.1] m.
   double wall_offset_sigma_m = 0.0;
   // Seed of the tape-measure noise (and of the wall offsets, a stream of their own).
   std::uint64_t seed = 1;

@@ -33,6 +33,9 @@ void DrawRealisticRobot(const RealismProfile& profile, std::uint64_t seed, Robot
     robot->config.encoders.k_left_m = p.wheel_noise_k_m;
     robot->config.encoders.k_right_m = p.wheel_noise_k_m;
   }
+  if (p.turn_slip_k_m > 0.0 || p.accel_slip_k_s2 > 0.0) robot->config.encoders.noise = true;
+  robot->config.encoders.k_turn_m = p.turn_slip_k_m;
+  robot->config.encoders.k_accel_s2 = p.accel_slip_k_s2;
 
   const std::uint64_t surfaces = SurfaceBiasSeed(seed);
   for (sim::LaserMount& mount : robot->config.lasers) {

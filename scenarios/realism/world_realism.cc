@@ -28,6 +28,10 @@ constexpr double kEndMarginM = 0.3;
 constexpr double kObjectGapM = 0.1;
 // ... and this far beyond a door's width from its hinge (m).
 constexpr double kDoorMarginM = 0.5;
+// Carpet squares and their extra wheel turn per metre.
+constexpr double kCarpetSquareM = 4.0;
+constexpr double kCarpetMinError = 0.005;
+constexpr double kCarpetMaxError = 0.015;
 
 enum class Kind { kRadiator, kCabinet, kPoster, kPlant };
 
@@ -63,6 +67,7 @@ class ClutterPlacer {
         survey_(survey),
         description_(description),
         keep_out_(keep_out),
+        seed_(seed),
         random_(seed, core::RandomStream::StreamId("realism/world")) {}
 
   RealWorldChanges Draw() {
@@ -75,10 +80,30 @@ class ClutterPlacer {
       if (!door.open && u < profile_.door_flip_probability)
         changes_.opened_doors.push_back(door.id);
     }
+    LayCarpets();
     return changes_;
   }
 
  private:
+  // Carpet squares over the floor (their own stream: clutter and doors keep their draws).
+  void LayCarpets() {
+    if (profile_.carpet_fraction <= 0.0) return;
+    core::RandomStream draw(seed_, core::RandomStream::StreamId("realism/carpet"));
+    const sim::Floor& floor = description_.floor;
+    for (double x = floor.min_m.x(); x < floor.max_m.x(); x += kCarpetSquareM) {
+      for (double y = floor.min_m.y(); y < floor.max_m.y(); y += kCarpetSquareM) {
+        const double u = draw.Uniform();
+        const double error = draw.Uniform(kCarpetMinError, kCarpetMaxError);
+        if (u >= profile_.carpet_fraction) continue;
+        const double x1 = std::min(x + kCarpetSquareM, floor.max_m.x());
+        const double y1 = std::min(y + kCarpetSquareM, floor.max_m.y());
+        changes_.carpets.push_back({"carpet_" + std::to_string(changes_.carpets.size() + 1),
+                                    {{x, y}, {x1, y}, {x1, y1}, {x, y1}},
+                                    error});
+      }
+    }
+  }
+
   void PlaceAlong(const sim::Wall& wall) {
     const std::size_t n = wall.points_m.size();
     const std::size_t segments = wall.closed ? n : n - 1;
@@ -218,6 +243,7 @@ class ClutterPlacer {
   const sim::World& survey_;
   const sim::WorldDescription& description_;
   const ClutterKeepOut& keep_out_;
+  std::uint64_t seed_;
   core::RandomStream random_;
   std::vector<Footprint> placed_;
   RealWorldChanges changes_;

@@ -7,6 +7,7 @@
 
 #include "core/map/robot_map.h"
 #include "scenarios/config/realism.h"
+#include "sim/sensors/robot_sensors.h"
 #include "sim/world/world.h"
 #include "sim/world/world_description.h"
 
@@ -19,6 +20,7 @@ struct RealWorldChanges {
   std::vector<sim::Box> boxes;           // radiators, cabinets, framed posters
   std::vector<sim::Cylinder> cylinders;  // plants in pots
   std::vector<std::string> opened_doors;
+  std::vector<sim::FloorPatch> carpets;  // for every robot's encoders
 };
 
 // The name of the material clutter is made of (added to the description).
@@ -46,6 +48,8 @@ void AddRoads(const core::RobotMap& map, ClutterKeepOut* keep_out);
 // - Doors: a door the description has closed stands open with probability
 //   door_flip_probability. (Open doors stay open: closing one a route needs
 //   is a scenario's `door` event, not a survey error.)
+// - Carpet: the floor in 4 m squares, each carpeted with probability
+//   carpet_fraction, its wheels turning 0.5-1.5 % farther per metre.
 // Nothing for an ideal profile. Deterministic for given inputs.
 RealWorldChanges DrawRealWorld(const RealismProfile& profile, std::uint64_t seed,
                                const sim::World& survey, const sim::WorldDescription& description,

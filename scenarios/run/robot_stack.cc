@@ -36,6 +36,7 @@ core::LocalizerOptions LocalizerOptionsFor(const RobotEntry& robot) {
   if (encoders.noise) {
     o.odometry.k_left_m += encoders.k_left_m;
     o.odometry.k_right_m += encoders.k_right_m;
+    o.odometry.k_turn_m += encoders.k_turn_m;  // acceleration slip has no term: unmodelled
   }
   o.significance = robot.localization.significance;
   for (const sim::LaserMount& mount : robot.config.lasers) {

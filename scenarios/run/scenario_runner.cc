@@ -35,6 +35,7 @@ ScenarioRun::ScenarioRun(const Scenario& scenario, const RunOptions& options,
     }
     real_world_ = DrawRealWorld(scenario.realism, scenario.seed, *world_, description, keep_out);
     ApplyRealWorld(real_world_, &description);
+    for (sim::RobotConfig& c : configs) c.encoders.patches = real_world_.carpets;
     world_ = std::make_unique<sim::World>(std::move(description), scenario.physics);
   }
   motions_ = SpawnBodies(scenario, world_.get());

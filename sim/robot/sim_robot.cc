@@ -27,9 +27,10 @@ SimRobot::SimRobot(World* world, RobotConfig config, RobotPlacement placement, s
   const double physics_hz = 1.0 / world->step_s();
   const std::string& id = placement_.id;
   const RobotDescription& model = config_.description;
-  AddSensor(std::make_unique<EncoderSensor>(id, config_.encoders, model.left_wheel.radius_m,
-                                            model.right_wheel.radius_m,
-                                            StreamFor(seed, id, "encoders"), physics_hz));
+  AddSensor(std::make_unique<EncoderSensor>(
+      id, config_.encoders, model.left_wheel.radius_m, model.right_wheel.radius_m,
+      StreamFor(seed, id, "encoders"), physics_hz, model.left_wheel.position_m,
+      model.right_wheel.position_m));
   if (config_.bumpers.empty()) {
     // No zones, no readings: the rate is still checked.
     PeriodTicks(physics_hz, config_.bumper_rate_hz, id + " bumpers");

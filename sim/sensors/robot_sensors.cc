@@ -23,6 +23,18 @@ void EncoderOptions::Validate() const {
   if (!(k_right_m >= 0.0 && k_right_m <= kMaxK)) {
     throw std::invalid_argument("EncoderOptions.k_right_m must be in [0, 1] m");
   }
+  if (!(k_turn_m >= 0.0 && k_turn_m <= kMaxK)) {
+    throw std::invalid_argument("EncoderOptions.k_turn_m must be in [0, 1] m");
+  }
+  if (!(k_accel_s2 >= 0.0 && k_accel_s2 <= 1.0)) {
+    throw std::invalid_argument("EncoderOptions.k_accel_s2 must be in [0, 1] s^2");
+  }
+  for (const FloorPatch& p : patches) {
+    if (!(std::abs(p.travel_scale_error) < 0.1) || p.area_m.size() < 3) {
+      throw std::invalid_argument("EncoderOptions.patches: '" + p.id +
+                                  "' needs an area of >= 3 points and |travel_scale_error| < 0.1");
+    }
+  }
 }
 
 void SystematicErrors::Validate() const {
@@ -49,33 +61,64 @@ WheelEncoders::WheelEncoders(EncoderOptions options, double left_radius_m, doubl
 }
 
 core::EncoderReading WheelEncoders::Read(double stamp_s, double left_wheel_rad,
-                                         double right_wheel_rad) {
+                                         double right_wheel_rad, double left_scale,
+                                         double right_scale) {
   const double true_rad[2] = {left_wheel_rad, right_wheel_rad};
   const double k_m[2] = {options_.k_left_m, options_.k_right_m};
+  const double scale[2] = {left_scale, right_scale};
   if (!started_) {
     // Counters start at zero wherever the wheels are.
     for (int side = 0; side < 2; ++side) last_true_rad_[side] = true_rad[side];
+    last_stamp_s_ = stamp_s;
     started_ = true;
   }
   core::EncoderReading reading;
   reading.stamp_s = stamp_s;
   reading.ticks_per_revolution = options_.ticks_per_revolution;
-  std::int64_t ticks[2];
+  double delta[2];
+  double travel_m[2];
   for (int side = 0; side < 2; ++side) {
-    double delta = true_rad[side] - last_true_rad_[side];
+    delta[side] = true_rad[side] - last_true_rad_[side];
     last_true_rad_[side] = true_rad[side];
+    travel_m[side] = delta[side] * radius_m_[side];
+    if (scale[side] != 1.0) delta[side] *= scale[side];  // a floor patch
     if (options_.noise && k_m[side] > 0.0) {
       // Cov(u) = diag(k_R|s_r|, k_L|s_l|), eq. 2.9: σ² grows with the travel.
-      const double travel_m = std::abs(delta) * radius_m_[side];
-      delta += stream_.Normal(0.0, std::sqrt(k_m[side] * travel_m)) / radius_m_[side];
+      delta[side] +=
+          stream_.Normal(0.0, std::sqrt(k_m[side] * std::abs(travel_m[side]))) / radius_m_[side];
     }
-    measured_rad_[side] += delta;
+  }
+  AddSlip(stamp_s, travel_m, delta);
+  std::int64_t ticks[2];
+  for (int side = 0; side < 2; ++side) {
+    measured_rad_[side] += delta[side];
     ticks[side] = static_cast<std::int64_t>(
         std::floor(measured_rad_[side] / (2.0 * std::numbers::pi) * options_.ticks_per_revolution));
   }
   reading.left_ticks = ticks[0];
   reading.right_ticks = ticks[1];
   return reading;
+}
+
+void WheelEncoders::AddSlip(double stamp_s, const double travel_m[2], double delta[2]) {
+  const double dt = stamp_s - last_stamp_s_;
+  last_stamp_s_ = stamp_s;
+  if (!options_.noise || !(dt > 0.0)) return;
+  if (options_.k_accel_s2 > 0.0) {
+    for (int side = 0; side < 2; ++side) {
+      const double speed = travel_m[side] / dt;
+      const double accel = std::abs(speed - last_speed_mps_[side]) / dt;
+      last_speed_mps_[side] = speed;
+      const double variance = options_.k_accel_s2 * accel * std::abs(travel_m[side]);
+      delta[side] += stream_.Normal(0.0, std::sqrt(variance)) / radius_m_[side];
+    }
+  }
+  if (options_.k_turn_m > 0.0) {
+    const double d =
+        stream_.Normal(0.0, std::sqrt(options_.k_turn_m * std::abs(travel_m[1] - travel_m[0])));
+    delta[0] -= 0.5 * d / radius_m_[0];
+    delta[1] += 0.5 * d / radius_m_[1];
+  }
 }
 
 std::uint32_t PressedBumperZones(const std::vector<BumperZone>& zones,
