@@ -64,8 +64,10 @@ struct RealismProfile {
   double turn_slip_k_m = 1.0e-5;    // m, [0, 1e-2]
   double accel_slip_k_s2 = 1.0e-5;  // s², [0, 1e-2]
   // Carpet: this share of the floor, in 4 m squares, where the wheels turn
-  // 0.5-1.5 % farther per metre (pile compressed under the tyre).
-  double carpet_fraction = 0.25;  // [0, 1]
+  // farther per metre (pile compressed under the tyre), each square by a
+  // uniform draw in [0.2, 1] x carpet_travel_error.
+  double carpet_fraction = 0.25;       // [0, 1]
+  double carpet_travel_error = 0.005;  // [0, 0.05]
 
   // The map and the world. Each end of each wall of a derived map is
   // surveyed off along the wall's normal by a draw of this σ (the whole wall

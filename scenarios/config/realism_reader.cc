@@ -41,6 +41,7 @@ void ReadRealism(YamlDocument* doc, MapReader& top, RealismProfile* profile) {
                {"turn_slip_k_m", &P::turn_slip_k_m},
                {"accel_slip_k_s2", &P::accel_slip_k_s2},
                {"carpet_fraction", &P::carpet_fraction},
+               {"carpet_travel_error", &P::carpet_travel_error},
                {"wall_offset_sigma_m", &P::wall_offset_sigma_m},
                {"clutter_per_m", &P::clutter_per_m},
                {"door_flip_probability", &P::door_flip_probability}});

@@ -28,10 +28,9 @@ constexpr double kEndMarginM = 0.3;
 constexpr double kObjectGapM = 0.1;
 // ... and this far beyond a door's width from its hinge (m).
 constexpr double kDoorMarginM = 0.5;
-// Carpet squares and their extra wheel turn per metre.
+// Carpet squares, and the least extra wheel turn of one as a share of the most.
 constexpr double kCarpetSquareM = 4.0;
-constexpr double kCarpetMinError = 0.005;
-constexpr double kCarpetMaxError = 0.015;
+constexpr double kCarpetMinShare = 0.2;
 
 enum class Kind { kRadiator, kCabinet, kPoster, kPlant };
 
@@ -93,7 +92,7 @@ class ClutterPlacer {
     for (double x = floor.min_m.x(); x < floor.max_m.x(); x += kCarpetSquareM) {
       for (double y = floor.min_m.y(); y < floor.max_m.y(); y += kCarpetSquareM) {
         const double u = draw.Uniform();
-        const double error = draw.Uniform(kCarpetMinError, kCarpetMaxError);
+        const double error = draw.Uniform(kCarpetMinShare, 1.0) * profile_.carpet_travel_error;
         if (u >= profile_.carpet_fraction) continue;
         const double x1 = std::min(x + kCarpetSquareM, floor.max_m.x());
         const double y1 = std::min(y + kCarpetSquareM, floor.max_m.y());

@@ -49,7 +49,8 @@ void AddRoads(const core::RobotMap& map, ClutterKeepOut* keep_out);
 //   door_flip_probability. (Open doors stay open: closing one a route needs
 //   is a scenario's `door` event, not a survey error.)
 // - Carpet: the floor in 4 m squares, each carpeted with probability
-//   carpet_fraction, its wheels turning 0.5-1.5 % farther per metre.
+//   carpet_fraction, its wheels turning farther per metre by a uniform draw
+//   in [0.2, 1] x carpet_travel_error.
 // Nothing for an ideal profile. Deterministic for given inputs.
 RealWorldChanges DrawRealWorld(const RealismProfile& profile, std::uint64_t seed,
                                const sim::World& survey, const sim::WorldDescription& description,

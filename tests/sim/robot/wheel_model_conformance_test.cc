@@ -280,6 +280,26 @@ TEST(RaycastWheels, SystematicErrorsMakeOdometryDriftAsTheReference) {
   EXPECT_NEAR(odo.pose.theta_rad, 0.0, 1e-9);
 }
 
+// A larger true mean radius (issue 20's realistic wheels) carries the robot
+// farther per wheel turn by its factor, in both wheel models; the odometry
+// (nominal radii) does not see it.
+TEST(RaycastWheels, MeanRadiusFactorScalesTheDistancePerTurn) {
+  for (const WheelModel wheels : {WheelModel::kArticulated, WheelModel::kRaycast}) {
+    double per_turn[2] = {0.0, 0.0};
+    for (int k = 0; k < 2; ++k) {
+      SystematicErrors errors;
+      errors.mean_radius_factor = k == 0 ? 1.0 : 1.01;
+      Scene scene("pygmalion", wheels, 200.0, false, errors);
+      scene.Advance(0.5);
+      const double start_x = scene.state().pose.x_m, start_rad = scene.state().left_wheel_rad;
+      scene.world->SetWheelSpeeds(scene.robot, 4.0, 4.0);
+      scene.Advance(5.0);
+      per_turn[k] = (scene.state().pose.x_m - start_x) / (scene.state().left_wheel_rad - start_rad);
+    }
+    EXPECT_NEAR(per_turn[1] / per_turn[0], 1.01, 1e-3) << static_cast<int>(wheels);
+  }
+}
+
 // Driving into a wall: the chassis' front touches it (bumpers) and the robot
 // stays upright; Pygmalion's motors (267 N at the rim) out-push its wheels'
 // grip (≈ 0.8 × 270 N), so its wheels spin at the commanded rate unseen, as the
