@@ -40,7 +40,10 @@ struct HallScene {
   std::int64_t scan_rays = 0;  // rays of ScanAll(finder) so far (central and edge rays)
   std::vector<std::unique_ptr<sim::BodyMotion>> motions;
 
-  explicit HallScene(bool baked, double walker_radius_m = kPedestrianRadiusM) {
+  // `systematic`: every laser with the realistic profile's systematic and
+  // correlated errors (issue 20) set.
+  explicit HallScene(bool baked, double walker_radius_m = kPedestrianRadiusM,
+                     const sim::LaserSystematicErrors* systematic = nullptr) {
     sim::WorldDescription d = scenarios::LoadWorldFile(scenarios::ResolveWorldPath("expo_hall"));
     const sim::RobotConfig robox = scenarios::LoadRobotFile(scenarios::ResolveRobotPath("robox"));
     sim::World probe(d, sim::WorldOptions{});
@@ -73,6 +76,9 @@ struct HallScene {
       if (c > 0) used[c - 1] = true;
       if (c + 1 < cells.size()) used[c + 1] = true;
       configs.push_back(scenarios::WithWorldMaterials(robox, &d));
+      if (systematic != nullptr) {
+        for (sim::LaserMount& m : configs.back().lasers) m.options.systematic = *systematic;
+      }
       placements.push_back({"robox_" + std::to_string(k), {cells[c].x(), cells[c].y(), 0.3 * k}});
     }
     sim::WorldOptions options;
@@ -274,8 +280,19 @@ BENCHMARK(BM_HallPlanarRays)
 // The same scene's whole scans with every error model, planar hits; the
 // per-tick refresh of the legs' and robots' cross-sections included (one
 // step and one refresh per iteration, as in a run at 10 Hz scans with 20 ticks).
+// Arg 1: with `realism: realistic`'s laser errors (surface biases, correlated
+// noise, intensity bias, mount error, stamp jitter).
 void BM_HallPlanarScans(benchmark::State& state) {
-  HallScene scene(true, kLegRadiusM);
+  sim::LaserSystematicErrors realistic;
+  realistic.mount_error = core::Pose2{0.003, -0.002, 0.002};
+  realistic.surface_bias_sigma_m = 0.004;
+  realistic.surface_seed = 3;
+  realistic.correlated_sigma_m = 0.004;
+  realistic.correlation_readings = 4.0;
+  realistic.intensity_bias_m = 0.01;
+  realistic.stamp_jitter_s = 0.0005;
+  realistic.seed = 5;
+  HallScene scene(true, kLegRadiusM, state.range(0) == 1 ? &realistic : nullptr);
   sim::PlanarCaster caster(scene.world.get(), sim::PlanarCasterOptions{});
   const double height = scene.robots.front()->config().lasers.front().z_m;
   std::int64_t readings = 0;
@@ -290,7 +307,12 @@ void BM_HallPlanarScans(benchmark::State& state) {
   state.counters["readings_per_s"] =
       benchmark::Counter(static_cast<double>(readings), benchmark::Counter::kIsRate);
 }
-BENCHMARK(BM_HallPlanarScans)->Unit(benchmark::kMillisecond)->MinTime(3.0);
+BENCHMARK(BM_HallPlanarScans)
+    ->ArgName("realistic")
+    ->Arg(0)
+    ->Arg(1)
+    ->Unit(benchmark::kMillisecond)
+    ->MinTime(3.0);
 
 // Physics: the 10 robots driving arcs among the 100 walkers, 200 Hz.
 void BM_HallPhysics10Robots100Walkers(benchmark::State& state) {
