@@ -409,6 +409,12 @@ nlohmann::ordered_json MetricsToJson(const RunMetrics& m) {
   if (m.any_navigation()) j["fleet"] = FleetJson(m);
   if (m.any_relocalization()) j["fleet"]["relocalization"] = FleetRelocalizationJson(m);
   if (m.crowd) j["crowd"] = CrowdJson(*m.crowd);
+  if (m.realism) {
+    j["realism"] = {{"profile", "realistic"},
+                    {"clutter_objects", m.realism->clutter_objects},
+                    {"doors_opened", m.realism->doors_opened},
+                    {"carpet_squares", m.realism->carpet_squares}};
+  }
   j["events"] = m.event_counts;
   return j;
 }

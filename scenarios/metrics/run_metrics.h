@@ -99,6 +99,14 @@ struct RunMetrics {
   std::map<std::string, std::int64_t> event_counts;  // by type
   std::optional<CrowdFigures> crowd;                 // runs with a crowd
   std::optional<FleetRunFigures> fleet;              // runs with two or more mission robots
+  // `realism: realistic` runs (issue 20): what the profile added to the
+  // surveyed world; absent under `ideal` (whose outputs stay as they were).
+  struct RealismFigures {
+    int clutter_objects = 0;
+    std::vector<std::string> doors_opened;
+    int carpet_squares = 0;
+  };
+  std::optional<RealismFigures> realism;
 
   double bodies_distance_m() const;
   std::int64_t bodies_collisions() const;

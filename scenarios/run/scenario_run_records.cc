@@ -198,6 +198,11 @@ RunMetrics ScenarioRun::CollectMetrics(double sim_s) const {
   m.ticks = ticks_run_;
   m.bodies = body_tally_;
   m.laser_backend = ToString(scenario_.laser_backend);
+  if (scenario_.realism.realistic) {
+    m.realism = RunMetrics::RealismFigures{
+        static_cast<int>(real_world_.boxes.size() + real_world_.cylinders.size()),
+        real_world_.opened_doors, static_cast<int>(real_world_.carpets.size())};
+  }
   m.event_counts = events_->counts();
   for (std::size_t k = 0; k < robots_.size(); ++k) {
     const RobotRun& r = robots_[k];

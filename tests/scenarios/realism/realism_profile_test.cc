@@ -13,7 +13,9 @@
 #include "scenarios/maps/map_derivation.h"
 #include "scenarios/realism/robot_realism.h"
 #include "scenarios/realism/world_realism.h"
+#include "scenarios/run/scenario_runner.h"
 #include "sim/world/world.h"
+#include "tests/support/test_files.h"
 
 namespace pavilion::scenarios {
 namespace {
@@ -185,6 +187,28 @@ TEST(RealismProfileTest, ClutterStandsAgainstWallsOffTheRoads) {
   RealismProfile none = s.realism;
   none.clutter_per_m = 0.0;
   EXPECT_TRUE(DrawRealWorld(none, 1, survey, s.world, keep_out).boxes.empty());
+}
+
+// A realistic run builds its world from the surveyed one plus clutter and open
+// doors, and says so in its metrics; an ideal run's metrics have no such block.
+TEST(RealismProfileTest, ARealisticRunReportsWhatItAdded) {
+  const std::filesystem::path dir = pavilion::testing::TestDir();
+  ScenarioOverrides overrides;
+  overrides.duration_s = 5.0;
+  for (const char* profile : {"ideal", "realistic"}) {
+    overrides.assignments = {std::string("realism=") + profile};
+    const Scenario s = LoadScenarioFile(
+        std::string(PAVILION_SOURCE_DIR) + "/scenarios/office_tour.yaml", overrides);
+    const RunMetrics m = RunScenario(s, RunOptions{(dir / profile).string(), false}).metrics;
+    if (std::string(profile) == "ideal") {
+      EXPECT_FALSE(m.realism.has_value());
+      continue;
+    }
+    ASSERT_TRUE(m.realism.has_value());
+    EXPECT_GT(m.realism->clutter_objects, 10);
+    EXPECT_GT(m.realism->carpet_squares, 0);
+    EXPECT_EQ(m.robots.front().collisions, 0);
+  }
 }
 
 }  // namespace
