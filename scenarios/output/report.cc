@@ -230,6 +230,14 @@ void DetailsTable(std::ostringstream& html, const Scenario& scenario, const RunM
   Row(html, "simulated time", HumanDuration(m.sim_duration_s));
   Row(html, "physics rate", H(m.physics_rate_hz) + " Hz");
   Row(html, "pavilion version", m.pavilion_version);
+  if (m.realism) {
+    std::string doors;
+    for (const std::string& d : m.realism->doors_opened) doors += (doors.empty() ? "" : ", ") + d;
+    Row(html, "realism",
+        "realistic (docs/realism.md): " + Int(m.realism->clutter_objects) + " clutter objects, " +
+            Int(m.realism->carpet_squares) +
+            " carpet squares, doors opened: " + (doors.empty() ? std::string("none") : doors));
+  }
   if (!m.bodies.empty()) {
     Row(html, "bodies", Int(static_cast<std::int64_t>(m.bodies.size())));
     Row(html, "distance travelled by all bodies", HumanDistance(m.bodies_distance_m()));
