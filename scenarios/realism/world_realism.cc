@@ -32,7 +32,11 @@ constexpr double kDoorMarginM = 0.5;
 constexpr double kCarpetSquareM = 4.0;
 constexpr double kCarpetMinShare = 0.2;
 
-enum class Kind { kRadiator, kCabinet, kPoster, kPlant };
+enum class Kind { kRadiator, kCabinet, kPoster, kTable, kPlant };
+// A table's legs: radius and inset from its footprint's corners (m); its top's height.
+constexpr double kTableLegRadiusM = 0.02;
+constexpr double kTableLegInsetM = 0.05;
+constexpr double kTableHeightM = 0.72;
 
 // One object against a face: its footprint rectangle (centre, along the face
 // u with half width, into the room n with half depth).
@@ -133,9 +137,10 @@ class ClutterPlacer {
 
   Kind DrawKind() {
     const double p = random_.Uniform();
-    if (p < 0.3) return Kind::kRadiator;
-    if (p < 0.65) return Kind::kCabinet;
-    if (p < 0.85) return Kind::kPoster;
+    if (p < 0.25) return Kind::kRadiator;
+    if (p < 0.55) return Kind::kCabinet;
+    if (p < 0.7) return Kind::kPoster;
+    if (p < 0.9) return Kind::kTable;
     return Kind::kPlant;
   }
   double DrawWidth(Kind kind) {
@@ -146,6 +151,8 @@ class ClutterPlacer {
         return random_.Uniform(0.4, 1.2);
       case Kind::kPoster:
         return random_.Uniform(0.4, 1.0);
+      case Kind::kTable:
+        return random_.Uniform(1.2, 1.8);
       case Kind::kPlant:
         return 2.0 * random_.Uniform(0.15, 0.3);
     }
@@ -158,6 +165,7 @@ class ClutterPlacer {
     const double depth = kind == Kind::kRadiator  ? 0.10
                          : kind == Kind::kCabinet ? random_.Uniform(0.35, 0.5)
                          : kind == Kind::kPoster  ? random_.Uniform(0.01, 0.03)
+                         : kind == Kind::kTable   ? random_.Uniform(0.6, 0.8)
                                                   : width;
     const double height = kind == Kind::kCabinet ? random_.Uniform(0.8, 2.0) : 0.0;
     Footprint f{on_face + (gap + 0.5 * depth) * normal, u, normal, 0.5 * width, 0.5 * depth};
@@ -172,6 +180,10 @@ class ClutterPlacer {
       c.height_m = 1.2;
       c.material = kClutterMaterial;
       changes_.cylinders.push_back(c);
+      return;
+    }
+    if (kind == Kind::kTable) {
+      AddTable(id, f);
       return;
     }
     sim::Box box;
@@ -192,6 +204,31 @@ class ClutterPlacer {
         break;
     }
     changes_.boxes.push_back(box);
+  }
+
+  // Four thin legs (what the scan plane cuts: isolated readings in front of
+  // the wall) under a top above the scan plane.
+  void AddTable(const std::string& id, const Footprint& f) {
+    const double a = f.half_width - kTableLegInsetM, b = f.half_depth - kTableLegInsetM;
+    int leg = 0;
+    for (const double su : {-1.0, 1.0}) {
+      for (const double sn : {-1.0, 1.0}) {
+        sim::Cylinder c;
+        c.id = id + "_leg" + std::to_string(++leg);
+        c.position_m = f.centre + su * a * f.u + sn * b * f.n;
+        c.radius_m = kTableLegRadiusM;
+        c.height_m = kTableHeightM;
+        c.material = kClutterMaterial;
+        changes_.cylinders.push_back(c);
+      }
+    }
+    sim::Box top;
+    top.id = id;
+    top.pose = core::Pose2{f.centre.x(), f.centre.y(), std::atan2(f.u.y(), f.u.x())};
+    top.size_m = {2.0 * f.half_width, 2.0 * f.half_depth, 0.03};
+    top.base_z_m = kTableHeightM;
+    top.material = kClutterMaterial;
+    changes_.boxes.push_back(top);
   }
 
   // The face is there under the whole width, inside the building, with free

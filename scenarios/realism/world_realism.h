@@ -17,8 +17,8 @@ namespace pavilion::scenarios {
 // from (issue 20): unmapped clutter against the walls, and doors that stand
 // otherwise than the map says.
 struct RealWorldChanges {
-  std::vector<sim::Box> boxes;           // radiators, cabinets, framed posters
-  std::vector<sim::Cylinder> cylinders;  // plants in pots
+  std::vector<sim::Box> boxes;           // radiators, cabinets, framed posters, table tops
+  std::vector<sim::Cylinder> cylinders;  // plants in pots, table legs
   std::vector<std::string> opened_doors;
   std::vector<sim::FloorPatch> carpets;  // for every robot's encoders
 };
@@ -41,6 +41,7 @@ void AddRoads(const core::RobotMap& map, ClutterKeepOut* keep_out);
 //   the building (a ray from it meets something within 30 m), objects stand
 //   at exponentially distributed gaps of mean 1 / clutter_per_m: radiators
 //   (10 cm deep), cabinets (35-50 cm), framed posters (1-3 cm, hanging down to
+//   the scan plane), tables (60-80 cm deep: four 4 cm legs under a top above
 //   the scan plane) and plants (round pots). An object is placed only where
 //   the face runs on under all of it, the space in front stays free for a
 //   metre beyond it (cast in `survey`, the world without clutter), it keeps
