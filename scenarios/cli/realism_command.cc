@@ -28,6 +28,11 @@ CLI::App* AddRealismCommand(CLI::App* app, RealismArgs* args) {
       ->capture_default_str();
   report->add_option("--out", args->out_dir, "With --scenario: outputs under OUT/<profile>")
       ->capture_default_str();
+  report
+      ->add_option("--scan-minutes", args->scan_minutes,
+                   "With --scenario: robot-minutes of scans logged per profile (~18 MB each)")
+      ->check(CLI::Range(0.1, 1000.0))
+      ->capture_default_str();
   report->footer(
       "Per log: scans, the measured range step (largest of 0.1 mm ... 10 cm with >= 99% of the\n"
       "ranges on its grid), the fractions of no-return and isolated readings, and per range bin\n"
@@ -55,12 +60,13 @@ struct ProfileRun {
   std::string scans;
 };
 
-// Runs the scenario under one profile, scans logged for its first two robot-minutes.
+// Runs the scenario under one profile, scans logged for its first
+// args.scan_minutes robot-minutes.
 ProfileRun RunProfile(const RealismArgs& args, const std::string& profile) {
   scenarios::ScenarioOverrides overrides;
   overrides.seed = args.seed;
   overrides.assignments = {"realism=" + profile, "outputs.scan_log=auto",
-                           "outputs.scan_log_robot_minutes=2"};
+                           "outputs.scan_log_robot_minutes=" + std::to_string(args.scan_minutes)};
   const scenarios::Scenario s = scenarios::LoadScenarioFile(args.scenario, overrides);
   const std::string out = (std::filesystem::path(args.out_dir) / profile).string();
   const scenarios::RunSummary run = scenarios::RunScenario(s, scenarios::RunOptions{out, false});

@@ -25,6 +25,7 @@ struct RealismArgs {
   std::string scenario;
   std::uint64_t seed = 1;
   std::string out_dir = "out/realism";
+  double scan_minutes = 2.0;  // robot-minutes of scans logged per profile (about 18 MB each)
 };
 
 // Adds `realism` with its `report` subcommand; returns `report`.
