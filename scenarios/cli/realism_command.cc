@@ -28,6 +28,9 @@ CLI::App* AddRealismCommand(CLI::App* app, RealismArgs* args) {
       ->capture_default_str();
   report->add_option("--out", args->out_dir, "With --scenario: outputs under OUT/<profile>")
       ->capture_default_str();
+  report->add_option("--set", args->assignments,
+                     "With --scenario: key.path=value overrides for both runs (repeatable), e.g. "
+                     "the localization's line_floor_r_m");
   report
       ->add_option("--scan-minutes", args->scan_minutes,
                    "With --scenario: robot-minutes of scans logged per profile (~18 MB each)")
@@ -67,6 +70,8 @@ ProfileRun RunProfile(const RealismArgs& args, const std::string& profile) {
   overrides.seed = args.seed;
   overrides.assignments = {"realism=" + profile, "outputs.scan_log=auto",
                            "outputs.scan_log_robot_minutes=" + std::to_string(args.scan_minutes)};
+  overrides.assignments.insert(overrides.assignments.end(), args.assignments.begin(),
+                               args.assignments.end());
   const scenarios::Scenario s = scenarios::LoadScenarioFile(args.scenario, overrides);
   const std::string out = (std::filesystem::path(args.out_dir) / profile).string();
   const scenarios::RunSummary run = scenarios::RunScenario(s, scenarios::RunOptions{out, false});

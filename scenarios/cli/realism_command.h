@@ -26,6 +26,7 @@ struct RealismArgs {
   std::uint64_t seed = 1;
   std::string out_dir = "out/realism";
   double scan_minutes = 2.0;  // robot-minutes of scans logged per profile (about 18 MB each)
+  std::vector<std::string> assignments;  // --set key.path=value, applied under both profiles
 };
 
 // Adds `realism` with its `report` subcommand; returns `report`.
