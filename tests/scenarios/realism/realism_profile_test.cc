@@ -66,6 +66,10 @@ TEST(RealismProfileTest, RealisticBuildsARealRobotFromTheSeed) {
     EXPECT_EQ(e.surface_seed, SurfaceBiasSeed(1));  // shared by every laser of the run
     EXPECT_EQ(e.correlated_sigma_m, a.realism.laser_correlated_sigma_m);
     EXPECT_EQ(r.lasers[k].options.range_sigma_m, a.realism.laser_range_sigma_m);
+    // A latency of its own (the stamps lag or lead the encoders'), and jitter.
+    EXPECT_NE(r.lasers[k].options.timestamp_bias_s, 0.0);
+    EXPECT_LT(std::abs(r.lasers[k].options.timestamp_bias_s), 5 * a.realism.laser_latency_sigma_s);
+    EXPECT_EQ(e.stamp_jitter_s, a.realism.laser_stamp_jitter_s);
     seeds.insert(e.seed);
     // The same seed draws the same robot; another seed another one.
     EXPECT_EQ(e.mount_error.x_m, Robot(b).lasers[k].options.systematic.mount_error.x_m);
