@@ -181,7 +181,10 @@ nlohmann::json StepJson(const RangeStepEstimate& step) {
 
 LogStatistics ComputeLogStatistics(const std::string& name, std::span<const core::LaserScan> scans,
                                    const ScanResidualOptions& options) {
-  return {name, DetectRangeStep(scans), ComputeScanResiduals(scans, options)};
+  int beams = 0;
+  for (const core::LaserScan& s : scans)
+    beams = std::max(beams, static_cast<int>(s.readings.size()));
+  return {name, beams, DetectRangeStep(scans), ComputeScanResiduals(scans, options)};
 }
 
 LogStatistics LoadCarmenLogStatistics(const std::string& path, const ScanResidualOptions& options) {
@@ -217,18 +220,24 @@ RealismComparison CompareResiduals(const std::vector<LogStatistics>& real,
     sim.name = scans.name;
     sim.range_step = DetectRangeStep(scans.scans);
     sim.raw = ComputeScanResiduals(scans.scans, raw_options);
-    std::map<double, ScanResidualStatistics> by_step;  // each distinct step once
+    int beams = 0;
+    for (const core::LaserScan& s : scans.scans) {
+      beams = std::max(beams, static_cast<int>(s.readings.size()));
+    }
+    // Each distinct (step, thinning) once.
+    std::map<std::pair<double, int>, ScanResidualStatistics> by_key;
     for (const LogStatistics& log : real) {
-      const double step_m = log.range_step.step_m;
-      if (step_m <= 0.0) {
-        sim.requantized.push_back(sim.raw);
-        continue;
-      }
-      auto it = by_step.find(step_m);
-      if (it == by_step.end()) {
-        ScanResidualOptions requantized = raw_options;
-        requantized.requantize_step_m = step_m;
-        it = by_step.emplace(step_m, ComputeScanResiduals(scans.scans, requantized)).first;
+      const double step_m = std::max(log.range_step.step_m, 0.0);
+      const int keep =
+          log.beams > 0 ? std::max(1, static_cast<int>(std::lround(double(beams) / log.beams))) : 1;
+      auto it = by_key.find({step_m, keep});
+      if (it == by_key.end()) {
+        ScanResidualOptions matched = raw_options;
+        matched.requantize_step_m = step_m;
+        matched.keep_every = keep;
+        it =
+            by_key.emplace(std::make_pair(step_m, keep), ComputeScanResiduals(scans.scans, matched))
+                .first;
       }
       sim.requantized.push_back(it->second);
     }
@@ -258,7 +267,9 @@ std::string FormatRealismReport(const RealismComparison& comparison) {
   }
   for (const SimulatedStatistics& sim : comparison.simulated) {
     if (comparison.real.empty()) break;
-    out += "\n" + sim.name + ": requantized to each log's range step; ratio = sim / real\n";
+    out += "\n" + sim.name +
+           ": requantized to each log's range step and thinned to its beam spacing; ratio = "
+           "sim / real\n";
     out += ComparisonTable(comparison.real, sim);
   }
   return out;

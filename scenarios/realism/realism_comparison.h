@@ -13,6 +13,7 @@ namespace pavilion::scenarios {
 // The range step and wall residuals of one real log (issue 20).
 struct LogStatistics {
   std::string name;  // short name, e.g. "intel"
+  int beams = 0;     // readings per scan (the most in any scan)
   RangeStepEstimate range_step;
   ScanResidualStatistics residuals;
 };
@@ -47,8 +48,9 @@ struct SimulatedStatistics {
   std::string name;
   RangeStepEstimate range_step;  // of the scans as they are
   ScanResidualStatistics raw;    // no requantization
-  // [k]: requantized to real[k]'s measured step (the raw statistics when that
-  // step is 0, i.e. the log is not quantized coarser than 0.1 mm).
+  // [k]: requantized to real[k]'s measured step (none when that step is 0,
+  // i.e. the log is not quantized coarser than 0.1 mm) and thinned to its
+  // beam spacing (every round(beams / real[k].beams)-th reading).
   std::vector<ScanResidualStatistics> requantized;
 };
 

@@ -132,6 +132,7 @@ void ScanResidualOptions::Validate() const {
   if (!std::isfinite(requantize_step_m) || requantize_step_m < 0.0) {
     throw std::invalid_argument("ScanResidualOptions.requantize_step_m must be finite and >= 0");
   }
+  if (keep_every < 1) throw std::invalid_argument("ScanResidualOptions.keep_every must be >= 1");
   if (std::isnan(max_range_m) || max_range_m <= 0.0) {
     throw std::invalid_argument("ScanResidualOptions.max_range_m must be > 0");
   }
@@ -153,6 +154,12 @@ void ScanResidualOptions::Validate() const {
 core::LaserScan PrepareScanForResiduals(const core::LaserScan& scan,
                                         const ScanResidualOptions& options) {
   core::LaserScan out = scan;
+  if (options.keep_every > 1) {
+    out.readings.clear();
+    for (std::size_t i = 0; i < scan.readings.size(); i += options.keep_every) {
+      out.readings.push_back(scan.readings[i]);
+    }
+  }
   for (core::LaserReading& r : out.readings) {
     if (!r.valid) continue;
     if (!std::isfinite(r.range_m) || r.range_m <= 0.0 || r.range_m >= options.max_range_m) {

@@ -49,6 +49,10 @@ struct ScanResidualOptions {
   // analysis (to compare 1 mm simulated scans with a log's 5 cm step); a range
   // that rounds to 0 becomes a no-return. Metres, finite, >= 0; 0: no rounding.
   double requantize_step_m = 0.0;
+  // Only every keep_every-th reading is kept (0, k, 2k, ...): simulated 0.5°
+  // scans thinned to a log's 1° spacing, so that runs, gaps and isolated
+  // readings are counted at the same angular resolution. >= 1; 1: all.
+  int keep_every = 1;
   // Readings with range_m >= this are no-returns (in addition to those the
   // reader marked invalid; CARMEN's reader already drops >= 30 m). Metres, > 0,
   // may be +infinity (no extra cut). Applied before requantization.
@@ -113,7 +117,7 @@ struct ScanResidualStatistics {
 ScanResidualStatistics ComputeScanResiduals(std::span<const core::LaserScan> scans,
                                             const ScanResidualOptions& options = {});
 
-// The scan with `options`' max_range_m and requantize_step_m applied: the
+// The scan with `options`' keep_every, max_range_m and requantize_step_m applied: the
 // readings ComputeScanResiduals analyses.
 core::LaserScan PrepareScanForResiduals(const core::LaserScan& scan,
                                         const ScanResidualOptions& options);

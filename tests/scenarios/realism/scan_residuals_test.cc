@@ -250,6 +250,39 @@ TEST(ScanResidualsTest, DetectRangeStepFindsTheQuantization) {
 }
 
 // Validate() names the offending field.
+// Thinning keeps readings 0, k, 2k, ... with their bearings: a 0.5° scan
+// becomes a 1° one, and isolated readings are counted at that spacing.
+TEST(ScanResidualsTest, ThinningKeepsEveryKthReading) {
+  // Nine readings at 2 m; reading 4 at 5 m; readings 3, 5 and 7 no-returns.
+  core::LaserScan scan;
+  for (int i = 0; i < 9; ++i) {
+    core::LaserReading r;
+    r.bearing_rad = 0.01 * i;
+    r.range_m = i == 4 ? 5.0 : 2.0;
+    r.valid = i != 3 && i != 5 && i != 7;
+    scan.readings.push_back(r);
+  }
+  ScanResidualOptions thinned;
+  thinned.keep_every = 2;
+  const core::LaserScan thin = PrepareScanForResiduals(scan, thinned);
+  ASSERT_EQ(thin.readings.size(), 5u);  // readings 0, 2, 4, 6, 8
+  for (std::size_t i = 0; i < thin.readings.size(); ++i) {
+    EXPECT_DOUBLE_EQ(thin.readings[i].bearing_rad, 0.02 * i);
+  }
+  const std::vector<core::LaserScan> one = {scan};
+  // Full resolution: 4 and 6 (both neighbours invalid) and 8 (7 invalid, the
+  // scan's edge) are isolated, 3 of 9. Thinned: 4 alone (neighbours 2 and 6 at
+  // 2 m, 3 m away), 1 of 5.
+  const ScanResidualStatistics full = ComputeScanResiduals(one, ScanResidualOptions{});
+  const ScanResidualStatistics half = ComputeScanResiduals(one, thinned);
+  EXPECT_EQ(full.readings, 9);
+  EXPECT_NEAR(full.isolated_fraction, 3.0 / 9.0, 1e-12);
+  EXPECT_EQ(half.readings, 5);
+  EXPECT_NEAR(half.isolated_fraction, 1.0 / 5.0, 1e-12);
+  thinned.keep_every = 0;
+  EXPECT_THROW(thinned.Validate(), std::invalid_argument);
+}
+
 TEST(ScanResidualsTest, ValidateNamesTheField) {
   using pavilion::testing::ValidateMessage;
   ScanResidualOptions options;
