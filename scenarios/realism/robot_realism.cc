@@ -28,14 +28,13 @@ void DrawRealisticRobot(const RealismProfile& profile, std::uint64_t seed, Robot
   sys.wheel_radius_ratio *= 1.0 + wheels.Normal(0.0, p.wheel_radius_ratio_sigma);
   sys.wheelbase_factor *= 1.0 + wheels.Normal(0.0, p.wheelbase_factor_sigma);
   sys.mean_radius_factor *= 1.0 + wheels.Normal(0.0, p.mean_radius_factor_sigma);
-  if (p.wheel_noise_k_m > 0.0) {
-    robot->config.encoders.noise = true;
-    robot->config.encoders.k_left_m = p.wheel_noise_k_m;
-    robot->config.encoders.k_right_m = p.wheel_noise_k_m;
-  }
-  if (p.turn_slip_k_m > 0.0 || p.accel_slip_k_s2 > 0.0) robot->config.encoders.noise = true;
-  robot->config.encoders.k_turn_m = p.turn_slip_k_m;
-  robot->config.encoders.k_accel_s2 = p.accel_slip_k_s2;
+  // The wheel-space noise and slip, injected into the encoders.
+  sim::EncoderOptions& encoders = robot->config.encoders;
+  if (p.wheel_noise_k_m > 0.0) encoders.k_left_m = encoders.k_right_m = p.wheel_noise_k_m;
+  encoders.k_turn_m = p.turn_slip_k_m;
+  encoders.k_accel_s2 = p.accel_slip_k_s2;
+  encoders.noise =
+      encoders.noise || p.wheel_noise_k_m > 0.0 || p.turn_slip_k_m > 0.0 || p.accel_slip_k_s2 > 0.0;
 
   const std::uint64_t surfaces = SurfaceBiasSeed(seed);
   for (sim::LaserMount& mount : robot->config.lasers) {

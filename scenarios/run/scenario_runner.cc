@@ -18,7 +18,11 @@ ScenarioRun::ScenarioRun(const Scenario& scenario, const RunOptions& options,
   for (const RobotEntry& r : scenario.robots) {
     configs.push_back(WithWorldMaterials(r.config, &description));
   }
-  world_ = std::make_unique<sim::World>(description, scenario.physics);
+  // Under `realism: realistic` this is the surveyed world, rebuilt below with
+  // what the survey left out; the description is kept for that.
+  world_ = scenario.realism.realistic
+               ? std::make_unique<sim::World>(description, scenario.physics)
+               : std::make_unique<sim::World>(std::move(description), scenario.physics);
   // Maps before any body enters the world (a derived map is a survey of the
   // static geometry).
   std::vector<std::optional<core::RobotMap>> maps(scenario.robots.size());

@@ -12,7 +12,6 @@ EncoderSensor::EncoderSensor(const std::string& robot_id, const EncoderOptions& 
                              const Eigen::Vector2d& right_wheel_m)
     : encoders_(options, left_radius_m, right_radius_m, std::move(stream)),
       sample_rate_hz_(options.rate_hz),
-      patches_(options.patches),
       wheel_m_{left_wheel_m, right_wheel_m} {
   if (options.rate_hz > physics_rate_hz) {
     // Encoders faster than the physics (the thesis' 200 Hz odometry over
@@ -37,8 +36,9 @@ void EncoderSensor::Sample(const SensorTick& tick, SensorOutputs* out) {
   const double t1 = tick.end_s;
   const int n = readings_per_tick_;
   // The patches under the wheels at the start of the tick.
-  const double left = patches_.empty() ? 1.0 : PatchScale(before.pose, 0);
-  const double right = patches_.empty() ? 1.0 : PatchScale(before.pose, 1);
+  const bool patches = !encoders_.options().patches.empty();
+  const double left = patches ? PatchScale(before.pose, 0) : 1.0;
+  const double right = patches ? PatchScale(before.pose, 1) : 1.0;
   for (int k = 1; k < n; ++k) {
     const double f = static_cast<double>(k) / n;
     out->encoders.push_back(encoders_.Read(
@@ -53,7 +53,7 @@ void EncoderSensor::Sample(const SensorTick& tick, SensorOutputs* out) {
 
 double EncoderSensor::PatchScale(const core::Pose2& world_from_base, int side) const {
   const Eigen::Vector2d contact = world_from_base * wheel_m_[side];
-  for (const FloorPatch& p : patches_) {
+  for (const FloorPatch& p : encoders_.options().patches) {
     if (core::Contains(p.area_m, contact)) return 1.0 + p.travel_scale_error;
   }
   return 1.0;

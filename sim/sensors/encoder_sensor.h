@@ -2,7 +2,6 @@
 
 #include <Eigen/Core>
 #include <string>
-#include <vector>
 
 #include "core/random/random_stream.h"
 #include "sim/sensors/robot_sensors.h"
@@ -35,9 +34,9 @@ class EncoderSensor final : public Sensor {
   WheelEncoders encoders_;
   double sample_rate_hz_;
   int readings_per_tick_ = 1;  // > 1 when the encoders are faster than the physics
-  std::vector<FloorPatch> patches_;
   Eigen::Vector2d wheel_m_[2];
-  // How far each wheel turns per metre where it stands (1 off any patch).
+  // How far each wheel turns per metre where it stands (1 off any of the
+  // options' floor patches).
   double PatchScale(const core::Pose2& world_from_base, int side) const;
 };
 
