@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -20,6 +21,22 @@ struct RgbImage {
       pixels[i + 2] = b;
     }
   }
+};
+
+// An 8-bit grey-level image (the Pulnix TM-9701's, §2.4), rows top to bottom,
+// one byte per pixel. Pixel (u, v) covers [u, u + 1) x [v, v + 1) in image
+// coordinates: its centre is (u + 0.5, v + 0.5).
+struct GrayImage {
+  int width = 0;
+  int height = 0;
+  std::vector<std::uint8_t> pixels;  // width * height, row-major
+
+  GrayImage() = default;
+  GrayImage(int w, int h, std::uint8_t value = 0)
+      : width(w), height(h), pixels(static_cast<std::size_t>(w) * h, value) {}
+
+  std::uint8_t at(int u, int v) const { return pixels[static_cast<std::size_t>(v) * width + u]; }
+  std::uint8_t& at(int u, int v) { return pixels[static_cast<std::size_t>(v) * width + u]; }
 };
 
 }  // namespace pavilion::core

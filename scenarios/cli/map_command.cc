@@ -53,6 +53,9 @@ CLI::App* AddMapCommand(CLI::App* app, MapArgs* args) {
   derive->add_option("--via-spacing", args->via_spacing_m, "Grid pitch of the via nodes (m)")
       ->check(CLI::Range(0.5, 20.0))
       ->capture_default_str();
+  derive->add_flag("--vertical-edges", args->vertical_edges,
+                   "Also map the vertical edges a camera sees (wall corners and ends, door frames, "
+                   "corners of pillars and exhibits) as points edge_NNN");
   derive
       ->add_option("--keep-direction", args->keep_direction_deg,
                    "Keep only the lines along this direction (deg, world frame); drop points and "
@@ -93,6 +96,7 @@ int RunMapCommand(const MapArgs& args) {
     options.seed = static_cast<std::uint64_t>(args.seed);
     options.robot_radius_m = args.robot_radius_m;
     options.via_spacing_m = args.via_spacing_m;
+    options.vertical_edges = args.vertical_edges;
     std::vector<std::string> warnings;
     core::RobotMap map = scenarios::DeriveRobotMap(world, options, &warnings);
     if (args.derive->count("--keep-direction") > 0) {

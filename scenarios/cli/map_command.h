@@ -17,6 +17,7 @@ struct MapArgs {
   std::int64_t seed = 1;         // seed of that noise
   double robot_radius_m = 0.35;  // clearance of edges
   double via_spacing_m = 3.0;    // grid pitch of via nodes
+  bool vertical_edges = false;   // --vertical-edges: map the camera's vertical edges too
   // --keep-direction: keep only lines within keep_tolerance_deg of this direction
   // (deg, world frame), drop points and beacons (scenarios/maps/map_derivation.h).
   double keep_direction_deg = 0.0;

@@ -20,6 +20,7 @@
 #include "nav/route/free_space_grid.h"
 #include "nav/route/roadmap_builder.h"
 #include "scenarios/maps/survey_line_fit.h"
+#include "scenarios/maps/vertical_edge_survey.h"
 
 namespace pavilion::scenarios {
 namespace {
@@ -263,7 +264,8 @@ class MapDeriver {
  public:
   MapDeriver(const sim::World& world, const MapDerivationOptions& options,
              std::vector<std::string>* warnings)
-      : d_(world.description()),
+      : world_(world),
+        d_(world.description()),
         options_(options),
         warn_(*warnings),
         radius_(options.robot_radius_m),
@@ -286,6 +288,7 @@ class MapDeriver {
     FindReachableFloor();
     MapFaces();
     MapColumnsAndBeacons();
+    MapVerticalEdges();
     BuildTopology();
     try {
       core::ValidateRobotMap(map_);
@@ -305,8 +308,12 @@ class MapDeriver {
                   d_.name.c_str(), options_.beam_height_m, sigma_ * 1000.0,
                   static_cast<unsigned long long>(options_.seed), radius_, options_.via_spacing_m,
                   options_.low_height_m, options_.ghost_spacing_m);
-    if (options_.wall_offset_sigma_m == 0.0) return buf;
-    return buf + ("; walls off by sigma " + std::to_string(options_.wall_offset_sigma_m) + " m.");
+    std::string text = buf;
+    if (options_.wall_offset_sigma_m != 0.0) {
+      text += "; walls off by sigma " + std::to_string(options_.wall_offset_sigma_m) + " m.";
+    }
+    if (options_.vertical_edges) text += " Vertical edges mapped as points edge_NNN.";
+    return text;
   }
 
   bool Opaque(int e) const {
@@ -668,6 +675,20 @@ class MapDeriver {
     }
   }
 
+  // Vertical edges (§4.2, Fig. 4.2) a robot's free space sees, when asked.
+  void MapVerticalEdges() {
+    if (!options_.vertical_edges) return;
+    core::RandomStream noise(options_.seed, core::RandomStream::StreamId("map_vertical_edges"));
+    const LaserView view(solids_);
+    int k = 0;
+    for (const SurveyedEdge& e : SurveyVerticalEdges(world_, VerticalEdgeSurveyOptions{})) {
+      if (!view.SeenAlong(e.position_m, e.outward, *free_)) continue;
+      Vec2 p = e.position_m;
+      if (sigma_ > 0.0) p += Vec2(noise.Normal(0.0, sigma_), noise.Normal(0.0, sigma_));
+      map_.points.push_back({Numbered("edge_", ++k), {RoundPosition(p), point_cov_}, 0.0});
+    }
+  }
+
   // Topology (§6.3.1): station nodes and the places' nodes, then the roadmap
   // of via nodes and collision-free edges (nav::BuildRoadmap).
   void BuildTopology() {
@@ -698,6 +719,7 @@ class MapDeriver {
     map_.edges = std::move(roadmap.edges);
   }
 
+  const sim::World& world_;
   const sim::WorldDescription& d_;
   const MapDerivationOptions& options_;
   std::vector<std::string>& warn_;
@@ -748,13 +770,16 @@ core::RobotMap KeepLinesAlongDirection(const core::RobotMap& map, double directi
   std::erase_if(kept.segments, [&](const core::MapSegment& s) { return !along(s.line); });
   std::erase_if(kept.multi_segment_lines,
                 [&](const core::MapMultiSegmentLine& m) { return !along(m.line); });
-  kept.points.clear();
+  // Vertical edges (radius 0) are the camera's, not the laser's: they stay.
+  std::erase_if(kept.points, [](const core::MapPoint& p) { return p.radius_m != 0.0; });
+  const bool edges = !kept.points.empty();
   kept.beacons.clear();
-  char buf[160];
+  char buf[200];
   std::snprintf(buf, sizeof buf,
                 " Kept only the lines within %g deg of the direction %g deg "
-                "(--keep-direction); points and beacons dropped.",
-                tolerance_rad * 180.0 / std::numbers::pi, direction_rad * 180.0 / std::numbers::pi);
+                "(--keep-direction); %s dropped.",
+                tolerance_rad * 180.0 / std::numbers::pi, direction_rad * 180.0 / std::numbers::pi,
+                edges ? "columns and beacons (vertical edges kept)" : "points and beacons");
   kept.description += buf;
   return kept;
 }

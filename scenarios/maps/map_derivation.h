@@ -36,6 +36,10 @@ struct MapDerivationOptions {
   double via_spacing_m = 3.0;
   // Largest gap between neighbouring ghost points, (0, 2 * robot_radius_m) m.
   double ghost_spacing_m = 0.25;
+  // Also map the vertical edges a camera sees (§4.2, Fig. 4.2; issue 19) as
+  // points of radius 0 named edge_NNN, measured with the tape-measure noise
+  // from a stream of their own (the other features' draws stay as they were).
+  bool vertical_edges = false;
 
   void Validate() const;  // throws std::invalid_argument naming the field
 };
@@ -54,7 +58,8 @@ core::RobotMap DeriveRobotMap(const sim::World& world, const MapDerivationOption
 
 // Keeps only the map lines whose direction lies within `tolerance_rad` of
 // `direction_rad` (modulo pi; a line (alpha, r) runs along alpha + pi/2): lines,
-// segments and multi-segment lines; drops every point and beacon; keeps the
+// segments and multi-segment lines; drops columns and beacons but keeps
+// vertical edges (points of radius 0, the camera's features); keeps the
 // topology and ghost points. For experiments in which the map constrains the
 // robot in one direction only (thesis Table 4.1, Fig. 4.4: a corridor whose map
 // has only the walls parallel to it). The description records the filter.
