@@ -71,6 +71,11 @@ void LocalizerOptions::Validate() const {
     laser.Validate();
     Require(ids.insert(laser.id).second, "lasers[" + laser.id + "].id", "unique");
   }
+  ids.clear();
+  for (const CameraSensorOptions& camera : cameras) {
+    camera.Validate();
+    Require(ids.insert(camera.id).second, "cameras[" + camera.id + "].id", "unique");
+  }
   Require(std::isfinite(lost_no_match_timeout_s) && lost_no_match_timeout_s > 0.0,
           "lost_no_match_timeout_s", "a finite value > 0");
   Require(lost_failed_cycles >= 1, "lost_failed_cycles", "an integer >= 1");
@@ -251,6 +256,18 @@ ObservationStatus Localizer::ProcessScan(const LaserScan& raw) {
     return admitted;
   }
   return Integrate(ScanObservations(*scan, raw, laser));
+}
+
+ObservationStatus Localizer::AddImage(const CameraImage& image) {
+  const auto camera =
+      std::find_if(options_.cameras.begin(), options_.cameras.end(),
+                   [&](const CameraSensorOptions& c) { return c.id == image.sensor_id; });
+  Require(camera != options_.cameras.end(), "CameraImage(" + image.sensor_id + ").sensor_id",
+          "a camera of LocalizerOptions::cameras");
+  if (status_.state == LocalizationState::kUninitialized) {
+    return ObservationStatus::kNotInitialized;
+  }
+  return AddObservations(EdgeObservations(image, *camera));
 }
 
 ObservationStatus Localizer::AddObservations(const ObservationBatch& batch) {

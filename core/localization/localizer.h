@@ -11,6 +11,7 @@
 
 #include "core/features/beacon_extraction.h"
 #include "core/features/line_extraction.h"
+#include "core/localization/camera_observations.h"
 #include "core/localization/encoder_odometry.h"
 #include "core/localization/map_cross_covariance.h"
 #include "core/localization/matching.h"
@@ -67,6 +68,8 @@ struct LocalizerOptions {
   // Scans from sensors without an entry in `lasers` use `default_laser`.
   LaserSensorOptions default_laser;
   std::vector<LaserSensorOptions> lasers;  // ids unique
+  // Cameras whose images AddImage takes (vertical edges, §3.4, §4.4); ids unique.
+  std::vector<CameraSensorOptions> cameras;
 
   // "Lost" detection. The thesis counts a lost situation when manual
   // relocalization was needed, and saw periods of 5-10 s without any match
@@ -162,6 +165,12 @@ class Localizer {
   // Registers (deskew), extracts lines (grouping the pieces of one line,
   // Segment::line_id, into one observation) and beacons, and integrates them.
   ObservationStatus AddScan(const LaserScan& scan);
+
+  // Extracts the vertical edges of a camera's image (§3.4) and integrates
+  // their bearings (eq. 4.3) at the image's stamp. Throws
+  // std::invalid_argument for a camera without an entry in `cameras` or an
+  // image not of its size.
+  ObservationStatus AddImage(const CameraImage& image);
 
   // Integrates already extracted observations (any sensor, e.g. a camera's
   // vertical edges). Throws std::invalid_argument for a bad view, a non-finite

@@ -178,6 +178,19 @@ bool IterativeMatcher::FindPointPairing(const ObservationBatch& batch, Candidate
   Candidate any;
   unique.innovation.nis = kInfinity;
   any.innovation.nis = kInfinity;
+  const bool strict = options_.unambiguous_vertical_edges && !predictions_.empty() &&
+                      predictions_.front().type == ObservationType::kVerticalEdge;
+  // How many unused predictions gate each observation (strict mode only).
+  std::vector<int> gated_by(strict ? batch.observations.size() : 0, 0);
+  for (int i = 0; strict && i < static_cast<int>(predictions_.size()); ++i) {
+    if (prediction_used_[i]) continue;
+    for (const int j : observations_) {
+      if (!observation_used_[j] && ComputeInnovation(predictions_[i], batch.observations[j]).nis <=
+                                       gate_[predictions_[i].dimension()]) {
+        ++gated_by[j];
+      }
+    }
+  }
   for (int i = 0; i < static_cast<int>(predictions_.size()); ++i) {
     if (prediction_used_[i]) continue;
     const double gate = gate_[predictions_[i].dimension()];
@@ -192,14 +205,15 @@ bool IterativeMatcher::FindPointPairing(const ObservationBatch& batch, Candidate
       if (in.nis < nearest.innovation.nis) nearest = {i, j, in};
     }
     if (in_gate == 0) continue;
-    if (in_gate == 1 && nearest.innovation.nis < unique.innovation.nis) unique = nearest;
+    const bool mutual = !strict || gated_by[nearest.observation] == 1;
+    if (in_gate == 1 && mutual && nearest.innovation.nis < unique.innovation.nis) unique = nearest;
     if (nearest.innovation.nis < any.innovation.nis) any = nearest;
   }
   if (unique.prediction >= 0) {
     *best = unique;
     return true;
   }
-  if (any.prediction >= 0) {
+  if (!strict && any.prediction >= 0) {
     *best = any;
     return true;
   }

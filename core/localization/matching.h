@@ -41,6 +41,13 @@ struct MatchingOptions {
   // do not contain them (extension constraint, §5.3.2.3). Only acts on map
   // segments/MS-lines and on observations that carry their segments.
   bool use_extension_constraint = true;
+  // Vertical edges pair only without ambiguity either way: the prediction has
+  // a single observation in its gate and that observation lies in no other
+  // prediction's gate. The thesis (§4.4.2) then also accepted ambiguous
+  // candidates by the smallest Mahalanobis distance, and found that door
+  // frames' groups of close edges produced false pairings that made vertical
+  // edges "of limited utility" (§4.5.3, §4.6); false: the thesis' rule.
+  bool unambiguous_vertical_edges = true;
 
   void Validate() const;  // throws std::invalid_argument naming the field
 };
@@ -86,7 +93,7 @@ struct MatchingResult {
 //   integrated according to their smallest Mahalanobis distance"; "when there
 //   is no unique pairing anymore, also candidates with multiple observations in
 //   the validation region are accepted and chosen according to the smallest
-//   Mahalanobis distance."
+//   Mahalanobis distance." Vertical edges: see unambiguous_vertical_edges.
 //
 // Holds scratch buffers: not thread-safe, one per thread.
 class IterativeMatcher {

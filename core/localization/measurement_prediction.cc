@@ -16,6 +16,9 @@ constexpr double kTwoPi = 2.0 * std::numbers::pi;
 // Points closer to the sensor origin than this have no defined bearing; they
 // are never visible (m).
 constexpr double kMinPointDistanceM = 1e-6;
+// The sight line to a vertical edge may touch the walls that meet at it:
+// crossings this close to the edge do not occlude it (m).
+constexpr double kEdgeGrazeM = 0.03;
 // Slack when comparing a field of view's width with the full circle (rad).
 constexpr double kFullCircleSlackRad = 1e-9;
 
@@ -30,6 +33,34 @@ struct SensorFrame {
   Eigen::Matrix3d J_sensor_robot;  // d x_WS / d x_WR
   Eigen::Matrix3d J_sensor_mount;  // d x_WS / d x_RS
 };
+
+// True when the segment eye -> target crosses a map segment (of a segment
+// or an MS-line) farther than kEdgeGrazeM from the target.
+bool SightCrossesMapSegment(const RobotMap& map, const Eigen::Vector2d& eye,
+                            const Eigen::Vector2d& target) {
+  const Eigen::Vector2d d = target - eye;
+  const double length = d.norm();
+  if (length <= kEdgeGrazeM) return false;
+  const double t_max = 1.0 - kEdgeGrazeM / length;
+  const auto crosses = [&](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    const Eigen::Vector2d e = b - a;
+    const double den = d.x() * e.y() - d.y() * e.x();
+    if (std::abs(den) < 1e-12) return false;  // parallel
+    const Eigen::Vector2d w = a - eye;
+    const double t = (w.x() * e.y() - w.y() * e.x()) / den;  // along the sight line
+    const double u = (w.x() * d.y() - w.y() * d.x()) / den;  // along the wall
+    return t > 0.0 && t < t_max && u >= 0.0 && u <= 1.0;
+  };
+  for (const MapSegment& s : map.segments) {
+    if (crosses(s.first_endpoint.position_m, s.second_endpoint.position_m)) return true;
+  }
+  for (const MapMultiSegmentLine& m : map.multi_segment_lines) {
+    for (const auto& [a, b] : m.segments) {
+      if (crosses(a.position_m, b.position_m)) return true;
+    }
+  }
+  return false;
+}
 
 SensorFrame MakeSensorFrame(const Pose2& world_from_robot, const Pose2& robot_from_sensor) {
   SensorFrame f;
@@ -327,6 +358,11 @@ bool MeasurementPredictor::IsVisible(const PredictedMeasurement& prediction,
 
   // Points, beacons and vertical edges: eqs. 5.51-5.52 in the sensor frame.
   const Point2Uncertain& point = MapPointOf(map_, prediction.feature);
+  if (prediction.type == ObservationType::kVerticalEdge && options_.occlude_vertical_edges &&
+      SightCrossesMapSegment(map_, {frame.world_from_sensor.x_m, frame.world_from_sensor.y_m},
+                             point.position_m)) {
+    return false;
+  }
   const PointInSensor ps = TransformPoint(point.position_m, frame.world_from_sensor);
   const double d = ps.p.norm();
   if (d < kMinPointDistanceM) return false;
@@ -345,6 +381,12 @@ void MeasurementPredictor::PredictVisible(ObservationType type,
   const auto consider = [&](MapFeatureType feature_type, std::size_t count) {
     if (!CanPair(type, feature_type)) return;
     for (std::size_t i = 0; i < count; ++i) {
+      // A camera sees a column's silhouette, not its centre: vertical edges
+      // pair with edges (points of radius 0) only.
+      if (type == ObservationType::kVerticalEdge && feature_type == MapFeatureType::kPoint &&
+          map_.points[i].radius_m > 0.0) {
+        continue;
+      }
       PredictedMeasurement p =
           Predict({feature_type, static_cast<int>(i)}, type, world_from_robot, view, correlations);
       if (IsVisible(p, world_from_robot, view)) out->push_back(p);

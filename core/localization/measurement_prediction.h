@@ -86,6 +86,13 @@ struct PredictionOptions {
   // wrong local uncertainties in the prediction. false: sigma_alpha of map lines
   // (and its correlation) is ignored, as in the thesis; true: eq. B.16 in full.
   bool use_map_line_angle_variance = false;
+  // A vertical edge is predicted only when the sight line from the camera to
+  // it crosses no segment of the map (of a map segment or MS-line, a wall at
+  // the beam height standing for the full-height wall): the map's own
+  // occlusion test, beyond the thesis' field-of-view and range conditions
+  // (§5.3.2.2), which predicted edges behind walls and let them take another
+  // feature's observation (§4.5.1.2: false pairings of vertical edges).
+  bool occlude_vertical_edges = true;
 
   void Validate() const;  // throws std::invalid_argument naming the field
 };

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "core/types/image.h"
 #include "core/types/pose2.h"
 
 namespace pavilion::core {
@@ -46,6 +47,15 @@ struct EncoderReading {
 struct BumperReading {
   double stamp_s = 0.0;
   std::uint32_t zones_in_contact = 0;
+};
+
+// A grey-level image as a robot receives it from its camera (§2.4): stamped
+// with the time the robot's software believes it was exposed (arrival minus
+// the grabber's assumed delay, §4.5.2.2).
+struct CameraImage {
+  std::string sensor_id;
+  double stamp_s = 0.0;
+  GrayImage image;
 };
 
 }  // namespace pavilion::core

@@ -11,6 +11,9 @@ void EkfPoseEstimatorOptions::Validate() const {
   if (!(collision_sigma_m >= 0.0) || !(collision_sigma_rad >= 0.0)) {
     throw std::invalid_argument("EkfPoseEstimatorOptions.collision_sigma_m must be >= 0");
   }
+  if (!(hold_s >= 0.0 && hold_s <= 1.0)) {
+    throw std::invalid_argument("EkfPoseEstimatorOptions.hold_s must be in [0, 1] s");
+  }
 }
 
 EkfPoseEstimator::EkfPoseEstimator(core::RobotMap map, const EkfPoseEstimatorOptions& options)
@@ -20,20 +23,97 @@ EkfPoseEstimator::EkfPoseEstimator(core::RobotMap map, const EkfPoseEstimatorOpt
   localizer_->Initialize(options_.initial_pose, options_.initial_covariance, 0.0);
 }
 
+namespace {
+
+// Without a hold, an image waits this long for the scans begun before its
+// exposure (longer than a sweep), s.
+constexpr double kSweepWaitS = 0.1;
+
+// A scan's integration stamp: its first reading's time (Localizer::AddScan).
+double FirstReadingStamp(const core::LaserScan& scan) {
+  return scan.stamp_s + (scan.readings.empty() ? 0.0 : scan.readings.front().time_offset_s);
+}
+
+}  // namespace
+
 std::optional<EstimatorCycle> EkfPoseEstimator::Update(
     std::span<const core::EncoderReading> encoders,
     const std::vector<const core::LaserScan*>& scans) {
-  const long matches_before = localizer_->counters().matches;
+  const long matches_before = localizer_->counters().matches - image_matches_;
   for (const core::EncoderReading& e : encoders) localizer_->AddEncoders(e);
-  // Scans in the order they finished; each laser's at most rate_hz times per s.
+  NoteScanCycle();
+  // Scans in the order they finished, each laser's at most rate_hz times per
+  // s; with a hold, they wait with the images (IntegrateHeld).
+  const bool hold = options_.hold_s > 0.0;
   for (const core::LaserScan* scan : scans) {
     if (paused_) break;
-    if (gate_.Admit(*scan)) localizer_->AddScan(*scan);
+    if (!gate_.Admit(*scan)) continue;
+    if (hold) {
+      held_scans_.push_back(*scan);
+    } else {
+      localizer_->AddScan(*scan);
+      NoteScanCycle();
+    }
   }
-  const long cycles = localizer_->counters().cycles;
-  if (cycles == last_cycles_) return std::nullopt;
-  last_cycles_ = cycles;
+  if (paused_) {
+    images_.clear();  // not integrated while paused
+    held_scans_.clear();
+  } else if (!encoders.empty()) {
+    // Without a hold, only images wait: for the scans begun before them.
+    IntegrateHeld(encoders.back().stamp_s - (hold ? options_.hold_s : kSweepWaitS));
+  }
+  // A cycle is a laser's (Tables 4.1-4.2 count n_v per laser cycle): the
+  // images integrated since the last one report with the next.
+  const long scan_cycles = localizer_->counters().cycles - image_cycles_;
+  if (scan_cycles == last_cycles_) return std::nullopt;
+  last_cycles_ = scan_cycles;
   return ReportCycle(matches_before);
+}
+
+void EkfPoseEstimator::IntegrateHeld(double before_s) {
+  while (true) {
+    // The oldest waiting scan (two lasers' may finish out of order) or image.
+    auto scan = std::min_element(held_scans_.begin(), held_scans_.end(),
+                                 [](const core::LaserScan& a, const core::LaserScan& b) {
+                                   return FirstReadingStamp(a) < FirstReadingStamp(b);
+                                 });
+    const double scan_s = scan == held_scans_.end() ? before_s : FirstReadingStamp(*scan);
+    const double image_s = images_.empty() ? before_s : images_.front().stamp_s;
+    if (std::min(scan_s, image_s) >= before_s) return;
+    if (scan_s <= image_s) {  // lines before the edges of the same instant (§4.4.2)
+      localizer_->AddScan(*scan);
+      held_scans_.erase(scan);
+      NoteScanCycle();
+      continue;
+    }
+    const core::LocalizerCounters before = localizer_->counters();
+    localizer_->AddImage(images_.front());
+    images_.pop_front();
+    const core::LocalizerCounters& after = localizer_->counters();
+    image_cycles_ += after.cycles - before.cycles;
+    image_matches_ += after.matches - before.matches;
+    edge_matches_ += static_cast<int>(after.matches - before.matches);
+    noted_cycles_ = after.cycles;
+  }
+}
+
+void EkfPoseEstimator::NoteScanCycle() {
+  const long cycles = localizer_->counters().cycles;
+  if (cycles == noted_cycles_) return;
+  noted_cycles_ = cycles;
+  if (!IsCamera(localizer_->last_cycle().sensor_id)) scan_report_ = localizer_->last_cycle();
+}
+
+bool EkfPoseEstimator::IsCamera(const std::string& sensor_id) const {
+  return std::any_of(options_.localizer.cameras.begin(), options_.localizer.cameras.end(),
+                     [&](const core::CameraSensorOptions& c) { return c.id == sensor_id; });
+}
+
+void EkfPoseEstimator::AddImages(const std::vector<const core::CameraImage*>& images) {
+  if (paused_) return;
+  for (const core::CameraImage* image : images) {
+    if (IsCamera(image->sensor_id)) images_.push_back(*image);
+  }
 }
 
 EstimatorCycle CycleFromReport(const core::CycleReport& report) {
@@ -45,6 +125,8 @@ EstimatorCycle CycleFromReport(const core::CycleReport& report) {
       ++c.matched_lines;
     } else if (m.type == core::ObservationType::kBeacon) {
       ++c.matched_beacons;
+    } else if (m.type == core::ObservationType::kVerticalEdge) {
+      ++c.matched_edges;
     } else {
       ++c.matched_other;
     }
@@ -56,13 +138,15 @@ Eigen::Matrix3d CollisionCovariance(double sigma_m, double sigma_rad) {
   return Eigen::Vector3d(sigma_m * sigma_m, sigma_m * sigma_m, sigma_rad * sigma_rad).asDiagonal();
 }
 
-EstimatorCycle EkfPoseEstimator::ReportCycle(long matches_before) const {
-  EstimatorCycle c = CycleFromReport(localizer_->last_cycle());
+EstimatorCycle EkfPoseEstimator::ReportCycle(long matches_before) {
+  EstimatorCycle c = CycleFromReport(scan_report_);
   // Batches before the last one of this tick: their matches count as lines
   // (lasers give lines and beacons; the last report says how many of each).
-  const long matched = localizer_->counters().matches - matches_before;
+  const long matched = localizer_->counters().matches - image_matches_ - matches_before;
   c.matched_lines += static_cast<int>(
       std::max(0L, matched - (c.matched_lines + c.matched_beacons + c.matched_other)));
+  c.matched_edges = edge_matches_;
+  edge_matches_ = 0;
   c.lost = localizer_->status().state == core::LocalizationState::kLost;
   c.mode = c.lost ? LocalizationMode::kLost : LocalizationMode::kLocalized;
   c.hypotheses = c.lost ? 0 : 1;

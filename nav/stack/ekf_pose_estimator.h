@@ -2,9 +2,12 @@
 
 // EKF pose tracking (thesis §4.4, core/localization/localizer.h) as the robot
 // stack's estimator: the encoders at their own rate, each laser's scans at
-// most `rate_hz` times per second (the thesis localized at 2 Hz, §4.5.2).
+// most `rate_hz` times per second (the thesis localized at 2 Hz, §4.5.2), and
+// the vertical edges of the cameras in `localizer.cameras` after the lines
+// (§4.4.2), each image at its own stamp.
 
 #include <Eigen/Core>
+#include <deque>
 #include <memory>
 #include <string>
 #include <vector>
@@ -27,6 +30,13 @@ struct EkfPoseEstimatorOptions {
   // (issue 14, expo_tour).
   double collision_sigma_m = 0.10;
   double collision_sigma_rad = 0.15;
+  // > 0: scans and camera images wait this long after their stamps and are
+  // then integrated in time-stamp order (the localizer integrates in order,
+  // §4.4.3, and an image arrives the grabber's delay after its exposure: set
+  // it longer than that delay plus a sweep); the correction is carried
+  // forward to the present by the odometry buffer. 0: scans are integrated
+  // as they arrive, images as soon as no earlier scan can come. s, [0, 1].
+  double hold_s = 0.0;
 
   void Validate() const;  // throws std::invalid_argument naming the field
 };
@@ -46,6 +56,7 @@ class EkfPoseEstimator : public PoseEstimator {
   EkfPoseEstimator(core::RobotMap map, const EkfPoseEstimatorOptions& options);
   std::optional<EstimatorCycle> Update(std::span<const core::EncoderReading> encoders,
                                        const std::vector<const core::LaserScan*>& scans) override;
+  void AddImages(const std::vector<const core::CameraImage*>& images) override;
   const core::PoseWithCovariance& estimate() const override { return localizer_->estimate(); }
   std::string lost_reason() const override;
   void SetPaused(bool paused, double now_s) override;
@@ -54,13 +65,27 @@ class EkfPoseEstimator : public PoseEstimator {
   const core::Localizer& localizer() const { return *localizer_; }
 
  private:
-  EstimatorCycle ReportCycle(long matches_before) const;
+  EstimatorCycle ReportCycle(long matches_before);
+  // Integrates the waiting scans and images stamped before `before_s` in
+  // time-stamp order (the localizer refuses a batch older than one it has
+  // integrated, §4.4.3: an image arrives a grabber's delay late).
+  void IntegrateHeld(double before_s);
+  // Keeps the localizer's latest report when a laser's batch made it.
+  void NoteScanCycle();
+  bool IsCamera(const std::string& sensor_id) const;
 
   std::unique_ptr<core::Localizer> localizer_;
   EkfPoseEstimatorOptions options_;
   ScanRateGate gate_;
   long last_cycles_ = 0;
   bool paused_ = false;
+  std::deque<core::CameraImage> images_;     // waiting, in stamp order
+  std::vector<core::LaserScan> held_scans_;  // admitted, waiting with the images
+  long image_cycles_ = 0;                    // the localizer's cycles and matches that were images'
+  long image_matches_ = 0;
+  int edge_matches_ = 0;  // matched vertical edges since the last reported cycle
+  long noted_cycles_ = 0;
+  core::CycleReport scan_report_;  // the latest laser batch's
 };
 
 }  // namespace pavilion::nav

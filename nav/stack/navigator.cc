@@ -33,7 +33,10 @@ SenseResult Navigator::Sense(const SensorFrame& frame) {
     const ScanContext context{frame.now_s, belief(), odometry_.pose()};
     for (const core::BumperReading& b : frame.bumpers) controller_->OnBumper(b, context);
   }
-  if (estimator_) result.cycle = estimator_->Update(frame.encoders, frame.scans);
+  if (estimator_) {
+    if (!frame.images.empty()) estimator_->AddImages(frame.images);
+    result.cycle = estimator_->Update(frame.encoders, frame.scans);
+  }
   if (shadow_) result.shadow_cycle = shadow_->Update(frame.encoders, frame.scans);
   if (controller_) {
     const ScanContext context{frame.now_s, belief(), odometry_.pose()};

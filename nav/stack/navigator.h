@@ -34,6 +34,7 @@ struct SensorFrame {
   std::span<const core::EncoderReading> encoders;
   std::vector<const core::LaserScan*> scans;
   std::span<const core::BumperReading> bumpers;
+  std::vector<const core::CameraImage*> images;
 };
 
 // What the stack did with a tick's readings.

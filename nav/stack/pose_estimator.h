@@ -39,6 +39,7 @@ struct EstimatorCycle {
   int observations = 0;  // extracted features
   int matched_lines = 0;
   int matched_beacons = 0;
+  int matched_edges = 0;  // a camera's vertical edges (§4.4, Tables 4.1-4.2: n_v)
   int matched_other = 0;
   bool lost = false;  // the estimator declares itself lost
   LocalizationMode mode = LocalizationMode::kLocalized;
@@ -53,6 +54,10 @@ class PoseEstimator {
   virtual std::optional<EstimatorCycle> Update(
       std::span<const core::EncoderReading> encoders,
       const std::vector<const core::LaserScan*>& scans) = 0;
+  // A tick's camera images, before Update with the same tick's readings
+  // (which integrates them in time order among the scans). Estimators that
+  // use no camera ignore them.
+  virtual void AddImages(const std::vector<const core::CameraImage*>& /*images*/) {}
   // The estimate the robot acts on: its only hypothesis when localized, the
   // best one (§5.5.2) otherwise; meaningless when lost.
   virtual const core::PoseWithCovariance& estimate() const = 0;

@@ -17,6 +17,7 @@
 #include "scenarios/cli/realism_command.h"
 #include "scenarios/cli/run_command.h"
 #include "scenarios/cli/scan_command.h"
+#include "scenarios/cli/snapshot_command.h"
 #include "scenarios/cli/sweep_command.h"
 #include "scenarios/cli/test_command.h"
 #include "scenarios/config/data_paths.h"
@@ -176,6 +177,8 @@ struct Commands {
   CLI::App* sweep = nullptr;
   cli::RealismArgs realism_args;
   CLI::App* realism_report = nullptr;
+  cli::SnapshotArgs snapshot_args;
+  CLI::App* snapshot = nullptr;
 };
 
 void AddCommands(CLI::App* app, Commands* c) {
@@ -202,6 +205,9 @@ void AddCommands(CLI::App* app, Commands* c) {
   // --- realism: the laser's errors against real logs (scenarios/cli/realism_command.cc) ---
   c->realism_report = cli::AddRealismCommand(app, &c->realism_args);
   // --- end realism ---
+  // --- snapshot: camera and overview pictures (scenarios/cli/snapshot_command.cc) ---
+  c->snapshot = cli::AddSnapshotCommand(app, &c->snapshot_args);
+  // --- end snapshot ---
 }
 
 // Runs the parsed subcommand; its exit code.
@@ -228,6 +234,7 @@ int Dispatch(Commands& c) {
   }
   if (*c.sweep) return cli::RunSweepCommand(c.sweep_args);  // sweep
   if (*c.realism_report) return cli::RunRealismCommand(c.realism_args);
+  if (*c.snapshot) return cli::RunSnapshotCommand(c.snapshot_args);
   return kExitBadUsage;
 }
 

@@ -467,7 +467,16 @@ class RobotReader {
                    {"height_px", &Camera::height_px},
                    {"hfov_deg", "hfov_rad", &Camera::hfov_rad, kDegToRad},
                    {"rate_hz", &Camera::rate_hz},
-                   {"grayscale", &Camera::grayscale}});
+                   {"grayscale", &Camera::grayscale},
+                   {"radial_k1", &Camera::radial_k1},
+                   {"radial_k2", &Camera::radial_k2},
+                   {"radial_k3", &Camera::radial_k3},
+                   {"radial_k4", &Camera::radial_k4},
+                   {"noise_grey", &Camera::noise_grey},
+                   {"calibration_sigma_px", &Camera::calibration_sigma_px},
+                   {"grabber_delay_ms", "grabber_delay_s", &Camera::grabber_delay_s, 1e-3},
+                   {"grabber_delay_sigma_ms", "grabber_delay_sigma_s",
+                    &Camera::grabber_delay_sigma_s, 1e-3}});
       c.cameras.push_back(cam);
     });
   }

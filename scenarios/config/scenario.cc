@@ -36,6 +36,9 @@ void LocalizationEntry::Validate() const {
           "line_floor_r_m", "in [0, 0.1] m");
   Require(!line_floor_alpha_rad || InRange(*line_floor_alpha_rad, 0.0, kMaxLineFloorAlphaRad),
           "LocalizationEntry", "line_floor_alpha_rad", "in [0, 5] deg");
+  Require(!hold_s || InRange(*hold_s, 0.0, 1.0), "LocalizationEntry", "hold_s", "in [0, 1000] ms");
+  Require(InRange(odometry_k_scale, 1.0, 1000.0), "LocalizationEntry", "odometry_k_scale",
+          "in [1, 1000]");
   Require(InRange(rate_hz, 0.01, kMaxLocalizationRateHz), "LocalizationEntry", "rate_hz",
           "in [0.01, 1000] Hz");
   Require(initial_sigma.allFinite() && (initial_sigma.array() > 0.0).all(), "LocalizationEntry",

@@ -11,6 +11,7 @@
 #include "nav/fleet/coordinator.h"
 #include "nav/mission/navigation_controller.h"
 #include "scenarios/config/realism.h"
+#include "scenarios/config/snapshot_options.h"
 #include "scenarios/events/event.h"
 #include "scenarios/expect/expectation.h"
 #include "sim/bodies/body_motion.h"
@@ -68,6 +69,20 @@ struct LocalizationEntry {
   std::optional<double> line_floor_r_m;
   std::optional<double> line_floor_alpha_rad;
   std::vector<std::string> lasers;  // lasers that feed it; empty: all
+  // Cameras whose vertical edges it integrates after the lasers' lines (§4.4,
+  // issue 19); empty: none. Only these cameras render (cameras are off
+  // unless a scenario asks for them).
+  std::vector<std::string> cameras;
+  // Scans and images wait this long and are then integrated in time-stamp
+  // order (nav::EkfPoseEstimatorOptions::hold_s): a camera's images arrive
+  // its grabber's delay late. Key hold_ms; unset: 100 ms with cameras, 0
+  // without. s, [0, 1].
+  std::optional<double> hold_s;
+  // The filter's wheel-space noise (k_L, k_R, k_turn of §2.3) is this many
+  // times the calibrated plus injected one: its answer to slip it has no
+  // term for (`realism: realistic`'s acceleration slip and carpet). Key
+  // odometry_k_scale, [1, 1000].
+  double odometry_k_scale = 1.0;
   // `method: global`: global localization (thesis chapter 5, Fig. 5.17) —
   // lost is not final, the robot relocalizes itself; `ekf` (default): the
   // chapter-4 pose tracking alone.
@@ -126,6 +141,9 @@ struct RobotEntry {
   // scenario's `physics.wheel_model`.
   sim::WheelModel wheel_model = sim::WheelModel::kArticulated;
   LocalizationEntry localization;
+  // Every camera of its model; config.cameras keeps only those the scenario
+  // turned on (LocalizationEntry::cameras). Snapshots may use any level one.
+  std::vector<sim::CameraMount> model_cameras;
   std::optional<RouteEntry> route;
   std::optional<MissionEntry> mission;
   std::optional<WanderEntry> wander;
@@ -208,6 +226,8 @@ struct Scenario {
   // draws are applied at load time; the world's (clutter, doors, the survey's
   // wall offsets) when the run builds its world.
   RealismProfile realism;
+  // `snapshots:`: camera and overview pictures at times and events (issue 19).
+  SnapshotOptions snapshots;
 };
 
 // Command-line adjustments applied before validation.

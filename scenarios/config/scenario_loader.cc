@@ -13,6 +13,7 @@
 #include "scenarios/config/realism_reader.h"
 #include "scenarios/config/robot_loader.h"
 #include "scenarios/config/scenario.h"
+#include "scenarios/config/snapshot_options.h"
 #include "scenarios/config/world_loader.h"
 #include "scenarios/config/yaml_reader.h"
 #include "scenarios/events/event_registry.h"
@@ -233,8 +234,28 @@ void ReadBodies(YamlDocument* doc, MapReader& top, const sim::WorldDescription& 
 }
 
 // localization: {map, rate_hz, method: ekf|global, initial: known|unknown,
+// A list of the robot model's sensor ids under `key` (e.g. lasers: [front]).
+void ReadSensorIds(YamlDocument* doc, MapReader& m, const char* key, const char* what,
+                   const std::vector<std::string>& known, const std::string& model,
+                   std::vector<std::string>* out) {
+  YAML::Node list = m.Child(key);
+  if (!list.IsDefined()) return;
+  if (!list.IsSequence()) {
+    doc->Error(list, m.PathOf(key), std::string("expected a list of ") + what + " ids");
+    return;
+  }
+  for (std::size_t k = 0; k < list.size(); ++k) {
+    const std::string id = list[k].as<std::string>("");
+    if (std::find(known.begin(), known.end(), id) == known.end()) {
+      doc->Error(list[k], IndexPath(m.PathOf(key), k),
+                 "robot model '" + model + "' has no " + what + " '" + id + "'");
+    }
+    out->push_back(id);
+  }
+}
+
 // initial_offset: [x, y, theta], initial_sigma: [x, y, theta], significance,
-// lasers: [ids]} (thesis §4.4, chapter 5).
+// lasers: [ids], cameras: [ids]} (thesis §4.4, chapter 5).
 void ReadLocalization(YamlDocument* doc, MapReader& r, const std::string& base,
                       const Scenario& scenario, RobotEntry* robot) {
   YAML::Node node = r.Child("localization");
@@ -290,25 +311,26 @@ void ReadLocalization(YamlDocument* doc, MapReader& r, const std::string& base,
       {"significance", &LocalizationEntry::significance},
       {"line_floor_r_m", &LocalizationEntry::line_floor_r_m},
       {"line_floor_alpha_deg", "line_floor_alpha_rad", &LocalizationEntry::line_floor_alpha_rad,
-       kRadPerDeg}};
+       kRadPerDeg},
+      {"hold_ms", "hold_s", &LocalizationEntry::hold_s, 1e-3},
+      {"odometry_k_scale", &LocalizationEntry::odometry_k_scale}};
   if (l.derive_map_noise_m) {
     fields.push_back({"map_noise_m", "derive_map_noise_m", &LocalizationEntry::derive_map_noise_m});
   }
   ReadOptions(m, &l, fields);
-  if (YAML::Node lasers = m.Child("lasers"); lasers.IsDefined()) {
-    if (!lasers.IsSequence()) {
-      doc->Error(lasers, m.PathOf("lasers"), "expected a list of laser ids");
-    } else {
-      for (std::size_t k = 0; k < lasers.size(); ++k) {
-        const std::string id = lasers[k].as<std::string>("");
-        const bool known =
-            std::any_of(robot->config.lasers.begin(), robot->config.lasers.end(),
-                        [&](const sim::LaserMount& mount) { return mount.id == id; });
-        if (!known) {
-          doc->Error(lasers[k], IndexPath(m.PathOf("lasers"), k),
-                     "robot model '" + robot->model + "' has no laser '" + id + "'");
-        }
-        l.lasers.push_back(id);
+  std::vector<std::string> known_lasers;
+  for (const sim::LaserMount& mount : robot->config.lasers) known_lasers.push_back(mount.id);
+  ReadSensorIds(doc, m, "lasers", "laser", known_lasers, robot->model, &l.lasers);
+  std::vector<std::string> known_cameras;
+  for (const sim::CameraMount& mount : robot->config.cameras) known_cameras.push_back(mount.id);
+  ReadSensorIds(doc, m, "cameras", "camera", known_cameras, robot->model, &l.cameras);
+  for (std::size_t k = 0; k < l.cameras.size(); ++k) {
+    for (const sim::CameraMount& mount : robot->config.cameras) {
+      if (mount.id == l.cameras[k] &&
+          (std::abs(mount.mount.roll_rad) > 1e-6 || std::abs(mount.mount.pitch_rad) > 1e-6)) {
+        doc->Error(m.Child("cameras")[k], IndexPath(m.PathOf("cameras"), k),
+                   "camera '" + mount.id + "' of robot model '" + robot->model +
+                       "' is not level: vertical edges (§3.4) need a camera looking level");
       }
     }
   }
@@ -494,6 +516,12 @@ void ReadRobots(YamlDocument* doc, MapReader& top, const std::string& base, Scen
     ReadModelAdjustments(doc, r, *s, &robot);
     ReadDrive(doc, r, model_ok, &robot);
     ReadLocalization(doc, r, base, *s, &robot);
+    // Cameras are off unless the scenario uses them (rendering is not free).
+    robot.model_cameras = robot.config.cameras;
+    std::erase_if(robot.config.cameras, [&](const sim::CameraMount& c) {
+      const auto& on = robot.localization.cameras;
+      return std::find(on.begin(), on.end(), c.id) == on.end();
+    });
     ReadRoute(doc, r, &robot);
     ReadMission(doc, r, *s, &robot);
     ReadWander(doc, r, model_ok, &robot);
@@ -755,6 +783,9 @@ Scenario LoadScenarioFile(const std::string& path, const ScenarioOverrides& over
   ReadRobots(&doc, top, base, &s);
   ReadRealism(&doc, top, &s.realism);
   for (RobotEntry& r : s.robots) DrawRealisticRobot(s.realism, s.seed, &r);
+  std::vector<std::string> robot_ids;
+  for (const RobotEntry& r : s.robots) robot_ids.push_back(r.id);
+  ReadSnapshots(&doc, top, robot_ids, &s.snapshots);
   ReadCrowd(&doc, top, &s);
   ReadEvents(&doc, top, file_duration_s, &s);
   s.expectations = ReadExpectations(top, MetricIdsOf(s));

@@ -17,7 +17,9 @@ using Vec2 = Eigen::Vector2d;
 // Colours of the map items (docs/map_format.md, "Rendering").
 constexpr Rgb kLineColour{20, 60, 170};       // segments, multi-segment lines
 constexpr Rgb kInfiniteColour{90, 120, 210};  // infinite lines
-constexpr Rgb kPointColour{0, 130, 60};
+constexpr Rgb kPointColour{0, 130, 60};       // columns
+constexpr Rgb kVerticalEdgeColour{0, 0, 0};   // vertical edges: black crosses (thesis Fig. 4.2)
+constexpr double kCrossHalfPx = 4.0;          // a vertical edge's cross: half its arm length
 constexpr Rgb kBeaconColour{235, 170, 0};
 constexpr Rgb kEdgeColour{240, 150, 90};
 constexpr Rgb kViaColour{110, 110, 130};
@@ -149,6 +151,10 @@ void DrawFeatures(const core::RobotMap& map, Canvas* canvas) {
   }
   for (const auto& p : map.points) {
     const Vec2 q = canvas->ToPx(p.point.position_m);
+    if (p.radius_m == 0.0) {
+      canvas->CrossPx(q, kCrossHalfPx, kVerticalEdgeColour, 1.5);
+      continue;
+    }
     canvas->RingPx(q, std::max(3.0, p.radius_m * canvas->scale()), kPointColour, 2.0);
     canvas->DiscPx(q, 2.0, kPointColour);
   }
@@ -173,6 +179,32 @@ void DrawNodes(const core::RobotMap& map, Canvas* canvas) {
 
 }  // namespace
 
+std::vector<LegendEntry> MapLegend(const core::RobotMap& map) {
+  const auto any_point = [&](bool edge) {
+    return std::any_of(map.points.begin(), map.points.end(),
+                       [&](const core::MapPoint& p) { return (p.radius_m == 0.0) == edge; });
+  };
+  const auto any_node = [&](bool station) {
+    return std::any_of(map.nodes.begin(), map.nodes.end(),
+                       [&](const core::MapNode& n) { return n.station == station; });
+  };
+  std::vector<LegendEntry> legend;
+  const auto add = [&](bool present, LegendEntry e) {
+    if (present) legend.push_back(std::move(e));
+  };
+  add(!map.segments.empty() || !map.multi_segment_lines.empty(),
+      {"map line", LegendSymbol::kTickedLine, kLineColour, {}, 2.0});
+  add(!map.lines.empty(), {"infinite line", LegendSymbol::kLine, kInfiniteColour, {}, 1.0});
+  add(any_point(true), {"vertical edge", LegendSymbol::kCross, kVerticalEdgeColour});
+  add(any_point(false), {"column", LegendSymbol::kRing, kPointColour, {}, 2.0});
+  add(!map.beacons.empty(), {"beacon", LegendSymbol::kDiamond, kBlack, kBeaconColour});
+  add(any_node(true), {"station", LegendSymbol::kSquare, kStationColour, kStationColour});
+  add(any_node(false), {"via node", LegendSymbol::kDisc, kViaColour, kViaColour});
+  add(!map.edges.empty(), {"graph edge", LegendSymbol::kLine, kEdgeColour, {}, 1.0});
+  add(!map.ghost_points.empty(), {"ghost point", LegendSymbol::kDiagonalCross, kGhostColour});
+  return legend;
+}
+
 core::RgbImage RenderRobotMap(const core::RobotMap& map, const sim::World* world,
                               const MapRenderOptions& options) {
   const int width = std::clamp(options.width_px, 50, 8000);
@@ -189,6 +221,7 @@ core::RgbImage RenderRobotMap(const core::RobotMap& map, const sim::World* world
   DrawEdgesAndGhosts(map, &canvas);
   DrawFeatures(map, &canvas);
   DrawNodes(map, &canvas);
+  AnnotateFigure(&image, scale, MapLegend(map));
   return image;
 }
 

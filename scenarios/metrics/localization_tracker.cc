@@ -45,6 +45,7 @@ const LocalizationCycle& LocalizationTracker::Record(const nav::EstimatorCycle& 
   c.observations = cycle.observations;
   c.matched_lines = cycle.matched_lines;
   c.matched_beacons = cycle.matched_beacons;
+  c.matched_edges = cycle.matched_edges;
   c.matched_other = cycle.matched_other;
   c.lost = cycle.lost;
   c.mode = cycle.mode;
@@ -73,7 +74,9 @@ const LocalizationCycle& LocalizationTracker::Record(const nav::EstimatorCycle& 
   below_ += c.nees <= kNees95Bound3 ? 1 : 0;
   matched_lines_ += c.matched_lines;
   matched_beacons_ += c.matched_beacons;
-  cycles_without_match_ += c.matched_lines + c.matched_beacons + c.matched_other == 0 ? 1 : 0;
+  matched_edges_ += c.matched_edges;
+  cycles_without_match_ +=
+      c.matched_lines + c.matched_beacons + c.matched_edges + c.matched_other == 0 ? 1 : 0;
   plot_cycles_.Add(c);
   return plot_cycles_.last();
 }
@@ -98,6 +101,7 @@ LocalizationFigures LocalizationTracker::Figures() const {
   f.nees_below_95_bound_ratio = below_ / n;
   f.matched_lines_per_cycle = matched_lines_ / n;
   f.matched_beacons_per_cycle = matched_beacons_ / n;
+  f.matched_edges_per_cycle = matched_edges_ / n;
   f.cycles_without_match = cycles_without_match_;
   return f;
 }

@@ -32,6 +32,7 @@ struct LocalizationCycle {
   int observations = 0;
   int matched_lines = 0;
   int matched_beacons = 0;
+  int matched_edges = 0;  // a camera's vertical edges (n_v of Tables 4.1-4.2)
   int matched_other = 0;
   bool lost = false;  // the localizer declares itself lost
   nav::LocalizationMode mode = nav::LocalizationMode::kLocalized;  // thesis Fig. 5.17
@@ -54,6 +55,7 @@ struct LocalizationFigures {
   double nees_below_95_bound_ratio = 0.0;  // chi^2(3) 95%: 7.81
   double matched_lines_per_cycle = 0.0;
   double matched_beacons_per_cycle = 0.0;
+  double matched_edges_per_cycle = 0.0;
   int cycles_without_match = 0;
   int lost_situations = 0;  // metrics.md: true error beyond 0.5 m / 10 deg, or declared lost
   int declared_lost_situations = 0;  // the estimator's own: transitions into kLost
@@ -92,7 +94,7 @@ class LocalizationTracker {
   double sum_p2_ = 0.0, sum_h2_ = 0.0, nees_ = 0.0;
   double position_max_m_ = 0.0, heading_max_deg_ = 0.0;
   double two_sigma_frontal_m_ = 0.0, two_sigma_lateral_m_ = 0.0, two_sigma_heading_deg_ = 0.0;
-  double matched_lines_ = 0.0, matched_beacons_ = 0.0;
+  double matched_lines_ = 0.0, matched_beacons_ = 0.0, matched_edges_ = 0.0;
   int below_ = 0;
   int cycles_without_match_ = 0;
   bool in_lost_situation_ = false;

@@ -26,6 +26,7 @@ Json LocalizationJson(const LocalizationFigures& f) {
           {"nees_below_95_bound_ratio", n(f.nees_below_95_bound_ratio)},
           {"matched_lines_per_cycle", n(f.matched_lines_per_cycle)},
           {"matched_beacons_per_cycle", n(f.matched_beacons_per_cycle)},
+          {"matched_edges_per_cycle", n(f.matched_edges_per_cycle)},
           {"cycles_without_match", f.cycles_without_match},
           {"lost_situations", f.lost_situations},
           {"declared_lost_situations", f.declared_lost_situations}};

@@ -159,6 +159,23 @@ void FillRect(core::RgbImage* image, int x0, int y0, int width_px, int height_px
   }
 }
 
+void BlendRect(core::RgbImage* image, int x0, int y0, int width_px, int height_px, const Rgb& color,
+               double alpha) {
+  alpha = std::clamp(alpha, 0.0, 1.0);
+  const int x_begin = std::max(0, x0);
+  const int y_begin = std::max(0, y0);
+  const int x_end = std::min(image->width, x0 + std::max(0, width_px));
+  const int y_end = std::min(image->height, y0 + std::max(0, height_px));
+  for (int y = y_begin; y < y_end; ++y) {
+    for (int x = x_begin; x < x_end; ++x) {
+      std::uint8_t* p = &image->pixels[(static_cast<std::size_t>(y) * image->width + x) * 3];
+      for (int k = 0; k < 3; ++k) {
+        p[k] = static_cast<std::uint8_t>(std::lround(alpha * color[k] + (1.0 - alpha) * p[k]));
+      }
+    }
+  }
+}
+
 void FillDisc(core::RgbImage* image, const Eigen::Vector2d& center_px, double radius_px,
               const Rgb& color) {
   const int x0 = static_cast<int>(std::floor(center_px.x() - radius_px));

@@ -22,6 +22,11 @@ void SetPixel(core::RgbImage* image, int x, int y, const Rgb& color);
 // The pixels x in [x0, x0 + width_px), y in [y0, y0 + height_px).
 void FillRect(core::RgbImage* image, int x0, int y0, int width_px, int height_px, const Rgb& color);
 
+// The same rectangle blended: each pixel becomes alpha * color + (1 - alpha)
+// * pixel, alpha in [0, 1] (clamped).
+void BlendRect(core::RgbImage* image, int x0, int y0, int width_px, int height_px, const Rgb& color,
+               double alpha);
+
 // Pixels whose centre lies within radius_px of center_px.
 void FillDisc(core::RgbImage* image, const Eigen::Vector2d& center_px, double radius_px,
               const Rgb& color);

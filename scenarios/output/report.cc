@@ -414,6 +414,23 @@ void DeadlockSection(std::ostringstream& html, const std::optional<DeadlockFrame
        << "\" src=\"data:image/png;base64," << Base64(f.png) << "\">\n";
 }
 
+// The scenario's `snapshots:` pictures, wrapping in rows, each with its caption.
+void CameraSnapshotSection(std::ostringstream& html, const std::vector<SnapshotFrame>* frames) {
+  if (frames == nullptr || frames->empty()) return;
+  html << "<h2>Snapshots</h2>\n"
+       << "<p class=\"note\">The pictures the scenario asked for (snapshots/camera_NN_*.png): "
+          "a robot's camera as its software gets it (grey levels through its lens, "
+          "§2.4), or a perspective overview.</p>\n"
+       << "<div style=\"display:flex;flex-wrap:wrap;gap:6px\">\n";
+  for (const SnapshotFrame& f : *frames) {
+    html << "<figure style=\"flex:0 1 320px;margin:0;text-align:center\">"
+         << "<img style=\"width:100%\" alt=\"" << E(f.caption) << "\" title=\"" << E(f.path)
+         << "\" src=\"data:image/png;base64," << Base64(f.png) << "\">"
+         << "<figcaption>" << E(f.caption) << "</figcaption></figure>\n";
+  }
+  html << "</div>\n";
+}
+
 void HypothesisSection(std::ostringstream& html, const std::vector<HypothesisFigure>& figures) {
   for (const HypothesisFigure& f : figures) {
     html << "<h2>Location hypotheses of " << E(f.robot_id) << " after a kidnap</h2>\n"
@@ -590,6 +607,7 @@ std::string RenderReportHtml(const Scenario& scenario, const RunMetrics& metrics
   TopDownSection(html, scenario, content, &charts);
   CrowdStripSection(html, metrics, content.crowd_frames);
   DeadlockSection(html, content.first_deadlock);
+  CameraSnapshotSection(html, content.camera_snapshots);
   HypothesisSection(html, content.hypothesis_figures);
   DetailsTable(html, scenario, metrics);
   if (!metrics.robots.empty()) {

@@ -9,6 +9,7 @@
 #include "scenarios/config/scenario.h"
 #include "scenarios/expect/expectation_result.h"
 #include "scenarios/metrics/run_metrics.h"
+#include "scenarios/output/camera_snapshots.h"
 #include "scenarios/output/report_charts.h"
 #include "scenarios/output/report_data.h"
 #include "scenarios/output/series_decimator.h"
@@ -52,6 +53,8 @@ struct ReportContent {
   std::vector<HypothesisFigure> hypothesis_figures;
   std::vector<CrowdFrame> crowd_frames;
   std::optional<DeadlockFrame> first_deadlock;
+  // The scenario's `snapshots:` pictures (camera and overview), in the order taken.
+  const std::vector<SnapshotFrame>* camera_snapshots = nullptr;
   // Read back from the run's line files (ReadReportSeries); null: no charts
   // of them.
   const ReportSeries* series = nullptr;

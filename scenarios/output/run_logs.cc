@@ -54,7 +54,7 @@ LocalizationLog::LocalizationLog(const std::string& path) : writer_(path) {
       "time_s,id,cycle,true_x_m,true_y_m,true_theta_rad,est_x_m,est_y_m,est_theta_rad,cov_xx,"
       "cov_xy,cov_xtheta,cov_yy,cov_ytheta,cov_thetatheta,position_error_m,heading_error_rad,"
       "nees,two_sigma_frontal_m,two_sigma_lateral_m,two_sigma_heading_rad,predictions,"
-      "observations,matched_lines,matched_beacons,lost,state,hypotheses");
+      "observations,matched_lines,matched_beacons,lost,state,hypotheses,matched_edges");
 }
 
 void LocalizationLog::Add(const std::string& id, std::int64_t index, const LocalizationCycle& c) {
@@ -82,6 +82,7 @@ void LocalizationLog::Add(const std::string& id, std::int64_t index, const Local
                      .Add(std::int64_t{c.lost ? 1 : 0})
                      .Add(std::string(nav::LocalizationModeName(c.mode)))
                      .Add(std::int64_t{c.hypotheses})
+                     .Add(std::int64_t{c.matched_edges})
                      .str());
 }
 

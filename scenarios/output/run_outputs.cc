@@ -1,11 +1,13 @@
 #include "scenarios/output/run_outputs.h"
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include <numbers>
 
+#include "scenarios/output/canvas.h"
 #include "scenarios/output/crowd_strip.h"
 #include "scenarios/output/localization_plot.h"
 #include "scenarios/output/output_files.h"
@@ -31,9 +33,11 @@ void AddNavigationTracks(const nav::NavigationPicture& p, std::vector<sim::TopDo
     }
     out->push_back({circle, {40, 190, 210}, 0.35, 1.0});
   }
-  if (!p.plan.empty()) out->push_back({p.plan, {200, 40, 200}, 0.9, 2.0});
-  if (!p.band_centers.empty()) out->push_back({p.band_centers, {20, 150, 190}, 1.0, 2.0});
-  if (!p.dwa_arc.empty()) out->push_back({p.dwa_arc, {40, 200, 40}, 1.0, 3.0});
+  if (!p.plan.empty()) out->push_back({p.plan, {200, 40, 200}, 0.9, 2.0, "plan"});
+  if (!p.band_centers.empty()) {
+    out->push_back({p.band_centers, {20, 150, 190}, 1.0, 2.0, "elastic band"});
+  }
+  if (!p.dwa_arc.empty()) out->push_back({p.dwa_arc, {40, 200, 40}, 1.0, 3.0, "DWA arc"});
 }
 
 // The 95 % position ellipse (chi^2 with 2 dof) of a hypothesis as a closed
@@ -105,6 +109,122 @@ PictureExtent TopDownExtent(const sim::World& world, const sim::TopDownOptions& 
           floor.max_m.x() + view.margin_m, floor.max_m.y() + view.margin_m};
 }
 
+// The estimates of the robots' last localization cycles (up to a cycle before
+// the end, so a moving robot has left them behind) with their 95 % position
+// ellipses (thesis Figs. 4.3, 4.8): dark green, around a dot at the estimated
+// position with a heading tick; one magnification for the whole picture
+// (EllipseMagnification of the largest).
+constexpr Rgb kLastEstimateRgb{0, 100, 30};
+constexpr double kEllipseWidthPx = 2.0;
+constexpr double kEstimateDotPx = 2.0;
+constexpr double kEstimateTickPx = 10.0;
+
+// Draws every localizing robot's last estimate with its ellipse over `image`;
+// returns the legend's row for them, or none when no robot has a cycle.
+std::optional<LegendEntry> DrawLastEstimates(const std::vector<RobotLocalization>& localizations,
+                                             const sim::TopDownFrame& frame,
+                                             core::RgbImage* image) {
+  std::vector<const LocalizationCycle*> last;
+  double major_px = 0.0;
+  for (const RobotLocalization& l : localizations) {
+    if (l.tracker == nullptr || l.tracker->cycle_count() == 0) continue;
+    last.push_back(&l.tracker->last_cycle());
+    major_px = std::max(major_px, EllipseMajorAxisPx(last.back()->covariance.topLeftCorner<2, 2>(),
+                                                     kChi2TwoDof95, frame.px_per_m));
+  }
+  if (last.empty()) return std::nullopt;
+  const int magnification = EllipseMagnification(major_px);
+  Canvas canvas(image, frame.top_left_m, frame.px_per_m);
+  for (const LocalizationCycle* c : last) {
+    canvas.Ellipse(c->estimate.translation(), c->covariance.topLeftCorner<2, 2>(), kChi2TwoDof95,
+                   magnification, kLastEstimateRgb, kEllipseWidthPx);
+    const Eigen::Vector2d q = canvas.ToPx(c->estimate.translation());
+    canvas.DiscPx(q, kEstimateDotPx, kLastEstimateRgb);
+    const Eigen::Vector2d heading(std::cos(c->estimate.theta_rad),
+                                  -std::sin(c->estimate.theta_rad));
+    canvas.LinePx(q, q + kEstimateTickPx * heading, kLastEstimateRgb, kEllipseWidthPx);
+  }
+  std::string label = "last update, 95 % ellipse";
+  if (magnification > 1) label += " x" + std::to_string(magnification);
+  return LegendEntry{label, LegendSymbol::kEllipse, kLastEstimateRgb, kLastEstimateRgb,
+                     kEllipseWidthPx};
+}
+
+// A place area's legend swatch: its colour at this opacity over white (an
+// area's own 0.15 hardly shows in a small swatch); chosen.
+constexpr double kMinSwatchAlpha = 0.4;
+
+// A legend row for what RenderTopDown drew; a track's colour as it shows
+// over white (its alpha applied).
+LegendEntry ToLegendEntry(const sim::TopDownLegendItem& item) {
+  Rgb faded = item.rgb;
+  for (int k = 0; k < 3; ++k) {
+    faded[k] = static_cast<std::uint8_t>(
+        std::lround(item.alpha * item.rgb[k] + (1.0 - item.alpha) * 255.0));
+  }
+  switch (item.item) {
+    case sim::TopDownItem::kTrack:
+      return {item.label, LegendSymbol::kLine, faded, faded, std::max(2.0, item.width_px)};
+    case sim::TopDownItem::kBody:
+      return {item.label, LegendSymbol::kSquare, item.rgb, item.rgb};
+    case sim::TopDownItem::kPerson:
+      return {item.label, LegendSymbol::kDisc, item.outline, item.rgb};
+    case sim::TopDownItem::kRobot:
+      return {item.label, LegendSymbol::kPose, {0, 0, 0}, item.rgb};
+    case sim::TopDownItem::kPlace:
+      return {item.label, LegendSymbol::kPose, item.rgb, item.rgb};
+    case sim::TopDownItem::kPlaceArea: {  // a swatch this faint would not show
+      Rgb swatch = item.rgb;
+      for (int k = 0; k < 3; ++k) {
+        swatch[k] = static_cast<std::uint8_t>(
+            std::lround(kMinSwatchAlpha * item.rgb[k] + (1.0 - kMinSwatchAlpha) * 255.0));
+      }
+      return {item.label, LegendSymbol::kArea, swatch, swatch};
+    }
+  }
+  return {item.label};
+}
+
+// The tracks of the run's top-down picture: bodies' paths, then per robot its
+// odometry, true path, estimate and navigation.
+std::vector<sim::TopDownTrack> RunTracks(
+    const std::vector<std::vector<Eigen::Vector2d>>& body_tracks,
+    const std::vector<RobotTracks>& robot_tracks) {
+  std::vector<sim::TopDownTrack> tracks;
+  for (const auto& t : body_tracks) tracks.push_back({t, {200, 40, 40}, 0.4, 1.0, "body path"});
+  for (const RobotTracks& r : robot_tracks) {
+    tracks.push_back({r.odometry, {230, 150, 20}, 0.8, 1.0, "odometry"});  // the encoders' belief
+    tracks.push_back({r.truth, {20, 60, 220}, 0.9, 1.0, "true path"});
+    if (!r.estimate.empty()) {
+      tracks.push_back({r.estimate, {30, 160, 60}, 0.7, 1.0, "estimate"});  // the localization's
+    }
+    if (r.navigation) AddNavigationTracks(*r.navigation, &tracks);
+  }
+  return tracks;
+}
+
+// snapshots/topdown_final.png: the world at the end with the tracks, the
+// last updates' estimates with their ellipses, a scale bar and a legend.
+core::RgbImage DrawRunTopDown(const sim::World& world, const sim::TopDownOptions& view,
+                              const std::vector<std::vector<Eigen::Vector2d>>& body_tracks,
+                              const std::vector<RobotTracks>& robot_tracks,
+                              const std::vector<RobotLocalization>& localizations) {
+  const std::vector<sim::TopDownTrack> tracks = RunTracks(body_tracks, robot_tracks);
+  core::RgbImage image = sim::RenderTopDown(world, tracks, view);
+  const sim::TopDownFrame frame = sim::TopDownFrameOf(world, view);
+  std::vector<LegendEntry> legend;
+  for (const sim::TopDownLegendItem& item : sim::TopDownLegend(world, tracks, view)) {
+    legend.push_back(ToLegendEntry(item));
+  }
+  if (const auto estimates = DrawLastEstimates(localizations, frame, &image)) {
+    auto robot = std::find_if(legend.begin(), legend.end(),
+                              [](const LegendEntry& e) { return e.label == "robot"; });
+    legend.insert(robot == legend.end() ? robot : robot + 1, *estimates);
+  }
+  AnnotateFigure(&image, frame.px_per_m, legend);
+  return image;
+}
+
 // The run's output files present in `out` (the line files, metrics.json and
 // the like; performance.json comes after the report), then `written`.
 std::vector<std::string> OutputFiles(const std::filesystem::path& out,
@@ -128,20 +248,12 @@ void WriteSnapshotsAndReport(const std::filesystem::path& out, const Scenario& s
                              const RunMetrics& metrics, const CrowdStrip* crowd_strip,
                              const SeriesDecimator* visitors_present,
                              const ExpectationResults* expectations,
-                             const DeadlockFrame* first_deadlock) {
-  std::vector<sim::TopDownTrack> top_tracks;
-  for (const auto& t : body_tracks) top_tracks.push_back({t, {200, 40, 40}, 0.4});
-  for (const RobotTracks& r : robot_tracks) {
-    top_tracks.push_back({r.odometry, {230, 150, 20}, 0.8});  // what the encoders believe
-    top_tracks.push_back({r.truth, {20, 60, 220}, 0.9});      // the true path
-    if (!r.estimate.empty()) {
-      top_tracks.push_back({r.estimate, {30, 160, 60}, 0.7});  // the localization estimate
-    }
-    if (r.navigation) AddNavigationTracks(*r.navigation, &top_tracks);
-  }
+                             const DeadlockFrame* first_deadlock,
+                             const std::vector<SnapshotFrame>* camera_snapshots) {
   const sim::TopDownOptions view = TopDownView(scenario);
   ReportContent content;
-  content.topdown_png = EncodePng(sim::RenderTopDown(world, top_tracks, view));
+  content.topdown_png =
+      EncodePng(DrawRunTopDown(world, view, body_tracks, robot_tracks, localizations));
   content.topdown_extent = TopDownExtent(world, view);
   std::vector<std::string> written{"snapshots/topdown_final.png"};
   WriteFileAtomically((out / written.back()).string(),
@@ -164,6 +276,13 @@ void WriteSnapshotsAndReport(const std::filesystem::path& out, const Scenario& s
     WriteFileAtomically((out / f.path).string(), std::string(f.png.begin(), f.png.end()));
     written.push_back(f.path);
     content.first_deadlock = *first_deadlock;
+  }
+  if (camera_snapshots) {
+    for (const SnapshotFrame& f : *camera_snapshots) {
+      WriteFileAtomically((out / f.path).string(), std::string(f.png.begin(), f.png.end()));
+      written.push_back(f.path);
+    }
+    content.camera_snapshots = camera_snapshots;
   }
   std::vector<std::string> robot_order;
   for (const RobotEntry& r : scenario.robots) robot_order.push_back(r.id);

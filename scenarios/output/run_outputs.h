@@ -17,6 +17,7 @@
 #include "scenarios/expect/expectation_result.h"
 #include "scenarios/metrics/localization_tracker.h"
 #include "scenarios/metrics/run_metrics.h"
+#include "scenarios/output/camera_snapshots.h"
 #include "scenarios/output/report.h"
 #include "scenarios/output/series_decimator.h"
 #include "scenarios/run/scenario_runner.h"
@@ -52,7 +53,7 @@ struct RobotLocalization {
 
 // Pictures the world at the end of the run, writes the figures under
 // snapshots/ (with the frames `crowd_strip` captured and the snapshot of the
-// first overlap deadlock, when given) and
+// first overlap deadlock and the scenario's camera snapshots, when given) and
 // report.html: its charts read localization.csv and events.jsonl back from
 // `out` (streamed, bounded memory), plus the visitors present over time and
 // the expectations' results when given.
@@ -64,7 +65,8 @@ void WriteSnapshotsAndReport(const std::filesystem::path& out, const Scenario& s
                              const RunMetrics& metrics, const CrowdStrip* crowd_strip = nullptr,
                              const SeriesDecimator* visitors_present = nullptr,
                              const ExpectationResults* expectations = nullptr,
-                             const DeadlockFrame* first_deadlock = nullptr);
+                             const DeadlockFrame* first_deadlock = nullptr,
+                             const std::vector<SnapshotFrame>* camera_snapshots = nullptr);
 
 // performance.json from the run's summary.
 void WritePerformanceJson(const std::filesystem::path& out, const RunSummary& summary, int threads,

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <limits>
 #include <string>
@@ -38,6 +39,12 @@ core::LocalizerOptions LocalizerOptionsFor(const RobotEntry& robot) {
     o.odometry.k_right_m += encoders.k_right_m;
     o.odometry.k_turn_m += encoders.k_turn_m;  // acceleration slip has no term: unmodelled
   }
+  // The filter's answer to slip it has no term for (acceleration slip,
+  // carpet): its wheel-space noise scaled up (issue 19, office_tour_vision).
+  const double k_scale = robot.localization.odometry_k_scale;
+  o.odometry.k_left_m *= k_scale;
+  o.odometry.k_right_m *= k_scale;
+  o.odometry.k_turn_m *= k_scale;
   o.significance = robot.localization.significance;
   for (const sim::LaserMount& mount : robot.config.lasers) {
     core::LaserSensorOptions laser;
@@ -49,6 +56,17 @@ core::LocalizerOptions LocalizerOptionsFor(const RobotEntry& robot) {
       laser.lines.alpha_sigma_floor_rad = *robot.localization.line_floor_alpha_rad;
     }
     o.lasers.push_back(laser);
+  }
+  // The cameras the scenario turned on (only those left in the config): the
+  // software's calibration is the lens' true model (§2.4), its noise known.
+  for (const sim::CameraMount& mount : robot.config.cameras) {
+    core::CameraSensorOptions camera;
+    camera.id = mount.id;
+    camera.intrinsics = mount.Intrinsics();
+    camera.robot_from_sensor = mount.mount.pose;
+    camera.edges.image_noise_sigma_grey = mount.noise_grey;
+    camera.edges.calibration_sigma_px = mount.calibration_sigma_px;
+    o.cameras.push_back(camera);
   }
   return o;
 }
@@ -80,6 +98,10 @@ core::PoseWithCovariance InitialEstimate(const RobotEntry& robot) {
 // starts a new generation.
 constexpr int kGlobalLostFailedCycles = 6;
 
+// With a camera, scans and images wait for each other this long (s): longer
+// than a grabber's delay (Pygmalion's: 40 ms) plus a sweep.
+constexpr double kCameraHoldS = 0.1;
+
 std::unique_ptr<nav::PoseEstimator> MakeEstimator(const RobotEntry& robot, core::RobotMap map) {
   const LocalizationEntry& entry = robot.localization;
   if (entry.global) {
@@ -96,6 +118,7 @@ std::unique_ptr<nav::PoseEstimator> MakeEstimator(const RobotEntry& robot, core:
   options.localizer = LocalizerOptionsFor(robot);
   options.rate_hz = entry.rate_hz;
   options.lasers = EstimatorLasers(robot);
+  options.hold_s = entry.hold_s.value_or(entry.cameras.empty() ? 0.0 : kCameraHoldS);
   const core::PoseWithCovariance initial = InitialEstimate(robot);
   options.initial_pose = initial.pose;
   options.initial_covariance = initial.covariance;
@@ -266,6 +289,7 @@ core::RobotMap LoadRobotMap(const RobotEntry& robot, const Scenario& scenario,
         options.wall_offset_sigma_m = scenario.realism.wall_offset_sigma_m;
       }
       options.seed = scenario.seed;
+      options.vertical_edges = !entry.cameras.empty();  // the camera's features (§4.2)
       return DeriveRobotMap(world, options);
     }
     std::string file = entry.map_file;

@@ -30,6 +30,7 @@
 #include "scenarios/metrics/robot_proximity.h"
 #include "scenarios/metrics/social_navigation.h"
 #include "scenarios/metrics/stride_buffer.h"
+#include "scenarios/output/camera_snapshots.h"
 #include "scenarios/output/crowd_strip.h"
 #include "scenarios/output/run_logs.h"
 #include "scenarios/output/run_outputs.h"
@@ -151,6 +152,7 @@ class ScenarioRun {
   std::vector<RobotRun> robots_;
   std::vector<TickWork> work_;
   std::unique_ptr<sim::WorkerPool> pool_;
+  std::unique_ptr<SnapshotTaker> snapshots_;  // the scenario's `snapshots:`, if any
   // Issue 15: the fleet's coordinator (scenario `fleet:`), merged at the end
   // of each tick; none with coordination off or fewer than two mission robots.
   std::unique_ptr<nav::FleetCoordinator> fleet_;

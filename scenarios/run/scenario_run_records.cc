@@ -71,6 +71,9 @@ void ScenarioRun::RecordContacts(double t_after) {
     if ((ra >= 0 || rb >= 0) && ra != rb) {
       fields["robot"] = robots_[ra >= 0 ? ra : rb].entry->id;
       fields["with"] = ToString(collision_classes_->Classify(ra >= 0 ? c.b : c.a));
+      if (snapshots_) {
+        snapshots_->OnEvent(*world_, t_after, robots_[ra >= 0 ? ra : rb].entry->id, "collision");
+      }
     }
     events_->Emit(t_after, kCollision, fields);
   }

@@ -63,6 +63,17 @@ ScenarioRun::ScenarioRun(const Scenario& scenario, const RunOptions& options,
     crowd_strip_.emplace(CrowdStripOptionsFor(scenario_));
     visitors_present_.emplace();
   }
+  if (!scenario.snapshots.empty()) {
+    std::map<std::string, SnapshotCamera> cameras;
+    for (const RobotRun& r : robots_) {
+      SnapshotCamera& c = cameras[r.entry->id];
+      c.robot = r.robot->index();
+      for (const sim::CameraMount& m : r.entry->model_cameras) {
+        if (!c.mount && m.mount.roll_rad == 0.0 && m.mount.pitch_rad == 0.0) c.mount = m;
+      }
+    }
+    snapshots_ = std::make_unique<SnapshotTaker>(scenario.snapshots, std::move(cameras));
+  }
   OpenLogs();
   pool_ = std::make_unique<sim::WorkerPool>(
       options.threads > 0 ? options.threads : sim::WorkerPool::HardwareThreads());
@@ -253,6 +264,7 @@ void ScenarioRun::Run() {
     if (fleet_) fleet_->Merge();  // seen by every robot from the next tick on
     if (proximity_) RecordProximity(t_after);
     snapshot_ = std::move(next);
+    if (snapshots_) snapshots_->TakeDue(*world_, t_after);
     if (crowd_strip_ && crowd_strip_->Due(t_after)) {
       crowd_strip_->Capture(*world_, CrowdStripCentre(*world_), t_after);
     }
@@ -318,7 +330,10 @@ void ScenarioRun::ApplyEvents(double t) {
   }
   for (const KidnapNote& kidnap : kidnaps_) {
     for (RobotRun& r : robots_) {
-      if (r.robot->index() == kidnap.robot) r.kidnapped = true;
+      if (r.robot->index() == kidnap.robot) {
+        r.kidnapped = true;
+        if (snapshots_) snapshots_->OnEvent(*world_, t, r.entry->id, "kidnap");
+      }
       if (r.robot->index() == kidnap.robot && r.relocalization) r.relocalization->OnKidnap(t);
       if (r.robot->index() == kidnap.robot && r.shadow_relocalization) {
         r.shadow_relocalization->OnKidnap(t);
@@ -410,6 +425,7 @@ void ScenarioRun::SenseRobots(const sim::TickSnapshot& next, double t_after) {
     frame.encoders = w.outputs.encoders;
     frame.bumpers = w.outputs.bumpers;
     for (const sim::ScanRecord& scan : w.outputs.scans) frame.scans.push_back(&scan.scan);
+    for (const sim::ImageRecord& image : w.outputs.images) frame.images.push_back(&image.image);
     const auto t_think = Clock::now();
     w.sensed = robots_[k].navigator->Sense(frame);
     w.estimator_s = Seconds(Clock::now() - t_think);
@@ -544,11 +560,11 @@ RunSummary ScenarioRun::Finish() {
   }
   std::vector<std::vector<Eigen::Vector2d>> body_paths;
   for (const auto& b : body_tracks_) body_paths.push_back(b.items_and_last());
-  WriteSnapshotsAndReport(out_, scenario_, *world_, body_paths, tracks, localizations,
-                          summary_.metrics, crowd_strip_ ? &*crowd_strip_ : nullptr,
-                          visitors_present_ ? &*visitors_present_ : nullptr,
-                          summary_.expectations ? &*summary_.expectations : nullptr,
-                          first_deadlock_ ? &*first_deadlock_ : nullptr);
+  WriteSnapshotsAndReport(
+      out_, scenario_, *world_, body_paths, tracks, localizations, summary_.metrics,
+      crowd_strip_ ? &*crowd_strip_ : nullptr, visitors_present_ ? &*visitors_present_ : nullptr,
+      summary_.expectations ? &*summary_.expectations : nullptr,
+      first_deadlock_ ? &*first_deadlock_ : nullptr, snapshots_ ? &snapshots_->frames() : nullptr);
   summary_.sim_duration_s = sim_s;
   summary_.robot_sim_s = sim_s * static_cast<double>(robots_.size());
   summary_.ticks = ticks_run_;

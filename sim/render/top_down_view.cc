@@ -244,6 +244,68 @@ void DrawPlacePoses(const WorldDescription& d, const TopDownOptions& options, do
   }
 }
 
+// The world rectangle [lo, hi] the picture covers.
+void PictureArea(const World& world, const TopDownOptions& options, Eigen::Vector2d* lo,
+                 Eigen::Vector2d* hi) {
+  const WorldDescription& d = world.description();
+  *lo = d.floor.min_m.array() - options.margin_m;
+  *hi = d.floor.max_m.array() + options.margin_m;
+  if (options.window) {
+    *lo = options.window->min_m;
+    *hi = options.window->max_m;
+    if (!lo->allFinite() || !hi->allFinite() || !(hi->x() > lo->x()) || !(hi->y() > lo->y())) {
+      throw std::invalid_argument("TopDownOptions.window: max_m must exceed min_m in x and y");
+    }
+  }
+}
+
+int PictureWidth(const TopDownOptions& options) { return std::clamp(options.width_px, 50, 8000); }
+
+// Whether a disc of radius r around p meets the rectangle [lo, hi].
+bool Meets(const Eigen::Vector2d& p, double r, const Eigen::Vector2d& lo,
+           const Eigen::Vector2d& hi) {
+  return p.x() + r >= lo.x() && p.x() - r <= hi.x() && p.y() + r >= lo.y() && p.y() - r <= hi.y();
+}
+
+// Adds `item` unless its label is listed already.
+void AddOnce(TopDownLegendItem item, std::vector<TopDownLegendItem>* out) {
+  for (const TopDownLegendItem& i : *out) {
+    if (i.label == item.label) return;
+  }
+  out->push_back(std::move(item));
+}
+
+// The bodies', people's and robots' items: those inside [lo, hi].
+void AddMovingItems(const World& world, const TopDownOptions& options, const Eigen::Vector2d& lo,
+                    const Eigen::Vector2d& hi, std::vector<TopDownLegendItem>* out) {
+  const WorldDescription& d = world.description();
+  for (int b = 0; b < world.body_count(); ++b) {
+    const BodySpec& spec = world.body_spec(b);
+    const double reach = spec.shape.type == BodyShapeType::kBox
+                             ? 0.5 * spec.shape.box_size_m.head<2>().norm()
+                             : spec.shape.radius_m;
+    if (Meets(world.body_state(b).pose.translation(), reach, lo, hi)) {
+      AddOnce({TopDownItem::kBody, "body", MaterialRgb(d, spec.material)}, out);
+    }
+  }
+  if (const crowd::Crowd* crowd = world.crowd()) {
+    const PersonColours colours = PersonColours::From(PeopleRgb(d, options));
+    for (const crowd::PersonState& p : crowd->people()) {
+      if (p.present && Meets(p.position_m, kTickToRadii * p.shape.radius_m, lo, hi)) {
+        AddOnce({TopDownItem::kPerson, "visitor", colours.body, colours.outline}, out);
+      }
+    }
+  }
+  for (int r = 0; r < world.robot_count(); ++r) {
+    const RobotDescription& model = world.robot_model(r);
+    double reach = 0.0;
+    for (const Eigen::Vector2d& p : model.footprint_m) reach = std::max(reach, p.norm());
+    if (Meets(world.robot_state(r).pose.translation(), reach, lo, hi)) {
+      AddOnce({TopDownItem::kRobot, "robot", MaterialRgb(d, model.material)}, out);
+    }
+  }
+}
+
 }  // namespace
 
 PersonColours PersonColours::From(const std::array<std::uint8_t, 3>& base) {
@@ -287,19 +349,18 @@ void DrawPeople(const std::vector<crowd::PersonState>& people, double section_he
   }
 }
 
+TopDownFrame TopDownFrameOf(const World& world, const TopDownOptions& options) {
+  Eigen::Vector2d lo, hi;
+  PictureArea(world, options, &lo, &hi);
+  return {{lo.x(), hi.y()}, PictureWidth(options) / (hi.x() - lo.x())};
+}
+
 core::RgbImage RenderTopDown(const World& world, const std::vector<TopDownTrack>& tracks,
                              const TopDownOptions& options) {
   const WorldDescription& d = world.description();
-  Eigen::Vector2d lo = d.floor.min_m.array() - options.margin_m;
-  Eigen::Vector2d hi = d.floor.max_m.array() + options.margin_m;
-  if (options.window) {
-    lo = options.window->min_m;
-    hi = options.window->max_m;
-    if (!lo.allFinite() || !hi.allFinite() || !(hi.x() > lo.x()) || !(hi.y() > lo.y())) {
-      throw std::invalid_argument("TopDownOptions.window: max_m must exceed min_m in x and y");
-    }
-  }
-  const int width = std::clamp(options.width_px, 50, 8000);
+  Eigen::Vector2d lo, hi;
+  PictureArea(world, options, &lo, &hi);
+  const int width = PictureWidth(options);
   const double scale = width / (hi.x() - lo.x());
   const int height = std::max(1, static_cast<int>(std::lround((hi.y() - lo.y()) * scale)));
   core::RgbImage image(width, height, 250, 250, 250);
@@ -319,6 +380,32 @@ core::RgbImage RenderTopDown(const World& world, const std::vector<TopDownTrack>
   DrawRobots(world, &canvas);
   DrawPlacePoses(d, options, scale, &canvas);
   return image;
+}
+
+std::vector<TopDownLegendItem> TopDownLegend(const World& world,
+                                             const std::vector<TopDownTrack>& tracks,
+                                             const TopDownOptions& options) {
+  const WorldDescription& d = world.description();
+  Eigen::Vector2d lo, hi;
+  PictureArea(world, options, &lo, &hi);
+  std::vector<TopDownLegendItem> out;
+  if (options.draw_places) {
+    for (const auto& [name, place] : d.places) {
+      if (place.area)
+        AddOnce({TopDownItem::kPlaceArea, "place area", kPlaceColour, {}, 0.15}, &out);
+    }
+  }
+  for (const TopDownTrack& t : tracks) {
+    if (t.label.empty() || t.points_m.size() < 2) continue;
+    AddOnce({TopDownItem::kTrack, t.label, t.rgb, {}, t.alpha, t.width_px}, &out);
+  }
+  AddMovingItems(world, options, lo, hi, &out);
+  if (options.draw_places) {
+    for (const auto& [name, place] : d.places) {
+      if (place.pose) AddOnce({TopDownItem::kPlace, "place", kPlaceColour}, &out);
+    }
+  }
+  return out;
 }
 
 }  // namespace pavilion::sim

@@ -67,6 +67,7 @@ struct TopDownTrack {
   std::array<std::uint8_t, 3> rgb{200, 40, 40};
   double alpha = 1.0;     // opacity in [0, 1]
   double width_px = 1.0;  // line width
+  std::string label{};    // its name in a legend (TopDownLegend); empty: not listed
 };
 
 // Renders the world seen from above: floor, element footprints in their material
@@ -75,5 +76,39 @@ struct TopDownTrack {
 // robots at their current poses, and tracks.
 core::RgbImage RenderTopDown(const World& world, const std::vector<TopDownTrack>& tracks,
                              const TopDownOptions& options);
+
+// Where RenderTopDown's picture of `world` lies (the window, or the floor and
+// its margin), so that more can be drawn over it. Throws like RenderTopDown on
+// a bad window.
+TopDownFrame TopDownFrameOf(const World& world, const TopDownOptions& options);
+
+// The kinds of thing RenderTopDown draws over the world, for a legend.
+enum class TopDownItem {
+  kTrack,      // a labelled track: a line of `rgb`, `alpha`, `width_px`
+  kBody,       // a body's footprint filled in `rgb`, with a black heading tick
+  kPerson,     // a crowd's person: a disc filled `rgb`, outlined in `outline`
+  kRobot,      // a robot's footprint filled in `rgb`, with a black heading tick
+  kPlace,      // a place's pose: a dot of `rgb` with a direction tick
+  kPlaceArea,  // a place's area: `rgb` at `alpha` over the floor
+};
+
+struct TopDownLegendItem {
+  TopDownItem item = TopDownItem::kTrack;
+  std::string label;  // the track's label; "body", "visitor", "robot", "place", "place area"
+  std::array<std::uint8_t, 3> rgb{0, 0, 0};
+  std::array<std::uint8_t, 3> outline{0, 0, 0};  // kPerson only
+  double alpha = 1.0;
+  double width_px = 1.0;
+};
+
+// What RenderTopDown(world, tracks, options) draws over the world itself, once
+// per label, in drawing order: the labelled tracks of at least two points,
+// bodies, present people and robots inside the picture (a disc around their
+// centre meets it), and with draw_places the places' areas and poses. The
+// first of several items with one label (e.g. robots of two materials) names
+// them all.
+std::vector<TopDownLegendItem> TopDownLegend(const World& world,
+                                             const std::vector<TopDownTrack>& tracks,
+                                             const TopDownOptions& options);
 
 }  // namespace pavilion::sim

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "core/features/camera_model.h"
 #include "core/localization/encoder_odometry.h"
 #include "core/types/pose2.h"
 #include "sim/robot/robot_description.h"
@@ -31,6 +32,27 @@ struct CameraMount {
   double hfov_rad = std::numbers::pi / 3;  // horizontal field of view (pinhole), rad, (0, π)
   double rate_hz = 10.0;                   // images per second, Hz, (0, 1000]
   bool grayscale = false;
+  // The lens: k1..k4 of eq. 3.23's correction (core::CameraIntrinsics::radial);
+  // all zero, an ideal pinhole. Each finite, |k| <= 10.
+  double radial_k1 = 0.0;
+  double radial_k2 = 0.0;
+  double radial_k3 = 0.0;
+  double radial_k4 = 0.0;
+  double noise_grey = 0.0;  // the electronics' grey-level noise, one sigma, [0, 100]
+  // The calibration's error of an edge's column, which all pixels of the edge
+  // share (core::VerticalEdgeOptions::calibration_sigma_px), px, [0, 100].
+  // 0.3 px: the renderer draws without anti-aliasing, so a silhouette lands
+  // on the pixel boundary nearest its true column, the same on every row
+  // (uniform within +-0.5 px: 0.29 px).
+  double calibration_sigma_px = 0.3;
+  // The frame grabber (§4.5.2.2): an image arrives this long after its
+  // exposure; the robot's software takes the mean as known and stamps the
+  // image at arrival minus the mean. s, [0, 1]; sigma [0, 0.1].
+  double grabber_delay_s = 0.0;
+  double grabber_delay_sigma_s = 0.0;
+
+  // The camera's intrinsics: a centred pinhole of hfov_rad with the lens' coefficients.
+  core::CameraIntrinsics Intrinsics() const;
 
   void Validate() const;  // throws std::invalid_argument naming the field
 };

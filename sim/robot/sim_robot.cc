@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "sim/sensors/bumper_sensor.h"
+#include "sim/sensors/camera_sensor.h"
 #include "sim/sensors/encoder_sensor.h"
 #include "sim/sensors/laser_sensor.h"
 
@@ -48,6 +49,15 @@ SimRobot::SimRobot(World* world, RobotConfig config, RobotPlacement placement, s
     lasers_.push_back(std::cref(laser->scanner()));
     mutable_lasers_.push_back(&laser->mutable_scanner());
     AddSensor(std::move(laser));
+  }
+  ids.clear();
+  for (const CameraMount& mount : config_.cameras) {
+    if (!ids.insert(mount.id).second) {
+      throw std::invalid_argument("robot '" + id + "': two cameras named '" + mount.id + "'");
+    }
+    AddSensor(std::make_unique<CameraSensor>(mount, StreamFor(seed, id, "camera/" + mount.id),
+                                             StreamFor(seed, id, "camera/" + mount.id + "/delay"),
+                                             physics_hz));
   }
   index_ = world->AddRobot(model, config_.systematic, placement_);
 }

@@ -21,6 +21,13 @@ struct ScanRecord {
   bool fallback = false;
 };
 
+// A finished camera image with its ground truth.
+struct ImageRecord {
+  core::CameraImage image;
+  double exposure_s = 0.0;        // when it was taken (simulation time)
+  core::Pose2 world_from_camera;  // the camera's true planar pose then
+};
+
 // A reading of a sensor type the simulator has no typed output for.
 struct CustomReading {
   std::string sensor_id;  // Sensor::id() of the sensor that produced it
@@ -33,6 +40,7 @@ struct SensorOutputs {
   std::vector<core::EncoderReading> encoders;
   std::vector<core::BumperReading> bumpers;  // only when the pressed set changed
   std::vector<ScanRecord> scans;
+  std::vector<ImageRecord> images;
   std::vector<CustomReading> custom;
 };
 

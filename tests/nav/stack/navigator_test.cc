@@ -78,8 +78,8 @@ TEST(NavigatorTest, DeadReckonsFromEncoderCounts) {
   Navigator navigator(Options(), nullptr, nullptr);
   const std::vector<core::EncoderReading> first{Reading(0.0, 0, 0)};
   const std::vector<core::EncoderReading> second{Reading(1.0, kTicksPerTurn, kTicksPerTurn)};
-  navigator.Sense(SensorFrame{0.0, first, {}, {}});
-  navigator.Sense(SensorFrame{1.0, second, {}, {}});
+  navigator.Sense(SensorFrame{0.0, first, {}, {}, {}});
+  navigator.Sense(SensorFrame{1.0, second, {}, {}, {}});
   EXPECT_NEAR(navigator.odometry_pose().x_m, 1.0 + 2.0 * std::numbers::pi * 0.1, 1e-12);
   EXPECT_NEAR(navigator.odometry_pose().y_m, 2.0, 1e-12);
   EXPECT_NEAR(navigator.belief().x_m, navigator.odometry_pose().x_m, 1e-12);
@@ -103,7 +103,7 @@ TEST(NavigatorTest, SteersFromTheEstimateAndPassesScansOn) {
   a.stamp_s = 0.1;
   b.stamp_s = 0.2;
   const std::vector<core::EncoderReading> encoders{Reading(0.2, 0, 0), Reading(0.205, 1, 1)};
-  const SenseResult result = navigator.Sense(SensorFrame{0.205, encoders, {&a, &b}, {}});
+  const SenseResult result = navigator.Sense(SensorFrame{0.205, encoders, {&a, &b}, {}, {}});
   EXPECT_EQ(e->encoders_seen, 2);
   EXPECT_EQ(e->scans_seen, 2);
   ASSERT_TRUE(result.cycle);

@@ -107,7 +107,7 @@ TEST(KidnapScenarioTest, RandomKidnapMovesFarIntoFreeSpaceDeterministically) {
   EXPECT_EQ(metrics.at("fleet").at("relocalization").at("kidnaps").get<int>(), 1);
   const std::string csv = pavilion::testing::ReadTextFile(one / "localization.csv");
   EXPECT_NE(csv.substr(0, csv.find('\n')).find(",lost,state,hypotheses"), std::string::npos);
-  EXPECT_NE(csv.find(",localized,1\n"), std::string::npos);
+  EXPECT_NE(csv.find(",localized,1,0\n"), std::string::npos);  // hypotheses, matched_edges
   // Same seed, same bytes, for one and two threads.
   const fs::path two = RunWithThreads(dir, 2);
   EXPECT_EQ(pavilion::testing::ReadTextFile(one / "events.jsonl"),

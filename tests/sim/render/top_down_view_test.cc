@@ -1,11 +1,13 @@
 // People in the top-down view (sim/render/top_down_view.h): shoulder disc,
-// legs at the section, heading tick; parked people not drawn; crops.
+// legs at the section, heading tick; parked people not drawn; crops; the
+// picture's frame and the legend of what it draws.
 #include "sim/render/top_down_view.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
+#include <string>
 #include <vector>
 
 #include "sim/world/world.h"
@@ -159,6 +161,108 @@ TEST(TopDownViewTest, WindowCropsTheWorld) {
   EXPECT_EQ(image.pixels[centre + 2], 153);  // the pillar's blue (0.6)
   view.window = TopDownWindow{{3, 3}, {3, 5}};
   EXPECT_THROW(RenderTopDown(world, {}, view), std::invalid_argument);
+}
+
+std::vector<std::string> Labels(const std::vector<TopDownLegendItem>& items) {
+  std::vector<std::string> labels;
+  for (const TopDownLegendItem& i : items) labels.push_back(i.label);
+  return labels;
+}
+
+// The frame puts the floor's corner plus the margin at the top left, at the
+// picture's width over the drawn width: a wall's pixel lands where it says.
+TEST(TopDownViewTest, FrameLocatesTheWorldInThePicture) {
+  World world(Room(), WorldOptions{});
+  TopDownOptions view;
+  view.width_px = 700;  // 7 m drawn: 100 px per m
+  const TopDownFrame frame = TopDownFrameOf(world, view);
+  EXPECT_DOUBLE_EQ(frame.px_per_m, 100.0);
+  EXPECT_DOUBLE_EQ(frame.top_left_m.x(), -0.5);
+  EXPECT_DOUBLE_EQ(frame.top_left_m.y(), 6.5);
+  const core::RgbImage image = RenderTopDown(world, {}, view);
+  // The pillar's centre (4, 4) at pixel (450, 250): the wall material's blue.
+  const std::size_t i = (250u * 700u + 450u) * 3u;
+  EXPECT_EQ(image.pixels[i + 2], 153);
+  view.window = TopDownWindow{{1, 1}, {3, 2}};
+  EXPECT_DOUBLE_EQ(TopDownFrameOf(world, view).px_per_m, 350.0);
+  EXPECT_DOUBLE_EQ(TopDownFrameOf(world, view).top_left_m.y(), 2.0);
+}
+
+// The legend lists each labelled track that is drawn (two points or more)
+// once, in order, and nothing for unlabelled or single-point tracks.
+TEST(TopDownLegendTest, ListsTheDrawnLabelledTracksOnce) {
+  World world(Room(), WorldOptions{});
+  const std::vector<Eigen::Vector2d> path{{1, 1}, {2, 2}};
+  std::vector<TopDownTrack> tracks{{path, {20, 60, 220}, 0.9, 1.0, "true path"},
+                                   {{{1, 1}}, {230, 150, 20}, 0.8, 1.0, "odometry"},
+                                   {path, {1, 2, 3}},
+                                   {path, {30, 160, 60}, 0.7, 2.0, "estimate"},
+                                   {path, {20, 60, 220}, 0.9, 1.0, "true path"}};
+  const std::vector<TopDownLegendItem> items = TopDownLegend(world, tracks, TopDownOptions{});
+  EXPECT_EQ(Labels(items), (std::vector<std::string>{"true path", "estimate"}));
+  ASSERT_EQ(items.size(), 2u);
+  EXPECT_EQ(items[1].item, TopDownItem::kTrack);
+  EXPECT_EQ(items[1].rgb, (Rgb{30, 160, 60}));
+  EXPECT_DOUBLE_EQ(items[1].alpha, 0.7);
+  EXPECT_DOUBLE_EQ(items[1].width_px, 2.0);
+  EXPECT_TRUE(TopDownLegend(world, {}, TopDownOptions{}).empty());
+}
+
+// Places are listed when drawn (draw_places), an area before the tracks (it
+// lies under them) and a pose after; a body only while inside the picture.
+TEST(TopDownLegendTest, PlacesAndBodiesWhenDrawn) {
+  WorldDescription d = Room();
+  Place place;
+  place.pose = core::Pose2(1.0, 1.0, 0.0);
+  place.area = core::Polygon2{{0.5, 0.5}, {1.5, 0.5}, {1.5, 1.5}, {0.5, 1.5}};
+  d.places["desk"] = place;
+  World world(d, WorldOptions{});
+  BodySpec box;
+  box.id = "crate";
+  box.shape.type = BodyShapeType::kBox;
+  box.pose = core::Pose2(2.0, 5.0, 0.0);
+  box.material = "wall";
+  world.AddBody(box);
+  const std::vector<TopDownTrack> tracks{{{{1, 1}, {2, 2}}, {20, 60, 220}, 0.9, 1.0, "true path"}};
+  TopDownOptions view;
+  EXPECT_EQ(Labels(TopDownLegend(world, tracks, view)),
+            (std::vector<std::string>{"place area", "true path", "body", "place"}));
+  view.draw_places = false;
+  EXPECT_EQ(Labels(TopDownLegend(world, tracks, view)),
+            (std::vector<std::string>{"true path", "body"}));
+  view.window = TopDownWindow{{0, 0}, {1.5, 1.5}};  // the crate lies beyond
+  EXPECT_EQ(Labels(TopDownLegend(world, tracks, view)), (std::vector<std::string>{"true path"}));
+}
+
+// Present people are listed as "visitor" in the colours DrawPeople uses
+// (the people's material); a crowd none of whose people is present, not.
+TEST(TopDownLegendTest, VisitorsWhilePresent) {
+  WorldDescription d = Room();
+  d.materials["visitor"] = Material{0.6, 0.0, {0.8, 0.4, 0.2, 1}, core::LaserResponse::kNormal};
+  for (const int present : {0, 6}) {
+    World world(d, WorldOptions{});
+    CrowdSpec spec;
+    spec.options.pool_size = 8;
+    spec.options.initial_present = present;
+    spec.options.max_present = 8;
+    spec.options.watch_spots = 4;
+    spec.entrance = {{0.2, 0.2}, {1.0, 0.2}, {1.0, 1.0}, {0.2, 1.0}};
+    spec.exit = {{5.0, 5.0}, {5.8, 5.0}, {5.8, 5.8}, {5.0, 5.8}};
+    spec.material = "visitor";
+    world.AddCrowd(spec, 3);
+    TopDownOptions view;
+    view.people_material = "visitor";
+    const std::vector<TopDownLegendItem> items = TopDownLegend(world, {}, view);
+    if (present == 0) {
+      EXPECT_TRUE(items.empty());
+      continue;
+    }
+    ASSERT_EQ(Labels(items), std::vector<std::string>{"visitor"});
+    const PersonColours colours = PersonColours::From({204, 102, 51});
+    EXPECT_EQ(items[0].item, TopDownItem::kPerson);
+    EXPECT_EQ(items[0].rgb, colours.body);
+    EXPECT_EQ(items[0].outline, colours.outline);
+  }
 }
 
 }  // namespace
