@@ -74,9 +74,9 @@ core::RgbImage OverviewPicture(const sim::World& world, std::optional<int> focus
     const Eigen::Vector2d hi = world.description().floor.max_m;
     const double width = hi.x() - lo.x();
     const double depth = hi.y() - lo.y();
-    const double reach =
-        std::max(width * std::cos(kOverviewPitchRad) / (2.0 * std::tan(0.5 * kOverviewFovRad)),
-                 0.5 * depth + 2.0);  // horizontal distance to the centre
+    const double reach = std::max(
+        1.35 * width * std::cos(kOverviewPitchRad) / (2.0 * std::tan(0.5 * kOverviewFovRad)),
+        0.5 * depth + 2.0);  // horizontal distance to the centre
     const Eigen::Vector3d eye(0.5 * (lo.x() + hi.x()), 0.5 * (lo.y() + hi.y()) - reach,
                               reach * std::tan(kOverviewPitchRad));
     view.world_from_camera = LookFrom(eye, 0.5 * std::numbers::pi, kOverviewPitchRad);
