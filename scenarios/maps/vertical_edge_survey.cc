@@ -149,8 +149,10 @@ void VerticalEdgeSurveyOptions::Validate() const {
 std::vector<SurveyedEdge> SurveyVerticalEdges(const sim::World& world,
                                               const VerticalEdgeSurveyOptions& options) {
   options.Validate();
-  std::set<std::string> doors;
-  for (const sim::Door& d : world.description().doors) doors.insert(d.id);
+  std::set<std::string> doors;  // excluded elements
+  if (!options.doors) {
+    for (const sim::Door& d : world.description().doors) doors.insert(d.id);
+  }
   const core::PlanarSection low = world.StaticSectionAt(options.low_m);
   const core::PlanarSection high = world.StaticSectionAt(options.high_m);
   const Cut low_cut(low, doors);

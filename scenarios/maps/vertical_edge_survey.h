@@ -29,6 +29,10 @@ struct VerticalEdgeSurveyOptions {
   // along its outward bisector is buried (a wall's end inside another wall),
   // m, (0, 0.5].
   double probe_m = 0.02;
+  // Doors' leaves in the state the surveyor found them (an open door's leaf
+  // stands beside its frame: its edges are the frame's closest neighbours in
+  // an image, §4.5.2.1); false: frames only, as if every door could move.
+  bool doors = true;
 
   void Validate() const;  // throws std::invalid_argument naming the field
 };
@@ -42,9 +46,9 @@ struct SurveyedEdge {
   std::string element;
 };
 
-// The vertical edges of the static solids (walls, boxes, meshes; no doors,
-// whose leaves move, and no cylinders, whose silhouette moves with the
-// viewer; a door's frame is the wall's end beside it), in a deterministic
+// The vertical edges of the static solids (walls, boxes, meshes, doors'
+// leaves as surveyed unless options.doors is false; no cylinders, whose
+// silhouette moves with the viewer), in a deterministic
 // order (by element, then along its outline). Laser-transparent elements
 // count: a camera sees glass frames.
 std::vector<SurveyedEdge> SurveyVerticalEdges(const sim::World& world,

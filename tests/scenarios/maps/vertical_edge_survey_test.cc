@@ -1,7 +1,7 @@
 // The vertical edges a camera sees (issue 19), surveyed from a world built
-// here: a room's inside and outside corners, the corners where a wall runs into another,
-// a wall's free end, a tall box's corners; no edge on a low box, a door's
-// leaf, a column or a flat face.
+// here: a room's inside and outside corners, the corners where a wall runs
+// into another, a wall's free end, a tall box's corners, a door's leaf as
+// surveyed; no edge on a low box, a column or a flat face.
 #include "scenarios/maps/vertical_edge_survey.h"
 
 #include <gtest/gtest.h>
@@ -71,9 +71,15 @@ bool Has(const std::vector<SurveyedEdge>& edges, const Vec2& p, const std::strin
   return false;
 }
 
+VerticalEdgeSurveyOptions FramesOnly() {
+  VerticalEdgeSurveyOptions o;
+  o.doors = false;
+  return o;
+}
+
 TEST(VerticalEdgeSurveyTest, FindsTheCornersACameraSees) {
   const sim::World world(Room(), {});
-  const std::vector<SurveyedEdge> edges = SurveyVerticalEdges(world, {});
+  const std::vector<SurveyedEdge> edges = SurveyVerticalEdges(world, FramesOnly());
   // The room's four inside corners (wall faces 0.1 m inside the outline).
   EXPECT_TRUE(Has(edges, {0.1, 0.1}, "outer"));
   EXPECT_TRUE(Has(edges, {9.9, 0.1}, "outer"));
@@ -102,10 +108,21 @@ TEST(VerticalEdgeSurveyTest, FindsTheCornersACameraSees) {
   EXPECT_EQ(edges.size(), 4u + 4u + 2u + 2u + 4u);
   for (const SurveyedEdge& e : edges) {
     EXPECT_NE(e.element, "bench");   // below the band
-    EXPECT_NE(e.element, "door");    // its leaf moves
+    EXPECT_NE(e.element, "door");    // doors left out
     EXPECT_NE(e.element, "column");  // a silhouette, not a fixed edge
     EXPECT_NEAR(e.outward.norm(), 1.0, 1e-12);
   }
+}
+
+// A door's leaf as the surveyor found it (closed here: from its hinge at
+// (2, 2) along +x, 0.9 m by 4 cm): its four corners.
+TEST(VerticalEdgeSurveyTest, DoorLeavesAsSurveyed) {
+  const sim::World world(Room(), {});
+  const std::vector<SurveyedEdge> edges = SurveyVerticalEdges(world, {});
+  int leaf = 0;
+  for (const SurveyedEdge& e : edges) leaf += e.element == "door" ? 1 : 0;
+  EXPECT_EQ(leaf, 4);
+  EXPECT_EQ(edges.size(), SurveyVerticalEdges(world, FramesOnly()).size() + 4);
 }
 
 TEST(VerticalEdgeSurveyTest, OutwardPointsIntoFreeSpace) {
