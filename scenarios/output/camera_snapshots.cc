@@ -12,6 +12,7 @@
 #include "scenarios/output/png.h"
 #include "scenarios/output/report.h"
 #include "sim/render/offscreen_renderer.h"
+#include "sim/sensors/camera_sensor.h"
 
 namespace pavilion::scenarios {
 namespace {
@@ -48,14 +49,10 @@ std::string Safe(const std::string& s) {
 
 core::RgbImage RobotCameraPicture(const sim::World& world, int robot, const sim::CameraMount& mount,
                                   sim::OffscreenRenderer& renderer) {
-  sim::RenderView view;
-  view.world_from_camera = sim::WorldFromMount(world.robot_state(robot).pose, mount.mount);
-  const core::CameraIntrinsics camera = mount.Intrinsics();
-  view.intrinsics = core::PinholeSource(camera);
-  sim::RenderScene scene;
-  scene.hide_robot = robot;
-  const core::GrayImage pinhole = renderer.RenderGray(world, view, scene);
-  return ToRgb(core::DistortionMap(camera, view.intrinsics).Apply(pinhole));
+  core::GrayImage image;
+  sim::CameraOptics(mount).Form(renderer, world, robot, world.robot_state(robot).pose, mount.mount,
+                                &image);
+  return ToRgb(image);
 }
 
 core::RgbImage OverviewPicture(const sim::World& world, std::optional<int> focus, int width_px,

@@ -8,13 +8,28 @@
 
 namespace pavilion::sim {
 
+CameraOptics::CameraOptics(const CameraMount& mount)
+    : intrinsics((mount.Validate(), mount.Intrinsics())),
+      pinhole(core::PinholeSource(intrinsics)),
+      lens(intrinsics, pinhole) {}
+
+void CameraOptics::Form(OffscreenRenderer& renderer, const World& world, int robot,
+                        const core::Pose2& world_from_base, const MountSpec& mount,
+                        core::GrayImage* out, Eigen::Isometry3d* world_from_camera) const {
+  RenderView view;
+  view.world_from_camera = WorldFromMount(world_from_base, mount);
+  view.intrinsics = pinhole;
+  RenderScene scene;
+  scene.hide_robot = robot;
+  lens.Apply(renderer.RenderGray(world, view, scene), out);
+  if (world_from_camera != nullptr) *world_from_camera = view.world_from_camera;
+}
+
 CameraSensor::CameraSensor(const CameraMount& mount, core::RandomStream noise,
                            core::RandomStream delay, double physics_rate_hz)
     : id_("camera/" + mount.id),
       mount_(mount),
-      intrinsics_((mount.Validate(), mount.Intrinsics())),
-      pinhole_(core::PinholeSource(intrinsics_)),
-      lens_(intrinsics_, pinhole_),
+      optics_(mount),
       noise_(std::move(noise)),
       delay_(std::move(delay)),
       physics_rate_hz_(physics_rate_hz),
@@ -24,21 +39,16 @@ CameraSensor::~CameraSensor() = default;
 
 ImageRecord CameraSensor::Expose(const SensorTick& tick) {
   if (!renderer_) renderer_ = std::make_unique<OffscreenRenderer>();
-  RenderView view;
-  view.world_from_camera = WorldFromMount(tick.after.pose, mount_.mount);
-  view.intrinsics = pinhole_;
-  RenderScene scene;
-  scene.hide_robot = tick.robot;
-  const core::GrayImage pinhole = renderer_->RenderGray(*tick.world, view, scene);
   ImageRecord record;
   record.exposure_s = tick.end_s;
   record.image.sensor_id = mount_.id;
-  lens_.Apply(pinhole, &record.image.image);
+  Eigen::Isometry3d camera;
+  optics_.Form(*renderer_, *tick.world, tick.robot, tick.after.pose, mount_.mount,
+               &record.image.image, &camera);
   if (mount_.noise_grey > 0.0) core::AddImageNoise(mount_.noise_grey, noise_, &record.image.image);
-  const Eigen::Vector3d x = view.world_from_camera.linear().col(0);
+  const Eigen::Vector3d x = camera.linear().col(0);
   record.world_from_camera =
-      core::Pose2{view.world_from_camera.translation().x(),
-                  view.world_from_camera.translation().y(), std::atan2(x.y(), x.x())};
+      core::Pose2{camera.translation().x(), camera.translation().y(), std::atan2(x.y(), x.x())};
   return record;
 }
 

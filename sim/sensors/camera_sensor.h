@@ -1,5 +1,6 @@
 #pragma once
 
+#include <Eigen/Geometry>
 #include <deque>
 #include <memory>
 #include <string>
@@ -12,6 +13,24 @@
 namespace pavilion::sim {
 
 class OffscreenRenderer;
+
+// A camera's optics, built once per camera: its image's intrinsics (with the
+// lens), the pinhole rendered for it (core::PinholeSource: enlarged to all
+// the lens sees) and the lens that resamples that pinhole.
+struct CameraOptics {
+  explicit CameraOptics(const CameraMount& mount);  // throws for an invalid mount
+
+  core::CameraIntrinsics intrinsics;
+  core::CameraIntrinsics pinhole;
+  core::DistortionMap lens;
+
+  // What the lens forms of `world` (no noise) from `mount` on robot `robot`
+  // at `world_from_base`, the robot's own body hidden; the camera's pose
+  // goes to `world_from_camera` when given.
+  void Form(OffscreenRenderer& renderer, const World& world, int robot,
+            const core::Pose2& world_from_base, const MountSpec& mount, core::GrayImage* out,
+            Eigen::Isometry3d* world_from_camera = nullptr) const;
+};
 
 // A robot's grey-level camera (§2.4) as a Sensor (id "camera/<mount id>").
 // Every 1/rate_hz from t = 0 it exposes: the world at the end of the tick is
@@ -37,7 +56,7 @@ class CameraSensor final : public Sensor {
   void Sample(const SensorTick& tick, SensorOutputs* out) override;
 
   const CameraMount& mount() const { return mount_; }
-  const core::CameraIntrinsics& intrinsics() const { return intrinsics_; }
+  const core::CameraIntrinsics& intrinsics() const { return optics_.intrinsics; }
 
  private:
   struct InFlight {
@@ -49,9 +68,7 @@ class CameraSensor final : public Sensor {
 
   std::string id_;
   CameraMount mount_;
-  core::CameraIntrinsics intrinsics_;
-  core::CameraIntrinsics pinhole_;  // rendered: core::PinholeSource(intrinsics_)
-  core::DistortionMap lens_;
+  CameraOptics optics_;
   core::RandomStream noise_;
   core::RandomStream delay_;
   double physics_rate_hz_;
