@@ -93,6 +93,9 @@ struct NavigationFigures {
   // mission to drive (across blocked aborts and new missions; a dwell before
   // it counts in): "stuck" when over 120 s (issue 15).
   double longest_still_s = 0.0;
+  // How long it has stood so far (0 when it moved or has no mission to drive):
+  // the run judges when a human would have stepped in. Not in metrics.json.
+  double still_s = 0.0;
   int escapes = 0;  // escapes from a pocket (EscapeOptions)
 
   int missions_aborted_total() const;

@@ -262,12 +262,14 @@ void NavigationController::Cycle(const ControlTick& tick) {
     state_ = State::kWaiting;
   }
   if (state_ == State::kWaiting) StartNextMission(tick);
+  figures_.still_s = 0.0;
   if ((tick.odometry.translation() - still_anchor_).norm() > kStillMoveM) {
     still_anchor_ = tick.odometry.translation();
     still_since_s_ = tick.now_s;
   } else if (state_ == State::kDriving || state_ == State::kWaiting ||
              state_ == State::kRelocalizing) {
-    figures_.longest_still_s = std::max(figures_.longest_still_s, tick.now_s - still_since_s_);
+    figures_.still_s = tick.now_s - still_since_s_;
+    figures_.longest_still_s = std::max(figures_.longest_still_s, figures_.still_s);
   }
   if (state_ != State::kDriving) return;
   if (dt_s > 0.0) {

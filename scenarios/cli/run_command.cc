@@ -84,8 +84,9 @@ int RunRunCommand(const RunArgs& a) {
   options.stop_signal = &g_stop_signal;
   StopSignals signals;
   const scenarios::RunSummary s = scenarios::RunScenario(scenario, options);
-  spdlog::info("simulated {:.1f} s in {:.2f} s wall ({:.1f}x real time), {} events",
-               s.sim_duration_s, s.wall_time_s, s.real_time_factor, s.events);
+  spdlog::info(
+      "simulated {:.1f} s in {:.2f} s wall ({:.1f}x real time), {} events, peak RSS {:.0f} MB",
+      s.sim_duration_s, s.wall_time_s, s.real_time_factor, s.events, s.peak_rss_mb);
   if (scenario.laser_backend == scenarios::LaserBackend::kPlanar && !scenario.robots.empty()) {
     spdlog::info("laser: planar casting, {} scans fell back to Bullet", s.laser_fallback_scans);
   }

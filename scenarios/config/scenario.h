@@ -11,6 +11,7 @@
 #include "nav/fleet/coordinator.h"
 #include "nav/mission/navigation_controller.h"
 #include "scenarios/config/realism.h"
+#include "scenarios/config/run_reference.h"
 #include "scenarios/config/snapshot_options.h"
 #include "scenarios/events/event.h"
 #include "scenarios/expect/expectation.h"
@@ -228,6 +229,8 @@ struct Scenario {
   RealismProfile realism;
   // `snapshots:`: camera and overview pictures at times and events (issue 19).
   SnapshotOptions snapshots;
+  // `reference:`: a real run's figures the report sets beside this run's (issue 21).
+  RunReference reference;
 };
 
 // Command-line adjustments applied before validation.

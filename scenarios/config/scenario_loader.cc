@@ -786,6 +786,7 @@ Scenario LoadScenarioFile(const std::string& path, const ScenarioOverrides& over
   std::vector<std::string> robot_ids;
   for (const RobotEntry& r : s.robots) robot_ids.push_back(r.id);
   ReadSnapshots(&doc, top, robot_ids, &s.snapshots);
+  ReadRunReference(&doc, top, &s.reference);
   ReadCrowd(&doc, top, &s);
   ReadEvents(&doc, top, file_duration_s, &s);
   s.expectations = ReadExpectations(top, MetricIdsOf(s));

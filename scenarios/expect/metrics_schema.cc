@@ -69,6 +69,7 @@ const Json& MetricsSchema() {
     r.route.emplace();
     r.navigation.emplace();
     r.social.emplace();
+    r.day.emplace();
     r.estimator_counters = {{"*", 0}};
     m.robots.push_back(std::move(r));
     m.crowd.emplace();

@@ -81,6 +81,8 @@ class LocalizationTracker {
   std::vector<LocalizationCycle> plot_cycles() const { return plot_cycles_.items_and_last(); }
   // A lost situation began with the last recorded cycle (for events).
   bool lost_started() const { return lost_started_; }
+  // A lost situation holds after the last recorded cycle.
+  bool in_lost_situation() const { return in_lost_situation_; }
   // Why: the estimator's reason, or "true_error" when only the truth says so.
   const std::string& lost_reason() const { return lost_reason_; }
   LocalizationFigures Figures() const;

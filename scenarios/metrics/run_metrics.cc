@@ -323,6 +323,7 @@ Json RobotJson(const RobotMetrics& r) {
     j["fleet"] = fleet;
   }
   if (r.social) j["social"] = SocialJson(*r.social);
+  if (r.day) j["run_table"] = RobotDayToJson(*r.day);
   return j;
 }
 
@@ -409,6 +410,8 @@ nlohmann::ordered_json MetricsToJson(const RunMetrics& m) {
   }
   if (m.any_navigation()) j["fleet"] = FleetJson(m);
   if (m.any_relocalization()) j["fleet"]["relocalization"] = FleetRelocalizationJson(m);
+  if (const std::optional<RunTable> table = MakeRunTable(m))
+    j["run_table"] = RunTableToJson(*table);
   if (m.crowd) j["crowd"] = CrowdJson(*m.crowd);
   if (m.realism) {
     j["realism"] = {{"profile", "realistic"},

@@ -17,6 +17,7 @@
 #include "scenarios/metrics/localization_tracker.h"
 #include "scenarios/metrics/relocalization_tracker.h"
 #include "scenarios/metrics/robot_proximity.h"
+#include "scenarios/metrics/run_table.h"
 #include "scenarios/metrics/social_navigation.h"
 
 namespace pavilion::scenarios {
@@ -77,6 +78,8 @@ struct RobotMetrics {
   std::optional<RobotFleetFigures> fleet;            // robots of a fleet run
   // Runs with a crowd, once a visitor was on the floor (social_navigation.h).
   std::optional<SocialNavigationFigures> social;
+  // Robots that localize: their share of the run table (run_table.h).
+  std::optional<RobotDayFigures> day;
   // The estimator's own counts (global localization: tree nodes, limit hits,
   // falsifications), in its order; empty for estimators that keep none.
   std::vector<std::pair<std::string, std::int64_t>> estimator_counters;

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "scenarios/output/png.h"
+#include "scenarios/output/report_run_table.h"
 
 namespace pavilion::scenarios {
 namespace {
@@ -16,8 +17,6 @@ namespace {
 constexpr double kWholeSecondS = 0.05;
 // Below this magnitude HumanNumber writes an exponent.
 constexpr double kSmallestFixed = 1e-4;
-// Runs with more robots show the fleet's column only in the run table.
-constexpr std::size_t kMaxRobotColumns = 8;
 // Durations switch to minutes and to hours from these lengths.
 constexpr double kMinutesFromS = 120.0;
 constexpr double kHoursFromS = 7200.0;
@@ -92,134 +91,6 @@ void ExpectationTable(std::ostringstream& html, const ExpectationResults& e) {
   html << "</table>\n<p class=\"note\">The scenario's <code>expect:</code> block, evaluated on "
           "metrics.json and events.jsonl; a figure the run did not produce is missing, a "
           "failure.</p>\n";
-}
-
-// One quantity of the run table: the fleet's value, then each robot's.
-struct RunRow {
-  std::string name;
-  std::string fleet;
-  std::vector<std::string> robots;
-};
-
-std::vector<RunRow> RunRows(const Scenario& scenario, const RunMetrics& m) {
-  const double t = m.sim_duration_s;
-  const auto per_robot = [&](auto value) {
-    std::vector<std::string> cells;
-    for (const RobotMetrics& r : m.robots) cells.push_back(value(r));
-    return cells;
-  };
-  std::vector<RunRow> rows;
-  rows.push_back({"hours of operation (simulated)", HumanDuration(t) + " (" + H(t / 3600.0) + " h)",
-                  per_robot([&](const RobotMetrics&) { return HumanDuration(t); })});
-  const Eigen::Vector2d floor = scenario.world.floor.max_m - scenario.world.floor.min_m;
-  rows.push_back(
-      {"environment", m.world + ", floor " + H(floor.x()) + " × " + H(floor.y()) + " m", {}});
-  double km = 0.0;
-  for (const RobotMetrics& r : m.robots) km += r.distance_m;
-  rows.push_back({"overall travel distance", HumanDistance(km),
-                  per_robot([](const RobotMetrics& r) { return HumanDistance(r.distance_m); })});
-  if (t > 0.0 && !m.robots.empty()) {
-    rows.push_back(
-        {"average speed", H(km / t / static_cast<double>(m.robots.size())) + " m/s",
-         per_robot([&](const RobotMetrics& r) { return H(r.distance_m / t) + " m/s"; })});
-  }
-  return rows;
-}
-
-// Missions, localization, lost situations and collisions by class.
-void AddOutcomeRows(const RunMetrics& m, std::vector<RunRow>* rows) {
-  std::int64_t started = 0, completed = 0, aborted = 0, cycles = 0, lost = 0;
-  CollisionCounts all;
-  for (const RobotMetrics& r : m.robots) {
-    if (r.navigation) {
-      started += r.navigation->missions_started;
-      completed += r.navigation->missions_completed;
-      aborted += r.navigation->missions_aborted_total();
-    }
-    if (r.localization) {
-      cycles += r.localization->cycles;
-      lost += r.localization->lost_situations;
-    }
-    for (std::size_t c = 0; c < kCollisionClasses; ++c)
-      all.by_class[c] += r.collisions_by_class.by_class[c];
-  }
-  const auto cells = [&](auto value) {
-    std::vector<std::string> out;
-    for (const RobotMetrics& r : m.robots) out.push_back(value(r));
-    return out;
-  };
-  const std::string none = "–";
-  if (m.any_navigation()) {
-    rows->push_back({"missions started / completed / aborted",
-                     Int(started) + " / " + Int(completed) + " / " + Int(aborted),
-                     cells([&](const RobotMetrics& r) {
-                       if (!r.navigation) return none;
-                       const nav::NavigationFigures& n = *r.navigation;
-                       return Int(n.missions_started) + " / " + Int(n.missions_completed) + " / " +
-                              Int(n.missions_aborted_total());
-                     })});
-  }
-  const auto localization = [&](auto field) {
-    return cells([&, field](const RobotMetrics& r) {
-      return r.localization ? Int(field(*r.localization)) : none;
-    });
-  };
-  rows->push_back({"localization cycles", Int(cycles),
-                   localization([](const LocalizationFigures& l) { return l.cycles; })});
-  rows->push_back({"lost situations", Int(lost),
-                   localization([](const LocalizationFigures& l) { return l.lost_situations; })});
-  std::int64_t total = 0;
-  for (std::int64_t n : all.by_class) total += n;
-  rows->push_back({"collisions", Int(total), cells([](const RobotMetrics& r) {
-                     std::int64_t n = 0;
-                     for (std::int64_t c : r.collisions_by_class.by_class) n += c;
-                     return Int(n);
-                   })});
-  for (const auto& [cls, name] :
-       {std::pair{CollisionClass::kVisible, "a wall or exhibit the laser sees"},
-        std::pair{CollisionClass::kInvisible, "an object invisible to the laser"},
-        std::pair{CollisionClass::kVisitor, "a visitor"},
-        std::pair{CollisionClass::kRobot, "a robot"}}) {
-    rows->push_back(
-        {std::string("… with ") + name, Int(all.of(cls)),
-         cells([cls](const RobotMetrics& r) { return Int(r.collisions_by_class.of(cls)); })});
-  }
-}
-
-// The run in the figures of thesis Table 4.3 (Computer 2000) and the Expo.02
-// statistics: the fleet, and each robot when there are few.
-void RunFiguresTable(std::ostringstream& html, const Scenario& scenario, const RunMetrics& m) {
-  std::vector<RunRow> rows = RunRows(scenario, m);
-  AddOutcomeRows(m, &rows);
-  if (m.crowd) {
-    rows.push_back({"visitors: arrivals, mean and most present",
-                    Int(m.crowd->arrivals) + ", " + H(m.crowd->mean_present) + ", " +
-                        Int(m.crowd->max_present),
-                    {}});
-  }
-  const bool robot_columns = m.robots.size() > 1 && m.robots.size() <= kMaxRobotColumns;
-  html << "<h2>The run in figures</h2>\n<table>\n<tr><th></th><th>"
-       << (m.robots.size() > 1 ? "fleet"
-           : m.robots.empty()  ? "run"
-                               : E(m.robots.front().id))
-       << "</th>";
-  if (robot_columns) {
-    for (const RobotMetrics& r : m.robots) html << "<th>" << E(r.id) << "</th>";
-  }
-  html << "</tr>\n";
-  for (const RunRow& row : rows) {
-    html << "<tr><th>" << E(row.name) << "</th><td class=\"num\">" << E(row.fleet) << "</td>";
-    if (robot_columns) {
-      for (std::size_t k = 0; k < m.robots.size(); ++k) {
-        html << "<td class=\"num\">" << (k < row.robots.size() ? E(row.robots[k]) : "") << "</td>";
-      }
-    }
-    html << "</tr>\n";
-  }
-  html << "</table>\n<p class=\"note\">In the style of thesis Table 4.3 (Computer 2000: 28 h, "
-          "5,013 m, 724 missions, 145,433 localization cycles, no lost situation, about 60 "
-          "collisions, mostly with objects the laser cannot see). Lost situation: the true "
-          "error beyond 0.5 m or 10&deg;, or declared lost (metrics.md).</p>\n";
 }
 
 void DetailsTable(std::ostringstream& html, const Scenario& scenario, const RunMetrics& m) {
@@ -601,7 +472,7 @@ std::string RenderReportHtml(const Scenario& scenario, const RunMetrics& metrics
   if (content.expectations && !content.expectations->results.empty()) {
     ExpectationTable(html, *content.expectations);
   }
-  RunFiguresTable(html, scenario, metrics);
+  RunTableSection(html, scenario, metrics);
   std::vector<ChartSpec> charts;
   ChartSections(html, metrics, content, &charts);
   TopDownSection(html, scenario, content, &charts);

@@ -28,6 +28,7 @@
 #include "scenarios/metrics/localization_tracker.h"
 #include "scenarios/metrics/relocalization_tracker.h"
 #include "scenarios/metrics/robot_proximity.h"
+#include "scenarios/metrics/run_table.h"
 #include "scenarios/metrics/social_navigation.h"
 #include "scenarios/metrics/stride_buffer.h"
 #include "scenarios/output/camera_snapshots.h"
@@ -85,6 +86,7 @@ struct RobotRun {
   std::optional<LocalizationTracker> shadow_tracker;
   std::optional<RelocalizationTracker> shadow_relocalization;
   std::optional<SocialNavigationTracker> social;  // runs with a crowd
+  std::optional<RobotDayTracker> day;             // robots that localize: the run table
   RobotMetrics tally;
   RobotTracks tracks;  // hypotheses; the paths are filled in from the buffers at the end
   // Its paths for the top-down picture (truth, odometry, estimate), bounded.

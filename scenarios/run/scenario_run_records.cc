@@ -115,6 +115,7 @@ void ScenarioRun::ClassifyContact(const sim::ContactChange& c, double t_after) {
   };
   for (auto [robot, self, other] : {std::tuple{ra, c.a, c.b}, std::tuple{rb, c.b, c.a}}) {
     if (robot < 0) continue;
+    if (robots_[robot].day) robots_[robot].day->OnCollision(t_after);
     CollisionCounts& counts = robots_[robot].tally.collisions_by_class;
     const CollisionClass kind = collision_classes_->Classify(other);
     ++counts.by_class[static_cast<std::size_t>(kind)];
@@ -135,6 +136,10 @@ void ScenarioRun::RecordCycle(RobotRun& r, const nav::EstimatorCycle& cycle,
   localization_log_->Add(r.entry->id, r.tracker->cycle_count() - 1, c);
   const RelocalizationChange change = r.relocalization->OnCycle(
       t_after, c.mode, c.hypotheses, c.position_error_m, c.heading_error_rad);
+  const nav::NavigationFigures* navigation =
+      r.navigator->controller() ? r.navigator->controller()->navigation() : nullptr;
+  r.day->OnCycle(t_after, c, r.tracker->in_lost_situation(),
+                 navigation ? navigation->missions_started : 0);
   const auto error_fields = [&](EventFields fields) {
     fields["position_error_m"] = RoundForJson(c.position_error_m, 4);
     fields["heading_error_deg"] = RoundForJson(c.heading_error_rad * kDegPerRad, 3);
@@ -225,6 +230,7 @@ RunMetrics ScenarioRun::CollectMetrics(double sim_s) const {
       robot.relocalization = r.relocalization->Figures();
     }
     if (r.social && r.social->active()) robot.social = r.social->Figures();
+    if (r.day) robot.day = r.day->Figures(sim_s);
     if (r.shadow_tracker) {
       robot.shadow = RobotMetrics::Shadow{"mcl", r.shadow_tracker->Figures(), std::nullopt};
       if (r.shadow_relocalization->active()) {

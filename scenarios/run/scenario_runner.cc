@@ -135,6 +135,7 @@ void ScenarioRun::BuildRobots(std::vector<sim::RobotConfig> configs,
     if (run.navigator->estimator()) {
       run.tracker.emplace();
       run.relocalization.emplace();
+      run.day.emplace();
       if (run.navigator->shadow_estimator()) {
         run.shadow_tracker.emplace();
         run.shadow_relocalization.emplace();
@@ -335,6 +336,7 @@ void ScenarioRun::ApplyEvents(double t) {
         if (snapshots_) snapshots_->OnEvent(*world_, t, r.entry->id, "kidnap");
       }
       if (r.robot->index() == kidnap.robot && r.relocalization) r.relocalization->OnKidnap(t);
+      if (r.robot->index() == kidnap.robot && r.day) r.day->OnKidnap(t);
       if (r.robot->index() == kidnap.robot && r.shadow_relocalization) {
         r.shadow_relocalization->OnKidnap(t);
       }
@@ -343,7 +345,20 @@ void ScenarioRun::ApplyEvents(double t) {
 }
 
 void ScenarioRun::EmitScripted(double t, const ScenarioEvent& e, const EventFields& fields) {
-  if (!fields.is_null()) events_->Emit(t, e.type(), fields);
+  if (fields.is_null()) return;
+  events_->Emit(t, e.type(), fields);
+  // A push on a robot is a disturbance of the run table: the robot is judged
+  // once the push is over (its motors engaged again).
+  if (e.type() != "push" || !fields.contains("body")) return;
+  for (RobotRun& r : robots_) {
+    if (!r.day || r.entry->id != fields["body"].get<std::string>()) continue;
+    const bool disengaged = fields.contains("motors") && fields["motors"] == "disengaged";
+    if (fields.contains("motors") && fields["motors"] == "engaged") {
+      r.day->OnMotorsEngaged(t);
+    } else {
+      r.day->OnPush(t, fields.value("duration_s", 0.0), disengaged);
+    }
+  }
 }
 
 void ScenarioRun::MoveBodies(double t) {
@@ -452,6 +467,12 @@ void ScenarioRun::MergeRobot(std::size_t k, const sim::TickSnapshot& next, doubl
   if (r.social) r.social->Update(world_->step_s(), next.robots[k].pose, next.people);
   robot_step_m_[r.robot->index()] = step_m;
   if (r.relocalization) r.relocalization->OnStep(world_->step_s(), step_m);
+  if (r.day) {
+    const nav::Controller* controller = r.navigator->controller();
+    const nav::NavigationFigures* navigation = controller ? controller->navigation() : nullptr;
+    r.day->OnStep(t_after, world_->step_s(), next.robots[k].velocity_mps.norm(),
+                  navigation ? navigation->still_s : 0.0);
+  }
   if (expect_monitor_ && step_m > kMovingSpeedMps * world_->step_s()) {
     expect_monitor_->AddMotion(k, world_->step_s());
   }
