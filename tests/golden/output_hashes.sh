@@ -26,7 +26,10 @@ for s in "${scenarios[@]}"; do
   name=$(basename "$s" .yaml)
   out="$work/$name"
   rm -rf "$out"
-  "$binary" run "$source_dir/$s" --out "$out" --seed 1 --duration 60 --threads 2 > /dev/null
+  # Exit 3 is a finished run whose expect: block failed: a scenario test cut to 60 s
+  # (scenarios/ci/computer2000_short asks for an errand done by 120 s); its outputs count.
+  "$binary" run "$source_dir/$s" --out "$out" --seed 1 --duration 60 --threads 2 > /dev/null ||
+    [ $? -eq 3 ]
   for f in events.jsonl trajectories.csv localization.csv scans.bin metrics.json; do
     [ -f "$out/$f" ] || continue
     echo "$(sha256sum < "$out/$f" | cut -d' ' -f1)  $name/$f" >> "$actual"
