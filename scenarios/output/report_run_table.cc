@@ -251,13 +251,22 @@ void HumanRows(const RowBuilder& b, const RunTable& t, std::vector<RunRow>* rows
   }
 }
 
+// A reference figure in the unit its row shows ours in.
+std::string ReferenceValue(const std::string& key, double value) {
+  if (key == "hours") return HumanDuration(value * 3600.0);
+  if (key == "distance_km") return HumanDistance(value * 1000.0);
+  if (key.ends_with("_mps")) return H(value) + " m/s";
+  if (key.ends_with("_ratio")) return Percent(value);
+  return H(value);
+}
+
 std::string ReferenceCell(const RunReference& reference, const std::vector<std::string>& keys) {
   std::string out;
   bool any = false;
   for (const std::string& key : keys) {
     const double* value = reference.Find(key);
     any = any || value != nullptr;
-    out += (out.empty() ? "" : " / ") + (value ? H(*value) : kNone);
+    out += (out.empty() ? "" : " / ") + (value ? ReferenceValue(key, *value) : kNone);
   }
   return any ? out : "";
 }
