@@ -237,6 +237,8 @@ class NavigationController : public Controller {
   // Driving: starts, drives or ends an escape (EscapeOptions); true while
   // the escape has the wheels.
   bool Escape(const ControlTick& tick);
+  // Keeps or chooses escape_way_ on points_; the bearing when kBearing.
+  std::optional<double> ChooseEscapeWay(const ControlTick& tick);
   // The dynamic window's obstacle points for a localized robot (points_,
   // robot frame): senses, map outline, the others' hulls and contours.
   void GatherDrivePoints(const ControlTick& tick);
@@ -370,8 +372,12 @@ class NavigationController : public Controller {
   Eigen::Vector2d escape_from_ = Eigen::Vector2d::Zero();
   // How it escapes: turned to a bearing (escape_heading_, odometry frame),
   // straight back or straight on.
-  enum class EscapeWay { kNone, kBearing, kReverse, kForward };
+  // kCreep: straight back (creep_reverse_) or on with the margin cut, where
+  // the window held the robot standing for escape_stalls_ cycles.
+  enum class EscapeWay { kNone, kBearing, kReverse, kForward, kCreep };
   EscapeWay escape_way_ = EscapeWay::kNone;
+  bool creep_reverse_ = true;
+  int escape_stalls_ = 0;
   double escape_heading_ = 0.0;
   struct PocketMark {
     Eigen::Vector2d at_in_map;

@@ -104,6 +104,7 @@ DynamicWindow::DynamicWindow(const DynamicWindowOptions& options, core::Polygon2
       robot_polygon_(std::move(robot_polygon)),
       table_(options_.TableOptions(), robot_polygon_) {
   margin_polygon_ = InflateConvexPolygon(robot_polygon_, options_.safety_margin_m);
+  cycle_margin_m_ = options_.safety_margin_m;
   const core::Polygon2 unit_offset = InflateConvexPolygon(robot_polygon_, 1.0);
   const std::size_t vertices = robot_polygon_.size();
   miter_.resize(vertices);
@@ -251,12 +252,12 @@ bool DynamicWindow::GatherPoints(std::span<const Eigen::Vector2d> obstacles, dou
   for (const Eigen::Vector2d& p : obstacles) {
     if (!p.allFinite() || p.squaredNorm() > reach_sq) continue;
     const double edge_distance_m = p.squaredNorm() <= near_sq ? EdgeDistance(p) : kInfinity;
-    if (edge_distance_m <= options_.safety_margin_m) {
+    if (edge_distance_m <= cycle_margin_m_) {
       if (edge_distance_m < -options_.max_contact_depth_m) shallow = false;
       AddContact(p, edge_distance_m);
       continue;
     }
-    if (edge_distance_m <= near_offset_m_) {
+    if (edge_distance_m <= near_offset_m_ - options_.safety_margin_m + cycle_margin_m_) {
       band_points_.push_back(p);
       continue;
     }
@@ -275,11 +276,11 @@ bool DynamicWindow::GatherPoints(std::span<const Eigen::Vector2d> obstacles, dou
 
 double DynamicWindow::ExactArc(const BodyTwist& twist, double up_to_m) const {
   const double speed_g = table_.GeneralizedSpeed(twist);
-  const double reach_m = up_to_m + Circumradius(margin_polygon_);
+  const double reach_m = up_to_m + Circumradius(CyclePolygon());
   double arc_m = up_to_m;
   for (const Eigen::Vector2d& p : points_) {
     if (p.squaredNorm() > reach_m * reach_m) continue;
-    arc_m = std::min(arc_m, speed_g * ExactTimeToCollision(margin_polygon_, twist, p));
+    arc_m = std::min(arc_m, speed_g * ExactTimeToCollision(CyclePolygon(), twist, p));
   }
   return arc_m;
 }
@@ -305,7 +306,7 @@ bool DynamicWindow::RecedesFromContacts(Candidate& c) const {
 
 double DynamicWindow::NearArc(const Candidate& c, double arc_m) const {
   for (const Eigen::Vector2d& p : band_points_) {
-    arc_m = std::min(arc_m, c.speed_g * ExactTimeToCollision(margin_polygon_, c.twist, p));
+    arc_m = std::min(arc_m, c.speed_g * ExactTimeToCollision(CyclePolygon(), c.twist, p));
     if (arc_m <= c.stop_arc_m) return arc_m;
   }
   for (const ContactPoint& contact : contacts_) {
@@ -417,6 +418,17 @@ DwaResult DynamicWindow::Choose(const WheelVelocity& current,
       !std::isfinite(goal.goal_heading_in_robot_rad) || !(goal.speed_limit_mps >= 0.0)) {
     throw std::invalid_argument("goal must be finite with speed_limit_mps >= 0");
   }
+  const bool reduced = goal.margin_m >= 0.0;
+  if (reduced && (!(goal.margin_m <= options_.safety_margin_m) || !goal.exact_clearance)) {
+    throw std::invalid_argument(
+        "goal.margin_m must be at most safety_margin_m, with exact_clearance");
+  }
+  if (reduced && goal.margin_m != reduced_margin_m_) {
+    reduced_margin_m_ = goal.margin_m;
+    reduced_polygon_ = InflateConvexPolygon(robot_polygon_, reduced_margin_m_);
+  }
+  cycle_margin_m_ = reduced ? goal.margin_m : options_.safety_margin_m;
+  cycle_reduced_ = reduced;
   DwaResult result;
   Scene scene;
   scene.speed_cap_mps = kInfinity;

@@ -113,6 +113,14 @@ struct DwaGoal {
   // centimetres wider than the robot no motion but a crawl is admissible.
   // Costlier (tens of times the table); for rare cycles such as an escape.
   bool exact_clearance = false;
+  // The safety margin for this cycle, m, in [0, options' safety_margin_m];
+  // negative: the options'. Needs exact_clearance (the table is built for
+  // the options' margin). For an escape's creep: where a point lies within
+  // the margin beside a vertex of the outline that the drive can only move
+  // along the robot's axis (a wheel hub on the wheel axis), every motion
+  // brings it nearer, the contact rules admit none, and the robot stands
+  // for good (Pygmalion askew in a 0.9 m door, computer2000 seed 1).
+  double margin_m = -1.0;
 };
 
 struct DwaResult {
@@ -224,6 +232,16 @@ class DynamicWindow {
   DynamicWindowOptions options_;
   core::Polygon2 robot_polygon_;
   core::Polygon2 margin_polygon_;  // grown by safety_margin_m
+  // This cycle's margin (DwaGoal::margin_m or the options') and whether its
+  // polygon is reduced_polygon_ (grown by reduced_margin_m_) rather than
+  // margin_polygon_.
+  double cycle_margin_m_ = 0.0;
+  bool cycle_reduced_ = false;
+  double reduced_margin_m_ = -1.0;
+  core::Polygon2 reduced_polygon_;
+  const core::Polygon2& CyclePolygon() const {
+    return cycle_reduced_ ? reduced_polygon_ : margin_polygon_;
+  }
   CollisionTable table_;
   std::vector<Eigen::Vector2d> edge_normals_;  // outward unit normals of robot_polygon_
   std::vector<double> edge_offsets_;           // normal · vertex per edge (m)

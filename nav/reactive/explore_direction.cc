@@ -7,6 +7,7 @@
 #include <string>
 
 #include "core/types/pose2.h"
+#include "nav/reactive/swept_polygon.h"
 
 namespace pavilion::nav {
 
@@ -62,6 +63,36 @@ double StraightFreeTravel(std::span<const Eigen::Vector2d> points_in_robot,
     const double s = sign * p.x();
     if (s <= 0.0 || std::abs(p.y()) >= half_width_m) continue;
     free_m = std::min(free_m, std::max(0.0, s - extent_m));
+  }
+  return free_m;
+}
+
+double StraightPolygonTravel(std::span<const Eigen::Vector2d> points_in_robot,
+                             std::span<const Eigen::Vector2d> footprint, bool reverse,
+                             double margin_m, double reach_m) {
+  const core::Polygon2 grown =
+      InflateConvexPolygon(core::Polygon2(footprint.begin(), footprint.end()), margin_m);
+  // In the robot frame a point moves against the travel: p + t u, u = -+x.
+  const double u = reverse ? 1.0 : -1.0;
+  double free_m = reach_m;
+  for (const Eigen::Vector2d& p : points_in_robot) {
+    // Where the point's ray is inside every edge's half-plane (Cyrus-Beck).
+    double enter = 0.0;
+    double leave = reach_m;
+    for (std::size_t i = 0; i < grown.size() && enter <= leave; ++i) {
+      const Eigen::Vector2d d = grown[(i + 1) % grown.size()] - grown[i];
+      const Eigen::Vector2d n(d.y(), -d.x());  // outward (counter-clockwise outline)
+      const double outside = n.dot(p - grown[i]);
+      const double rate = n.x() * u;
+      if (rate == 0.0) {
+        if (outside > 0.0) leave = -1.0;  // parallel and outside: never inside
+      } else if (rate < 0.0) {
+        enter = std::max(enter, -outside / rate);
+      } else {
+        leave = std::min(leave, -outside / rate);
+      }
+    }
+    if (enter <= leave) free_m = std::min(free_m, enter);
   }
   return free_m;
 }

@@ -60,6 +60,17 @@ double StraightFreeTravel(std::span<const Eigen::Vector2d> points_in_robot,
                           std::span<const Eigen::Vector2d> footprint, bool reverse, double margin_m,
                           double reach_m);
 
+// How far (m) the robot can drive straight ahead (or straight back with
+// `reverse`) before its convex outline `footprint` (counter-clockwise) grown
+// by `margin_m` reaches one of `points_in_robot`, exactly; 0 when a point is
+// inside the grown outline now; capped at `reach_m`. Unlike the box of
+// StraightFreeTravel, a point beside the outline's narrower parts does not
+// count: a square robot with wheel hubs bulging 4 cm from its sides, a door
+// post beside the hub, can still drive straight on or back.
+double StraightPolygonTravel(std::span<const Eigen::Vector2d> points_in_robot,
+                             std::span<const Eigen::Vector2d> footprint, bool reverse,
+                             double margin_m, double reach_m);
+
 // The bearing to drive along (robot frame, rad in (-pi, pi]): `current` while
 // its free travel is at least keep_free_m, else the freest bearing of the fan
 // (ties to the one nearest ahead), provided it is free for min_free_m; none

@@ -56,8 +56,8 @@ void BasicRows(const Scenario& scenario, const RunMetrics& m, const RowBuilder& 
   rows->push_back(
       {"environment", m.world + ", floor " + H(floor.x()) + " × " + H(floor.y()) + " m", {}, {}});
   if (t && t->robots > 1) {
-    rows->push_back({"robots, robot-hours",
-                     Int(t->robots) + ", " + H(t->robot_hours),
+    rows->push_back({"robots / robot-hours",
+                     Int(t->robots) + " / " + H(t->robot_hours),
                      {},
                      {"robots", "robot_hours"}});
   }

@@ -17,6 +17,7 @@
 #include "core/odometry/diff_drive.h"
 #include "core/random/random_stream.h"
 #include "core/types/pose2.h"
+#include "nav/reactive/swept_polygon.h"
 
 namespace pavilion::nav {
 namespace {
@@ -609,6 +610,58 @@ TEST(DynamicWindowTest, BacksAlongAContactOnAFacetedSide) {
   EXPECT_LT(r.command.left_mps + r.command.right_mps, 0.0);  // backs
   const ClearanceChange change = SweepClearance(o, r.command, contacts, 0.5);
   EXPECT_LE(change.worst_drop_m, kEscapeDrop_m);
+}
+
+// Pygmalion's outline (wheel hubs bulging 4 cm on the wheel axis) with a
+// door post's barrier row 1.8-1.9 cm beside its left hub, straddling it, as
+// in office_08's door (computer2000 seed 1): within the 2 cm margin every
+// motion brings one of the two points nearer, so only standing is
+// admissible. With the margin cut to 5 mm for the cycle (an escape's creep)
+// the window backs straight away, never nearer than that to either point.
+TEST(DynamicWindowTest, CreepsPastAPostBesideAHubWithAReducedMargin) {
+  DynamicWindowOptions o;
+  o.wheelbase_m = 0.38;
+  o.max_speed_mps = 0.4;
+  const core::Polygon2 hubbed = {{-0.225, -0.225}, {0.0, -0.2665}, {0.225, -0.225},
+                                 {0.225, 0.225},   {0.0, 0.2665},  {-0.225, 0.225}};
+  DynamicWindow dwa(o, hubbed);
+  const std::vector<Eigen::Vector2d> post = {{0.0092, 0.2835}, {-0.0061, 0.2846}};
+  DwaGoal goal;
+  goal.reverse = true;
+  goal.target_in_robot = {-1.0, 0.0};
+  goal.speed_limit_mps = 0.05;
+  goal.exact_clearance = true;
+  const DwaResult held = dwa.Choose({}, post, goal);
+  EXPECT_EQ(held.contact_points, 2);
+  EXPECT_EQ(held.candidates_admissible, 1);  // standing
+  EXPECT_EQ(held.command.left_mps, 0.0);
+  EXPECT_EQ(held.command.right_mps, 0.0);
+  goal.margin_m = 0.005;
+  const DwaResult creep = dwa.Choose({}, post, goal);
+  ASSERT_TRUE(creep.admissible_found);
+  EXPECT_EQ(creep.contact_points, 0);
+  EXPECT_LT(creep.command.left_mps, 0.0);
+  EXPECT_LT(creep.command.right_mps, 0.0);
+  // Held one period and braked: 5 mm of the margin kept from both points.
+  core::Pose2 pose;
+  double nearest_m = 1e9;
+  for (double t = 0.0; t < 0.3; t += 1e-3) {
+    const double scale = t < o.period_s ? 1.0 : 0.0;
+    pose = core::DiffDriveStep(
+        pose, {creep.command.left_mps * scale * 1e-3, creep.command.right_mps * scale * 1e-3},
+        o.wheelbase_m);
+    for (const Eigen::Vector2d& p : post) {
+      Eigen::Vector2d normal;
+      nearest_m = std::min(nearest_m, SignedDistance(hubbed, pose.Inverse() * p, &normal));
+    }
+  }
+  EXPECT_GT(nearest_m, 0.005);
+  // The reduced margin needs the exact geometry and may not exceed the options'.
+  goal.exact_clearance = false;
+  EXPECT_THROW(dwa.Choose({}, post, goal), std::invalid_argument);
+  goal.exact_clearance = true;
+  goal.margin_m = 0.03;
+  EXPECT_THROW(dwa.Choose({}, post, goal), std::invalid_argument);
 }
 
 // Bad options name the field; a clockwise polygon and a too short look-ahead are refused.

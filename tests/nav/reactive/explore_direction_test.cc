@@ -32,6 +32,33 @@ TEST(FreeTravel, StopsWhereTheCorridorsRoundFrontTouchesAPoint) {
   EXPECT_DOUBLE_EQ(FreeTravel(close, 0.0, 0.5, 3.0), 0.0);
 }
 
+// Pygmalion's outline: a 45 cm square, the wheel hubs bulging 4 cm from its
+// sides on the wheel axis.
+std::vector<Eigen::Vector2d> HubbedSquare() {
+  return {{-0.225, -0.225}, {0.0, -0.2665}, {0.225, -0.225},
+          {0.225, 0.225},   {0.0, 0.2665},  {-0.225, 0.225}};
+}
+
+TEST(StraightPolygonTravel, LetsAPointBesideTheHubPassWhereTheBoxDoesNot) {
+  // A door post 1.8 cm beside the left hub, on either side of it, and a wall
+  // 1 m ahead of the origin.
+  const std::vector<Eigen::Vector2d> points = {{0.01, 0.2845}, {-0.006, 0.2846}, {1.0, 0.1}};
+  const std::vector<Eigen::Vector2d> outline = HubbedSquare();
+  // The box of the extents with the 2 cm margin holds the post: no travel
+  // either way.
+  EXPECT_DOUBLE_EQ(StraightFreeTravel(points, outline, false, 0.02, 3.0), 0.0);
+  EXPECT_DOUBLE_EQ(StraightFreeTravel(points, outline, true, 0.02, 3.0), 0.0);
+  // The outline grown by 5 mm passes it: on to the wall's 0.225 + 0.005 m
+  // before it, back the full reach. With the 2 cm margin the post is inside.
+  EXPECT_NEAR(StraightPolygonTravel(points, outline, false, 0.005, 3.0), 1.0 - 0.23, 1e-9);
+  EXPECT_DOUBLE_EQ(StraightPolygonTravel(points, outline, true, 0.005, 3.0), 3.0);
+  EXPECT_DOUBLE_EQ(StraightPolygonTravel(points, outline, true, 0.02, 3.0), 0.0);
+  // A point in front of the hub's edge is met where that edge reaches it.
+  const std::vector<Eigen::Vector2d> ahead = {{0.5, 0.24}};
+  const double edge_x = 0.225 * (0.2665 - 0.24) / (0.2665 - 0.225);  // edge at y = 0.24
+  EXPECT_NEAR(StraightPolygonTravel(ahead, outline, false, 0.0, 3.0), 0.5 - edge_x, 1e-9);
+}
+
 TEST(StraightFreeTravel, MeasuresFromTheOutlinesFrontOrRearWithinItsWidth) {
   // A 0.6 m x 0.4 m box robot, its rear 0.2 m behind the origin.
   const std::vector<Eigen::Vector2d> box = {{-0.2, -0.2}, {0.4, -0.2}, {0.4, 0.2}, {-0.2, 0.2}};

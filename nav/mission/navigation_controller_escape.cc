@@ -1,0 +1,164 @@
+// The navigation controller's escape from a pocket (EscapeOptions): when it
+// starts and ends, the way out (a bearing, straight back or on, or the creep
+// with the margin cut), and the pockets remembered for the band.
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <vector>
+
+#include "nav/mission/navigation_controller.h"
+#include "nav/reactive/explore_direction.h"
+#include "nav/reactive/swept_polygon.h"
+
+namespace pavilion::nav {
+namespace {
+
+// The escape's creep (EscapeWay::kCreep): where the window, held to its
+// safety margin, keeps the robot standing this many cycles of an escape, it
+// drives straight back (else straight on) at kCreepSpeedMps with the margin
+// cut to kCreepMarginM, the exact outline judging, while that way is free for
+// kCreepMinFreeM, until no point is within the full margin plus kCreepClearM.
+// Pygmalion askew in a 0.9 m door stood for good with the door post's map
+// outline 1.8-2.0 cm beside its wheel hub, inside the 2 cm margin: the hub,
+// on the wheel axis, moves only along the robot's axis, so every motion
+// brought a point on one side of it nearer and the window admitted none
+// (computer2000, seed 1, office_08's door from 3,208 s).
+constexpr int kCreepAfterCycles = 10;
+constexpr double kCreepMarginM = 0.005;
+constexpr double kCreepSpeedMps = 0.05;
+constexpr double kCreepMinFreeM = 0.05;
+constexpr double kCreepClearM = 0.01;
+
+}  // namespace
+
+void NavigationController::ResetProgress(const ControlTick& tick) {
+  progress_anchor_ = tick.odometry.translation();
+  progress_since_s_ = tick.now_s;
+  escape_until_s_.reset();
+}
+
+Eigen::Vector2d NavigationController::AheadAlong(double bearing_rad) const {
+  return options_.band_lookahead_m * Eigen::Vector2d(std::cos(bearing_rad), std::sin(bearing_rad));
+}
+
+void NavigationController::AppendPockets(double now_s, std::vector<Eigen::Vector2d>* points) {
+  std::erase_if(pockets_, [&](const PocketMark& p) { return now_s >= p.until_s; });
+  constexpr int kMarkPoints = 12;
+  for (const PocketMark& p : pockets_) {
+    for (int k = 0; k < kMarkPoints; ++k) {
+      const double a = 2.0 * std::numbers::pi * k / kMarkPoints;
+      points->push_back(p.at_in_map +
+                        options_.escape.mark_radius_m * Eigen::Vector2d(std::cos(a), std::sin(a)));
+    }
+  }
+}
+
+std::optional<double> NavigationController::ChooseEscapeWay(const ControlTick& tick) {
+  const EscapeOptions& o = options_.escape;
+  // The way out: the freest bearing it can turn to (its circumcircle swept),
+  // else straight back the way it came, else straight on — each kept while
+  // it stays free for min_free_m.
+  const double margin_m = options_.dwa.safety_margin_m;
+  const auto straight_free = [&](bool reverse) {
+    return StraightFreeTravel(points_, footprint_, reverse, margin_m, options_.explore.reach_m);
+  };
+  ExploreOptions fan = options_.explore;
+  fan.min_free_m = std::min(o.min_free_m, fan.reach_m);
+  fan.keep_free_m = fan.min_free_m;
+  if ((escape_way_ == EscapeWay::kReverse || escape_way_ == EscapeWay::kForward) &&
+      straight_free(escape_way_ == EscapeWay::kReverse) < fan.min_free_m) {
+    escape_way_ = EscapeWay::kNone;
+  }
+  const auto creep_free = [&](bool reverse) {
+    return StraightPolygonTravel(points_, footprint_, reverse, kCreepMarginM,
+                                 options_.explore.reach_m);
+  };
+  if (escape_way_ == EscapeWay::kCreep &&
+      (PolygonClearance(footprint_, points_) > margin_m + kCreepClearM ||
+       creep_free(creep_reverse_) < kCreepMinFreeM)) {
+    escape_way_ = EscapeWay::kNone;  // out of the margin (or the way closed): choose again
+    escape_stalls_ = 0;
+  }
+  std::optional<double> bearing;
+  if (escape_way_ == EscapeWay::kNone || escape_way_ == EscapeWay::kBearing) {
+    std::optional<double> current;
+    if (escape_way_ == EscapeWay::kBearing) {
+      current = core::NormalizeAngle(escape_heading_ - tick.odometry.theta_rad);
+    }
+    bearing = ExploreBearing(points_, current, circumradius_m_ + margin_m, fan);
+    escape_way_ = bearing                                  ? EscapeWay::kBearing
+                  : straight_free(true) >= fan.min_free_m  ? EscapeWay::kReverse
+                  : straight_free(false) >= fan.min_free_m ? EscapeWay::kForward
+                                                           : EscapeWay::kNone;
+  }
+  if (escape_way_ != EscapeWay::kCreep && escape_stalls_ >= kCreepAfterCycles) {
+    creep_reverse_ = creep_free(true) >= kCreepMinFreeM;
+    if (creep_reverse_ || creep_free(false) >= kCreepMinFreeM) escape_way_ = EscapeWay::kCreep;
+  }
+  return bearing;
+}
+
+bool NavigationController::Escape(const ControlTick& tick) {
+  const EscapeOptions& o = options_.escape;
+  const Eigen::Vector2d at = tick.odometry.translation();
+  if (!escape_until_s_) {
+    if ((at - progress_anchor_).norm() > o.still_m) ResetProgress(tick);
+    if (o.after_s <= 0.0 || tick.now_s - progress_since_s_ < o.after_s || contour_overlap_) {
+      return false;
+    }
+    escape_until_s_ = tick.now_s + o.drive_s;
+    escape_from_ = at;
+    escape_way_ = EscapeWay::kNone;
+    escape_stalls_ = 0;
+    ++figures_.escapes;
+    if (o.remember_s > 0.0)
+      pockets_.push_back({tick.belief.translation(), tick.now_s + o.remember_s});
+  } else if (tick.now_s + 1e-9 >= *escape_until_s_ || (at - escape_from_).norm() >= o.leave_m) {
+    // Out (or as far as it got): a new plan from here, avoiding the node it
+    // could not reach.
+    ResetProgress(tick);
+    const int avoid =
+        graph_.FindIndex(queue_.empty() ? current_.goal : queue_.current().id).value_or(kNoNode);
+    if (!PlanGlobal(tick, avoid)) {
+      EndMission(tick, false, AbortReason::kUnreachable);
+      return true;
+    }
+    PlanLocal(tick, true, "escape");
+    return false;
+  }
+  GatherDrivePoints(tick);
+  AddBumpersAndMeasure(tick);
+  const std::optional<double> bearing = ChooseEscapeWay(tick);
+  arc_in_world_.clear();
+  if (escape_way_ == EscapeWay::kNone) {  // no way out now: stand until the time is up
+    ++escape_stalls_;
+    UpdateDeadlock(tick, true);
+    return true;
+  }
+  DwaGoal goal;
+  if (escape_way_ == EscapeWay::kBearing) {
+    escape_heading_ = core::NormalizeAngle(*bearing + tick.odometry.theta_rad);
+    goal.target_in_robot = AheadAlong(*bearing);
+  } else {
+    goal.reverse =
+        escape_way_ == EscapeWay::kCreep ? creep_reverse_ : escape_way_ == EscapeWay::kReverse;
+    goal.target_in_robot =
+        Eigen::Vector2d(goal.reverse ? -options_.band_lookahead_m : options_.band_lookahead_m, 0.0);
+  }
+  goal.speed_limit_mps = o.speed_mps;
+  // A pocket is where the table's cell-sized caution leaves only a crawl.
+  goal.exact_clearance = true;
+  if (escape_way_ == EscapeWay::kCreep) {
+    goal.speed_limit_mps = std::min(o.speed_mps, kCreepSpeedMps);
+    goal.margin_m = std::min(kCreepMarginM, options_.dwa.safety_margin_m);
+  }
+  const DwaResult result = Steer(tick, goal);
+  const bool standing = result.command.left_mps == 0.0 && result.command.right_mps == 0.0 &&
+                        held_.left_mps == 0.0 && held_.right_mps == 0.0;
+  escape_stalls_ = standing ? escape_stalls_ + 1 : 0;
+  UpdateDeadlock(tick, !result.admissible_found);
+  return true;
+}
+
+}  // namespace pavilion::nav
