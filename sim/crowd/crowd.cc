@@ -10,6 +10,7 @@
 #include <string>
 
 #include "core/types/pose2.h"
+#include "sim/crowd/episode_spot.h"
 #include "sim/crowd/floor_field.h"
 #include "sim/crowd/robot_avoidance.h"
 
@@ -40,13 +41,9 @@ constexpr double kSeekRobotChance = 0.5;
 // Spawning: tries per visitor to find a free spot, and the gap kept to others (m).
 constexpr int kSpawnTries = 40;
 constexpr double kSpawnGapM = 0.1;
-// Episodes: distances around a robot (m beyond its hull) where a curious
-// visitor stands, crowders form their U, a blocker steps in and a follower walks.
-constexpr double kCuriousGapM = 0.5;
-constexpr double kCrowdGapM = 0.5;
+// Episodes: the half-angle of the crowders' U around a robot's front
+// (episode_spot.h has where each behaviour stands).
 constexpr double kCrowdHalfAngleRad = 100.0 * kPi / 180.0;
-constexpr double kBlockAheadM = 1.5;
-constexpr double kFollowGapM = 0.8;
 // A pusher pushes once its body is this close to the robot's hull (m).
 constexpr double kPushReachM = 0.05;
 // Blocked by a robot: wanting to walk (desired speed above the first figure,
@@ -413,33 +410,20 @@ struct Crowd::Impl {
                              robot_reach_m, ignore);
   }
 
-  // An episode's target near robot r, or nothing for a pusher in contact.
+  // An episode's place near its robot (episode_spot.h); a pusher's is the
+  // robot's nearest point.
   Eigen::Vector2d EpisodeTarget(int i, const Visitor& v) const {
-    const CrowdRobot& robot = robots[v.robot];
-    const Eigen::Vector2d c = robot.pose.translation();
-    const double th = robot.pose.theta_rad;
-    const double reach = robot_reach_m[v.robot];
-    const double radius = people[i].shape.radius_m;
-    switch (v.behaviour) {
-      case Behaviour::kCurious:
-        return c + (reach + radius + kCuriousGapM) * Eigen::Vector2d(std::cos(th), std::sin(th));
-      case Behaviour::kCrowding:
-        return c + (reach + radius + kCrowdGapM) *
-                       Eigen::Vector2d(std::cos(th + v.slot_rad), std::sin(th + v.slot_rad));
-      case Behaviour::kBlocking:
-        return v.fixed_target_m;
-      case Behaviour::kFollowing:
-        return c - (reach + radius + kFollowGapM) * Eigen::Vector2d(std::cos(th), std::sin(th));
-      case Behaviour::kPushing: {
-        Eigen::Vector2d n, closest;
-        SignedDistanceToConvex(obstacles[v.robot].hull_m, people[i].position_m, &n, &closest);
-        return closest;
-      }
-      case Behaviour::kOrdinary:
-        break;
+    const Eigen::Vector2d& p = people[i].position_m;
+    if (v.behaviour == Behaviour::kPushing) {
+      Eigen::Vector2d n, closest;
+      SignedDistanceToConvex(obstacles[v.robot].hull_m, p, &n, &closest);
+      return closest;
     }
-    return people[i].position_m;
+    return EpisodePlace(Floor(), v.behaviour, robots[v.robot].pose, robot_reach_m[v.robot],
+                        v.slot_rad, v.fixed_target_m, p, people[i].shape.radius_m);
   }
+
+  StandingFloor Floor() const { return {grid.get(), &fields[exit_field], obstacles}; }
 
   void MaybeStartEpisode(int i, double now) {
     Visitor& v = visitors[i];
@@ -465,7 +449,8 @@ struct Crowd::Impl {
     const CrowdRobot& robot = robots[nearest];
     Eigen::Vector2d ahead(std::cos(robot.pose.theta_rad), std::sin(robot.pose.theta_rad));
     if (robot.velocity_mps.norm() > 0.05) ahead = robot.velocity_mps.normalized();
-    v.fixed_target_m = robot.pose.translation() + (robot_reach_m[nearest] + kBlockAheadM) * ahead;
+    v.fixed_target_m = BlockingPlace(Floor(), robot.pose.translation(), robot_reach_m[nearest],
+                                     ahead, people[i].position_m, people[i].shape.radius_m);
     v.kick = visitor_random.Uniform() < 1.0 / 3.0;
     v.pushed = false;
   }
@@ -503,9 +488,10 @@ struct Crowd::Impl {
       return v.pushed ? Eigen::Vector2d::Zero()
                       : Eigen::Vector2d(v.desired_speed_mps * to / std::max(d, 1e-9));
     } else if (d > 0.15) {
-      Eigen::Vector2d e = to / d;
-      e = AvoidRobots(i, e, d, v.robot);
-      return Approach(v, d) * e;
+      // The episode's robot is avoided like any other: the place keeps a gap to it.
+      const Eigen::Vector2d e = AvoidRobots(i, to / d, d, -1);
+      return NotIntoRobots(people[i].position_m, people[i].shape.radius_m, Approach(v, d) * e,
+                           obstacles);
     }
     return Eigen::Vector2d::Zero();
   }
@@ -559,7 +545,8 @@ struct Crowd::Impl {
           }
           e = (e + PartyPull(i)).normalized();
           e = AvoidRobots(i, e, distance, -1);
-          desired = v.desired_speed_mps * e;
+          desired = NotIntoRobots(people[i].position_m, people[i].shape.radius_m,
+                                  v.desired_speed_mps * e, obstacles);
           break;
         }
         case Activity::kEpisode:
@@ -572,7 +559,9 @@ struct Crowd::Impl {
       }
       agent.desired_velocity_mps = desired;
       agent.free_speed_mps = v.desired_speed_mps;
-      agent.approached_robot = v.activity == Activity::kEpisode ? v.robot : -1;
+      // Only a pusher walks up to its robot without keeping away from it.
+      agent.approached_robot =
+          v.activity == Activity::kEpisode && v.behaviour == Behaviour::kPushing ? v.robot : -1;
     }
   }
 
@@ -617,13 +606,15 @@ struct Crowd::Impl {
                                                      (1.0 - std::exp(-dt / kHeadingTimeConstantS)));
       }
       s.gait.Advance(speed, dt, o.body);
-      // Blocked by a robot.
+      // Blocked by a robot; not by the robot of an episode, which a visitor
+      // stands at on purpose (held off its place by the robot's repulsion).
       Visitor& v = visitors[i];
       v.blocked_by_robot = false;
       if (agents[i].desired_velocity_mps.norm() > kBlockedWishMps && speed < kBlockedSpeedMps) {
-        for (const RobotObstacle& ob : obstacles) {
+        for (std::size_t r = 0; r < obstacles.size(); ++r) {
+          if (v.activity == Activity::kEpisode && static_cast<int>(r) == v.robot) continue;
           Eigen::Vector2d n, c;
-          if (SignedDistanceToConvex(ob.hull_m, s.position_m, &n, &c) - s.shape.radius_m <
+          if (SignedDistanceToConvex(obstacles[r].hull_m, s.position_m, &n, &c) - s.shape.radius_m <
               kBlockedRangeM) {
             v.blocked_by_robot = true;
           }

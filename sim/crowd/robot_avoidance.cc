@@ -16,6 +16,8 @@ constexpr double kPassMarginM = 0.35;
 // slowest walking speed (m/s) it assumes for that.
 constexpr double kPredictionS = 2.0;
 constexpr double kSlowestMps = 0.3;
+// A person this close to a robot's hull touches it, m (the pushers' reach).
+constexpr double kTouchM = 0.05;
 
 }  // namespace
 
@@ -46,6 +48,20 @@ Eigen::Vector2d SteerAroundRobots(const Eigen::Vector2d& position_m, double radi
   if (turn == 0.0) return direction;
   const double c = std::cos(turn), s = std::sin(turn);
   return {c * direction.x() - s * direction.y(), s * direction.x() + c * direction.y()};
+}
+
+Eigen::Vector2d NotIntoRobots(const Eigen::Vector2d& position_m, double radius_m,
+                              const Eigen::Vector2d& desired,
+                              std::span<const RobotObstacle> robots) {
+  Eigen::Vector2d v = desired;
+  for (const RobotObstacle& r : robots) {
+    if (r.hull_m.size() < 3) continue;
+    Eigen::Vector2d n, c;  // n points from the robot to the person
+    if (SignedDistanceToConvex(r.hull_m, position_m, &n, &c) - radius_m > kTouchM) continue;
+    const double into = v.dot(n);
+    if (into < 0.0) v -= into * n;
+  }
+  return v;
 }
 
 }  // namespace pavilion::sim::crowd

@@ -22,4 +22,14 @@ Eigen::Vector2d SteerAroundRobots(const Eigen::Vector2d& position_m, double radi
                                   double goal_distance_m, std::span<const CrowdRobot> robots,
                                   const std::vector<double>& robot_reach_m, int ignore);
 
+// `desired` without its component into each robot whose hull a person at
+// position_m of radius_m touches (within a few centimetres): someone touching a
+// machine does not keep walking into it (only a pusher means to, and does not
+// ask). Before this, curious and crowding visitors whose place lay beyond the
+// robot pressed into it with their whole driving force, m v0 / tau = 214 N,
+// for the length of an episode (docs/crowd.md).
+Eigen::Vector2d NotIntoRobots(const Eigen::Vector2d& position_m, double radius_m,
+                              const Eigen::Vector2d& desired,
+                              std::span<const RobotObstacle> robots);
+
 }  // namespace pavilion::sim::crowd

@@ -108,8 +108,8 @@ struct Agent {
   double radius_m = 0.22;
   double mass_kg = 80.0;
   bool active = false;  // inactive agents are parked: they neither move nor push
-  // A robot this agent walks up to on purpose (a curious visitor, a pusher):
-  // it feels no long-range repulsion from it, only its body. -1: none.
+  // A robot this agent walks up to on purpose (a pusher, to push it): it feels
+  // no long-range repulsion from it, only its body. -1: none.
   int approached_robot = -1;
 };
 
