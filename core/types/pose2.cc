@@ -26,10 +26,10 @@ Pose2 Pose2::Inverse() const {
 }
 
 Eigen::Vector2d Pose2::operator*(const Eigen::Vector2d& point_in_child) const {
-  const double c = std::cos(theta_rad);
-  const double s = std::sin(theta_rad);
-  return {x_m + c * point_in_child.x() - s * point_in_child.y(),
-          y_m + s * point_in_child.x() + c * point_in_child.y()};
+  return PointTransform(*this).Apply(point_in_child);
 }
+
+PointTransform::PointTransform(const Pose2& pose)
+    : x_m_(pose.x_m), y_m_(pose.y_m), c_(std::cos(pose.theta_rad)), s_(std::sin(pose.theta_rad)) {}
 
 }  // namespace pavilion::core

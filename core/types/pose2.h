@@ -26,4 +26,20 @@ struct Pose2 {
   friend bool operator==(const Pose2&, const Pose2&) = default;
 };
 
+// A pose as a map of points, its cosine and sine computed once: for
+// transforming many points by one pose (a scan, an obstacle memory).
+// Apply(p) gives the bits of pose * p (the same arithmetic; Pose2's operator
+// is written with it).
+class PointTransform {
+ public:
+  explicit PointTransform(const Pose2& pose);
+  Eigen::Vector2d Apply(const Eigen::Vector2d& point_in_child) const {
+    return {x_m_ + c_ * point_in_child.x() - s_ * point_in_child.y(),
+            y_m_ + s_ * point_in_child.x() + c_ * point_in_child.y()};
+  }
+
+ private:
+  double x_m_, y_m_, c_, s_;
+};
+
 }  // namespace pavilion::core

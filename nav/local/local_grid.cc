@@ -1,5 +1,6 @@
 #include "nav/local/local_grid.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -25,9 +26,14 @@ LocalGrid::LocalGrid(const LocalGridOptions& options) : options_(options) {
   const double reach = options_.robot_radius_m / options_.cell_m + 0.5;
   const int r = static_cast<int>(std::ceil(reach));
   for (int dy = -r; dy <= r; ++dy) {
+    DiskRow row{dy, r + 1, -r - 1};
     for (int dx = -r; dx <= r; ++dx) {
-      if (dx * dx + dy * dy <= reach * reach) disk_.emplace_back(dx, dy);
+      if (dx * dx + dy * dy <= reach * reach) {
+        row.dx_min = std::min(row.dx_min, dx);
+        row.dx_max = std::max(row.dx_max, dx);
+      }
     }
+    if (row.dx_min <= row.dx_max) disk_.push_back(row);
   }
 }
 
@@ -50,9 +56,12 @@ void LocalGrid::Build(const Eigen::Vector2d& center_in_world,
     std::uint8_t& occupied = occupied_[Index(c)];
     if (occupied) continue;
     occupied = 1;
-    for (const GridCell& d : disk_) {
-      const GridCell q = c + d;
-      if (Inside(q)) free_[Index(q)] = 0;
+    for (const DiskRow& d : disk_) {
+      const int y = c.y() + d.dy;
+      if (y < 0 || y >= n_) continue;
+      const int x0 = std::max(0, c.x() + d.dx_min);
+      const int x1 = std::min(n_ - 1, c.x() + d.dx_max);
+      if (x0 <= x1) std::fill_n(free_.begin() + Index({x0, y}), x1 - x0 + 1, std::uint8_t{0});
     }
   }
 }

@@ -69,7 +69,14 @@ class LocalGrid {
   std::vector<std::uint8_t> occupied_;
   std::vector<std::uint8_t> free_;
   std::vector<Eigen::Vector2d> obstacles_;
-  std::vector<GridCell> disk_;  // cell offsets within the robot radius
+  // The cell offsets within the robot radius, row by row: dy and the run
+  // [dx_min, dx_max] (a disk's rows are runs), so that a blocked row is one fill.
+  struct DiskRow {
+    int dy = 0;
+    int dx_min = 0;
+    int dx_max = 0;
+  };
+  std::vector<DiskRow> disk_;
 };
 
 }  // namespace pavilion::nav

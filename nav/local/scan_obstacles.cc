@@ -219,14 +219,15 @@ void ScanObstacles::AddScan(const core::LaserScan& scan, const core::Pose2& odom
     it->max_bearing_rad =
         std::max(scan.readings.front().bearing_rad, scan.readings.back().bearing_rad);
   }
-  const core::Pose2 odom_from_sensor = odom_from_robot * scan.robot_from_sensor;
+  const core::PointTransform odom_from_sensor(odom_from_robot * scan.robot_from_sensor);
+  const core::PointTransform robot_from_sensor(scan.robot_from_sensor);
   for (const core::LaserReading& r : scan.readings) {
     if (!r.valid) continue;
     const Eigen::Vector2d in_sensor(r.range_m * std::cos(r.bearing_rad),
                                     r.range_m * std::sin(r.bearing_rad));
-    const Eigen::Vector2d in_robot = scan.robot_from_sensor * in_sensor;
+    const Eigen::Vector2d in_robot = robot_from_sensor.Apply(in_sensor);
     if (!footprint_.empty() && core::Contains(footprint_, in_robot)) continue;
-    it->in_odom.push_back(odom_from_sensor * in_sensor);
+    it->in_odom.push_back(odom_from_sensor.Apply(in_sensor));
   }
 }
 
@@ -234,21 +235,23 @@ void ScanObstacles::InRobot(const core::Pose2& odom_from_robot, const core::Pose
                             double reach_m, std::vector<Eigen::Vector2d>* points_in_robot,
                             bool map_outline) const {
   points_in_robot->clear();
-  const core::Pose2 robot_from_odom = odom_from_robot.Inverse();
+  // Every point of a cycle maps by the same two poses (PointTransform: the
+  // cosine and sine once, not once per point; the same bits).
+  const core::PointTransform robot_from_odom(odom_from_robot.Inverse());
   const double reach2 = reach_m * reach_m;
   for (const LaserPoints& l : lasers_) {
     for (const Eigen::Vector2d& p : l.in_odom) {
-      const Eigen::Vector2d q = robot_from_odom * p;
+      const Eigen::Vector2d q = robot_from_odom.Apply(p);
       if (q.squaredNorm() <= reach2) points_in_robot->push_back(q);
     }
   }
   for (const Remembered& m : memory_) {
     for (const Eigen::Vector2d& p : m.in_odom) {
-      const Eigen::Vector2d q = robot_from_odom * p;
+      const Eigen::Vector2d q = robot_from_odom.Apply(p);
       if (q.squaredNorm() <= reach2 && !Covered(q)) points_in_robot->push_back(q);
     }
   }
-  const core::Pose2 robot_from_world = world_from_robot.Inverse();
+  const core::PointTransform robot_from_world(world_from_robot.Inverse());
   const Eigen::Vector2d centre = world_from_robot.translation();
   // A map point deeper than kGhostInsideM in the polygon cannot be where the
   // belief puts it.
@@ -258,13 +261,13 @@ void ScanObstacles::InRobot(const core::Pose2& odom_from_robot, const core::Pose
     return SignedDistance(footprint_, q, &normal) < -kGhostInsideM;
   };
   barriers_.ForEachNear(centre, reach_m, [&](const Eigen::Vector2d& g) {
-    const Eigen::Vector2d q = robot_from_world * g;
+    const Eigen::Vector2d q = robot_from_world.Apply(g);
     if (!under_robot(q)) points_in_robot->push_back(q);
   });
   if (!map_outline) return;
   outline_.ForEachNear(centre, std::min(reach_m, footprint_radius_m_ + kOutlineReachM),
                        [&](const Eigen::Vector2d& w) {
-                         const Eigen::Vector2d q = robot_from_world * w;
+                         const Eigen::Vector2d q = robot_from_world.Apply(w);
                          if (!Covered(q) && !under_robot(q)) points_in_robot->push_back(q);
                        });
 }

@@ -3,9 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <mutex>
 #include <numbers>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 
 namespace pavilion::nav {
 namespace {
@@ -92,6 +95,31 @@ double CollisionTable::MinArcToCollision(int bin, std::span<const int> cell_list
   std::uint16_t q = std::numeric_limits<std::uint16_t>::max();
   for (int cell : cell_list) q = std::min(q, row[cell]);
   return q * (options_.lookahead_m / kQuantumMax);
+}
+
+std::shared_ptr<const CollisionTable> SharedCollisionTable(const CollisionTableOptions& options,
+                                                           const core::Polygon2& robot_polygon) {
+  // The inputs, compared exactly (doubles compare by value; -0.0 == 0.0 and
+  // both give the same table).
+  using Key = std::tuple<double, double, int, double, std::vector<double>>;
+  std::vector<double> vertices;
+  vertices.reserve(2 * robot_polygon.size());
+  for (const Eigen::Vector2d& v : robot_polygon) {
+    vertices.push_back(v.x());
+    vertices.push_back(v.y());
+  }
+  Key key{options.lookahead_m, options.cell_m, options.direction_bins, options.safety_margin_m,
+          std::move(vertices)};
+  // Weak entries: a table lives as long as a user holds it, and a long-lived
+  // process (pavilion test, sweeps) does not keep the tables of finished runs.
+  static std::mutex mutex;
+  static std::map<Key, std::weak_ptr<const CollisionTable>> cache;
+  const std::lock_guard<std::mutex> lock(mutex);
+  std::weak_ptr<const CollisionTable>& entry = cache[key];
+  if (std::shared_ptr<const CollisionTable> table = entry.lock()) return table;
+  auto table = std::make_shared<const CollisionTable>(options, robot_polygon);
+  entry = table;
+  return table;
 }
 
 }  // namespace pavilion::nav

@@ -102,7 +102,7 @@ CollisionTableOptions DynamicWindowOptions::TableOptions() const {
 DynamicWindow::DynamicWindow(const DynamicWindowOptions& options, core::Polygon2 robot_polygon)
     : options_((options.Validate(), options)),
       robot_polygon_(std::move(robot_polygon)),
-      table_(options_.TableOptions(), robot_polygon_) {
+      table_(SharedCollisionTable(options_.TableOptions(), robot_polygon_)) {
   margin_polygon_ = InflateConvexPolygon(robot_polygon_, options_.safety_margin_m);
   cycle_margin_m_ = options_.safety_margin_m;
   const core::Polygon2 unit_offset = InflateConvexPolygon(robot_polygon_, 1.0);
@@ -139,8 +139,8 @@ DynamicWindow::DynamicWindow(const DynamicWindowOptions& options, core::Polygon2
   }
   const int n = options_.samples_per_wheel;
   candidates_.resize(static_cast<std::size_t>(n) * n);
-  bin_arc_m_.resize(table_.bins());
-  cell_stamp_.assign(static_cast<std::size_t>(table_.cells()), 0u);
+  bin_arc_m_.resize(table_->bins());
+  cell_stamp_.assign(static_cast<std::size_t>(table_->cells()), 0u);
 }
 
 double DynamicWindow::StoppingArc(const WheelVelocity& command) const {
@@ -148,7 +148,7 @@ double DynamicWindow::StoppingArc(const WheelVelocity& command) const {
       TwistFromWheels(command.left_mps, command.right_mps, options_.wheelbase_m);
   const double brake_s = std::max(std::abs(command.left_mps), std::abs(command.right_mps)) /
                          options_.max_wheel_accel_mps2;
-  return table_.GeneralizedSpeed(twist) * (options_.period_s + 0.5 * brake_s);
+  return table_->GeneralizedSpeed(twist) * (options_.period_s + 0.5 * brake_s);
 }
 
 WheelVelocity DynamicWindow::BrakeCommand(const WheelVelocity& current) const {
@@ -198,9 +198,9 @@ void DynamicWindow::BuildCandidates(const WheelVelocity& current, const DwaGoal&
       c = Candidate{};
       c.wheels = {GridSpeed(l_lo, l_hi, i, n), GridSpeed(r_lo, r_hi, j, n)};
       c.twist = TwistFromWheels(c.wheels.left_mps, c.wheels.right_mps, options_.wheelbase_m);
-      c.speed_g = table_.GeneralizedSpeed(c.twist);
+      c.speed_g = table_->GeneralizedSpeed(c.twist);
       c.stop_arc_m = StoppingArc(c.wheels);
-      c.bin = table_.BinOf(c.twist);
+      c.bin = table_->BinOf(c.twist);
       c.within_limits = std::abs(c.twist.v_mps) <= scene.speed_cap_mps + kLimitSlack &&
                         std::abs(c.twist.omega_radps) <= scene.turn_cap_radps + kLimitSlack;
       if (!c.within_limits) continue;
@@ -261,7 +261,7 @@ bool DynamicWindow::GatherPoints(std::span<const Eigen::Vector2d> obstacles, dou
       band_points_.push_back(p);
       continue;
     }
-    const int cell = table_.CellOf(p);
+    const int cell = table_->CellOf(p);
     if (cell < 0) continue;  // cannot happen within reach_m <= table reach
     points_.push_back(p);
     // Each cell once: the table's minimum over cells does not care how many
@@ -275,7 +275,7 @@ bool DynamicWindow::GatherPoints(std::span<const Eigen::Vector2d> obstacles, dou
 }
 
 double DynamicWindow::ExactArc(const BodyTwist& twist, double up_to_m) const {
-  const double speed_g = table_.GeneralizedSpeed(twist);
+  const double speed_g = table_->GeneralizedSpeed(twist);
   const double reach_m = up_to_m + Circumradius(CyclePolygon());
   double arc_m = up_to_m;
   for (const Eigen::Vector2d& p : points_) {
@@ -328,7 +328,7 @@ bool DynamicWindow::Admissible(Candidate& c, const Scene& scene) {
   double arc_m = options_.lookahead_m;
   if (scene.use_table) {
     double& bin_arc_m = bin_arc_m_[c.bin];
-    if (bin_arc_m < 0.0) bin_arc_m = table_.MinArcToCollision(c.bin, cells_);
+    if (bin_arc_m < 0.0) bin_arc_m = table_->MinArcToCollision(c.bin, cells_);
     arc_m = bin_arc_m;
   } else {
     arc_m = ExactArc(c.twist, options_.lookahead_m);
@@ -446,8 +446,8 @@ DwaResult DynamicWindow::Choose(const WheelVelocity& current,
     return result;
   }
   BuildCandidates(current, goal, scene);
-  const bool shallow =
-      GatherPoints(obstacles_in_robot, table_.reach_m() - options_.lookahead_m + scene.reach_arc_m);
+  const bool shallow = GatherPoints(obstacles_in_robot,
+                                    table_->reach_m() - options_.lookahead_m + scene.reach_arc_m);
   result.contact_points = static_cast<int>(contacts_.size());
   result.band_points = static_cast<int>(band_points_.size());
   result.points_in_reach =

@@ -168,7 +168,7 @@ class DynamicWindow {
 
   const DynamicWindowOptions& options() const { return options_; }
   const core::Polygon2& robot_polygon() const { return robot_polygon_; }
-  const CollisionTable& table() const { return table_; }
+  const CollisionTable& table() const { return *table_; }
 
   static constexpr double kArcStep_s = 0.05;
   // How much deeper (m) a contact point may get before standstill: room for
@@ -242,7 +242,9 @@ class DynamicWindow {
   const core::Polygon2& CyclePolygon() const {
     return cycle_reduced_ ? reduced_polygon_ : margin_polygon_;
   }
-  CollisionTable table_;
+  // Shared with every dynamic window of the same robot polygon and table
+  // options (SharedCollisionTable): immutable.
+  std::shared_ptr<const CollisionTable> table_;
   std::vector<Eigen::Vector2d> edge_normals_;  // outward unit normals of robot_polygon_
   std::vector<double> edge_offsets_;           // normal · vertex per edge (m)
   core::Polygon2 miter_;                       // vertex motion per metre of mitred offset

@@ -99,6 +99,8 @@ struct RobotRun {
 
 // What a robot's work of a tick produced (its own slot: written by one thread).
 struct TickWork {
+  std::optional<nav::WheelSpeeds> command;  // Control(): new wheel speeds before the step
+  double control_s = 0.0;
   sim::SensorOutputs outputs;
   nav::SenseResult sensed;
   double estimator_s = 0.0;

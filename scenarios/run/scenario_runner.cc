@@ -400,10 +400,21 @@ bool ScenarioRun::WalkerMeetsRobot(int b, const Eigen::Vector2d& velocity) const
 }
 
 void ScenarioRun::ControlRobots(std::int64_t tick, double t) {
-  for (RobotRun& r : robots_) {
+  // Each robot's controller on the worker pool, as the sensing half: a
+  // navigator's Control() reads the tick's fleet board (merged at the end of
+  // the last tick) and writes only itself and its own outbox
+  // (nav/fleet/coordinator.h). What it did reaches the world, the events and
+  // the logs afterwards, in robot order, so the outputs are the same for any
+  // thread count.
+  pool_->ParallelFor(robots_.size(), [&](std::size_t k) {
     const auto t_control = Clock::now();
-    const std::optional<nav::WheelSpeeds> command = r.navigator->Control(tick, t);
-    summary_.control_s += Seconds(Clock::now() - t_control);
+    work_[k].command = robots_[k].navigator->Control(tick, t);
+    work_[k].control_s = Seconds(Clock::now() - t_control);
+  });
+  for (std::size_t k = 0; k < robots_.size(); ++k) {
+    RobotRun& r = robots_[k];
+    const std::optional<nav::WheelSpeeds>& command = work_[k].command;
+    summary_.control_s += work_[k].control_s;  // summed over robots: thread time
     if (command) r.robot->SetWheelSpeeds(command->left_radps, command->right_radps);
     const nav::Controller* controller = r.navigator->controller();
     const std::optional<nav::MissionStatus> mission =

@@ -179,6 +179,30 @@ RayHit MakeHit(const Eigen::Vector3d& from_m, const Eigen::Vector3d& to_m, const
   return hit;
 }
 
+// btDbvtBroadphase::rayTest walks the broadphase's two trees with one stack
+// of the broadphase's own (m_rayTestStacks[0]: Bullet built without
+// BT_THREADSAFE), so two rays cast at once would share it. This is the same
+// walk — the same trees in the same order with the same ray data, hence the
+// same candidates in the same order — with a stack per thread, so that the
+// robots' scans may fall back to this path from several threads at once.
+void BroadphaseRayTest(const btDbvtBroadphase& broadphase, const btVector3& from,
+                       const btVector3& to, btBroadphaseRayCallback& callback) {
+  struct Tester : btDbvt::ICollide {
+    explicit Tester(btBroadphaseRayCallback& c) : callback(c) {}
+    void Process(const btDbvtNode* leaf) override {
+      callback.process(static_cast<btBroadphaseProxy*>(leaf->data));
+    }
+    btBroadphaseRayCallback& callback;
+  };
+  thread_local btAlignedObjectArray<const btDbvtNode*> stack;
+  Tester tester(callback);
+  const btVector3 no_aabb(0, 0, 0);  // rayTest's defaults: a ray, not a box cast
+  for (const btDbvt& set : broadphase.m_sets) {
+    set.rayTestInternal(set.m_root, from, to, callback.m_rayDirectionInverse, callback.m_signs,
+                        callback.m_lambda_max, no_aabb, no_aabb, stack, tester);
+  }
+}
+
 }  // namespace
 
 struct BakedRayWorld::Impl {
@@ -304,7 +328,7 @@ RayHit BakedRayWorld::Cast(const Eigen::Vector3d& from_m, const Eigen::Vector3d&
   const btVector3 end = statics.hit() ? from.lerp(mesh_end, statics.fraction()) : mesh_end;
   DynamicRay dynamic(from, end, elements, prisms, ignore_group);
   if (end != from) {
-    const_cast<btDbvtBroadphase&>(broadphase).rayTest(from, end, dynamic);
+    BroadphaseRayTest(broadphase, from, end, dynamic);
   }
   if (dynamic.hit()) {
     return MakeHit(from_m, to_m, from.lerp(end, dynamic.fraction()), dynamic.normal(),

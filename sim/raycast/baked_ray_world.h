@@ -21,7 +21,9 @@ namespace pavilion::sim {
 // meshes as one bounding-volume tree of triangles, cylinders and doors as
 // primitive objects (outside any Bullet world) met by exact intersections.
 // Rays meet it first, then the dynamic bodies of the physics world only up to
-// that hit. Internal to sim::World, which serializes its calls.
+// that hit. Internal to sim::World. Cast only reads (the baked geometry and
+// the broadphase, each ray walking it with a stack of its thread's): rays may
+// be cast from several threads at once while nothing moves (World::CastRay).
 class BakedRayWorld {
  public:
   // Bakes the static elements of `description`, whose element indices and

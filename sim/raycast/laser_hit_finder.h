@@ -26,7 +26,7 @@ class LaserHitFinder {
   virtual const std::vector<core::SectionElement>& elements() const = 0;
 };
 
-// Bullet ray casting through World::CastRay. Not thread-safe (neither is the world).
+// Bullet ray casting through World::CastRay (thread-safe as that is: between steps).
 class WorldHitFinder final : public LaserHitFinder {
  public:
   explicit WorldHitFinder(const World& world) : world_(world) {}

@@ -215,6 +215,9 @@ class LaserScanner {
     double cos_incidence = 1.0;
     int element = -1;
     core::LaserResponse response = core::LaserResponse::kNormal;
+    // The ray's unit direction (world, z = 0), kept for Explains: its sine
+    // and cosine are a good part of a ray's cost.
+    Eigen::Vector3d direction{0, 0, 0};
   };
   // The rays of one reading: the central ray, and per side (0: clockwise,
   // 1: counter-clockwise) the fraction of the footprint beyond a depth edge
@@ -237,7 +240,7 @@ class LaserScanner {
   RaySample CastBeam(const LaserHitFinder& finder, const core::Pose2& world_from_sensor,
                      double bearing_rad, int ignore_group) const;
   Eigen::Vector3d RayOrigin(const core::Pose2& world_from_sensor) const;
-  bool Explains(const RaySample& surface, const core::Pose2& world_from_sensor, double bearing_rad,
+  bool Explains(const RaySample& surface, const core::Pose2& world_from_sensor,
                 const RaySample& sample) const;
   void CastReading(const LaserHitFinder& finder, int i, const core::Pose2& world_from_robot,
                    int ignore_group, Sweep* sweep) const;

@@ -4,6 +4,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -92,10 +93,10 @@ struct World::Impl {
   // (WorldOptions::baked_static_rays); null without it.
   std::unique_ptr<BakedRayWorld> baked_rays;
 
-  PrismRegistry prisms;                // robot chassis hulls
-  std::int64_t static_revision = 0;    // counts door moves
-  mutable std::int64_t rays_cast = 0;  // guarded by ray_mutex
-  mutable std::mutex ray_mutex;        // serializes CastRay (world.h)
+  PrismRegistry prisms;              // robot chassis hulls
+  std::int64_t static_revision = 0;  // counts door moves
+  mutable std::atomic<std::int64_t> rays_cast{0};
+  mutable std::mutex ray_mutex;  // serializes CastRay's Bullet path (world.h)
 
   std::vector<Body> bodies;
   std::vector<RobotBody> robots;
@@ -521,23 +522,26 @@ std::int64_t World::static_revision() const { return impl_->static_revision; }
 RayHit World::CastRay(const Eigen::Vector3d& from_m, const Eigen::Vector3d& to_m, int ignore_group,
                       bool hit_transparent) const {
   const Impl& im = *impl_;
-  const std::lock_guard<std::mutex> lock(im.ray_mutex);
-  ++im.rays_cast;
-  RayHit hit = im.options.baked_static_rays && !hit_transparent
-                   ? im.baked_rays->Cast(from_m, to_m, ignore_group, im.elements.all(), im.prisms,
-                                         im.physics.broadphase())
-                   : CastPhysicsRay(im.physics.dynamics(), im.elements.all(), from_m, to_m,
-                                    ignore_group, hit_transparent);
+  im.rays_cast.fetch_add(1, std::memory_order_relaxed);
+  RayHit hit;
+  if (im.options.baked_static_rays && !hit_transparent) {
+    // Reads only: rays in parallel (the scans that fall back from the planar
+    // caster, on the scenario runner's worker pool).
+    hit = im.baked_rays->Cast(from_m, to_m, ignore_group, im.elements.all(), im.prisms,
+                              im.physics.broadphase());
+  } else {
+    // btCollisionWorld::rayTest walks the broadphase with the broadphase's one stack.
+    const std::lock_guard<std::mutex> lock(im.ray_mutex);
+    hit = CastPhysicsRay(im.physics.dynamics(), im.elements.all(), from_m, to_m, ignore_group,
+                         hit_transparent);
+  }
   if (im.crowd) im.crowd->CastRay(from_m, to_m, &hit);  // people are not Bullet bodies
   return hit;
 }
 
 const std::vector<core::SectionElement>& World::elements() const { return impl_->elements.all(); }
 
-std::int64_t World::rays_cast() const {
-  const std::lock_guard<std::mutex> lock(impl_->ray_mutex);
-  return impl_->rays_cast;
-}
+std::int64_t World::rays_cast() const { return impl_->rays_cast.load(); }
 
 std::vector<ContactChange> World::TakeContactChanges() {
   std::vector<ContactChange> out;

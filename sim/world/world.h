@@ -280,9 +280,10 @@ class World {
   // Casts a ray from `from_m` to `to_m` and returns the closest hit, ignoring
   // the elements of `ignore_group` (the casting robot's parts) and, unless
   // `hit_transparent`, elements whose material is laser-transparent.
-  // Thread-safe: calls from several threads are serialized (Bullet's ray
-  // queries are not made for concurrent use); the planar caster is the
-  // parallel path.
+  // Thread-safe while the world does not change (between steps): with
+  // WorldOptions::baked_static_rays (and not hit_transparent) rays are cast
+  // in parallel; otherwise calls from several threads are serialized
+  // (Bullet's world ray test is not made for concurrent use).
   RayHit CastRay(const Eigen::Vector3d& from_m, const Eigen::Vector3d& to_m, int ignore_group = -1,
                  bool hit_transparent = false) const;
 

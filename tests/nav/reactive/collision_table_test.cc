@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <numbers>
 #include <stdexcept>
 
@@ -111,6 +112,29 @@ TEST(CollisionTableTest, RejectsBadOptions) {
   core::Polygon2 clockwise = Octagon();
   std::reverse(clockwise.begin(), clockwise.end());
   EXPECT_THROW(CollisionTable(CollisionTableOptions{}, clockwise), std::invalid_argument);
+}
+
+// SharedCollisionTable: the same (options, polygon) share one table while it
+// is held, equal to a table built alone; other inputs get their own.
+TEST(CollisionTableTest, SharedTableIsOnePerInputs) {
+  CollisionTableOptions o;
+  o.cell_m = 0.05;  // small tables: this test builds three
+  const std::shared_ptr<const CollisionTable> a = SharedCollisionTable(o, Octagon());
+  const std::shared_ptr<const CollisionTable> b = SharedCollisionTable(o, Octagon());
+  EXPECT_EQ(a.get(), b.get());
+  const CollisionTable alone(o, Octagon());
+  ASSERT_EQ(a->cells(), alone.cells());
+  for (int bin = 0; bin < alone.bins(); bin += 7) {
+    for (int cell = 0; cell < alone.cells(); cell += 13) {
+      EXPECT_EQ(a->ArcToCollision(bin, cell), alone.ArcToCollision(bin, cell));
+    }
+  }
+  CollisionTableOptions wider = o;
+  wider.safety_margin_m = 0.03;
+  EXPECT_NE(SharedCollisionTable(wider, Octagon()).get(), a.get());
+  core::Polygon2 moved = Octagon();
+  moved[0].x() += 1e-12;  // exact keys: any change is another polygon
+  EXPECT_NE(SharedCollisionTable(o, moved).get(), a.get());
 }
 
 }  // namespace
