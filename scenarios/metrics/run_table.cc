@@ -124,10 +124,14 @@ void RobotDayTracker::OnCycle(double now_s, const LocalizationCycle& cycle, bool
     const auto recent = [&](const std::optional<double>& at) {
       return at && now_s - *at <= kLossCauseWindowS;
     };
-    const LossCause cause = recent(last_kidnap_s_)      ? LossCause::kKidnap
+    // One that begins soon after the last one ended (a false relocalization
+    // between two spells of not being localized) carries on its cause.
+    const LossCause cause = recent(last_lost_end_s_)    ? last_cause_
+                            : recent(last_kidnap_s_)    ? LossCause::kKidnap
                             : recent(last_push_s_)      ? LossCause::kPush
                             : recent(last_collision_s_) ? LossCause::kCollision
                                                         : LossCause::kUnexplained;
+    last_cause_ = cause;
     ++f_.lost_by_cause[static_cast<std::size_t>(cause)];
   }
   if (lost_since_s_) {
@@ -137,7 +141,10 @@ void RobotDayTracker::OnCycle(double now_s, const LocalizationCycle& cycle, bool
       ++f_.lost_over_30s;
       lost_counted_ = true;
     }
-    if (!in_lost_situation) lost_since_s_.reset();
+    if (!in_lost_situation) {
+      lost_since_s_.reset();
+      last_lost_end_s_ = now_s;
+    }
   }
 
   // Table 4.3's missions without a match: the longest stretch of a mission

@@ -32,7 +32,8 @@ inline constexpr double kInterventionStillS = 60.0;
 inline constexpr double kInterventionLostS = 30.0;
 // A lost situation that begins within this of a kidnap, a push or a collision
 // of the robot is that event's doing, s (chosen: a loss shows within a cycle
-// or two of its cause; 30 s leaves room for a slowly diverging estimate).
+// or two of its cause; 30 s leaves room for a slowly diverging estimate); one
+// that begins within this of the end of the last continues it, with its cause.
 inline constexpr double kLossCauseWindowS = 30.0;
 // Table 4.3's two lengths of a stretch without a matched feature, s.
 inline constexpr double kNoMatchLongS = 10.0;
@@ -101,6 +102,8 @@ class RobotDayTracker {
   std::optional<double> last_kidnap_s_, last_push_s_, last_collision_s_;
   bool still_counted_ = false;
   std::optional<double> lost_since_s_;
+  std::optional<double> last_lost_end_s_;
+  LossCause last_cause_ = LossCause::kUnexplained;
   bool lost_counted_ = false;
   int mission_index_ = 0;
   double last_match_s_ = 0.0;

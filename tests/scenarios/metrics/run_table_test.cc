@@ -123,6 +123,25 @@ TEST(RunTableTest, LossesAreAttributedToARecentCollisionOnly) {
   EXPECT_EQ(f.lost_by_cause[static_cast<std::size_t>(LossCause::kUnexplained)], 1);
 }
 
+// Confirms a loss that flickers — off, briefly right, off again for a minute
+// after its collision — is counted as begun by the collision each time, not
+// as unexplained once the collision is more than 30 s past.
+TEST(RunTableTest, ALossThatFlickersKeepsItsCause) {
+  RobotDayTracker t;
+  Drive d{&t};
+  const LocalizationCycle good = Cycle(Mode::kLocalized, 0.02, 0.0);
+  const LocalizationCycle off = Cycle(Mode::kLocalized, 20.0, 0.0);
+  d(2.0, 0.3, good);
+  t.OnCollision(d.now_s);
+  for (int k = 0; k < 6; ++k) {
+    d(10.0, 0.3, off);
+    d(1.0, 0.3, Cycle(Mode::kNotLocalized, 0.1, 0.0, 0));
+  }
+  const RobotDayFigures f = t.Figures(d.now_s);
+  EXPECT_EQ(f.lost_situations(), 6);
+  EXPECT_EQ(f.lost_by_cause[static_cast<std::size_t>(LossCause::kCollision)], 6);
+}
+
 // Confirms a robot standing with a mission for more than 60 s is one
 // intervention per episode, not one per tick.
 TEST(RunTableTest, StandingOverAMinuteIsOneInterventionPerEpisode) {
