@@ -5,33 +5,15 @@
 #include <cmath>
 #include <numbers>
 
+#include "tests/sim/crowd/crowd_test_site.h"
+
 namespace pavilion::sim::crowd {
 namespace {
 
 constexpr double kDt = 0.005;
 
-// An empty 20 m x 10 m room with its four walls.
-CrowdSite EmptyRoom() {
-  CrowdSite site;
-  site.floor_min_m = {0, 0};
-  site.floor_max_m = {20, 10};
-  site.walls = {
-      {{0, 0}, {20, 0}, 0}, {{20, 0}, {20, 10}, 1}, {{20, 10}, {0, 10}, 2}, {{0, 10}, {0, 0}, 3}};
-  site.entrance = {{0.5, 4}, {2, 4}, {2, 6}, {0.5, 6}};
-  site.exit = {{18.5, 8.5}, {19.5, 8.5}, {19.5, 9.5}, {18.5, 9.5}};
-  return site;
-}
-
-// Robox's octagon (0.68 m across flats), counter-clockwise.
-std::vector<Eigen::Vector2d> Octagon() {
-  std::vector<Eigen::Vector2d> hull;
-  const double r = 0.34 / std::cos(std::numbers::pi / 8);
-  for (int k = 0; k < 8; ++k) {
-    const double a = std::numbers::pi / 8 + k * std::numbers::pi / 4;
-    hull.emplace_back(r * std::cos(a), r * std::sin(a));
-  }
-  return hull;
-}
+using testing::EmptyRoom;
+using testing::Octagon;
 
 // A visitor walks around a standing robot in its way without touching it in
 // at least 99 % of seeded trials (issue acceptance), and gets past it.
