@@ -9,7 +9,7 @@ JOBS       ?= $(shell nproc)
 SCENARIO   ?= scenarios/expo_day.yaml
 # The demo runs the first minutes of the exhibition day: about a minute of wall
 # time on the 2-core machine kind (docs/benchmarks.md, "The exhibition day").
-DEMO_DURATION ?= 300
+DEMO_DURATION ?= 500
 DEMO_OUT   ?= out/demo
 
 .PHONY: deps deps-test configure build demo test acceptance format format-check asan-test bench clean
