@@ -26,6 +26,15 @@ struct CollisionCounts {
   std::int64_t robot_hit_by_robot = 0;
 
   std::int64_t of(CollisionClass c) const { return by_class[static_cast<std::size_t>(c)]; }
+  // Adds another robot's counts (a fleet's sums).
+  CollisionCounts& operator+=(const CollisionCounts& other) {
+    for (std::size_t k = 0; k < kCollisionClasses; ++k) by_class[k] += other.by_class[k];
+    robot_into_visitor += other.robot_into_visitor;
+    visitor_into_robot += other.visitor_into_robot;
+    robot_into_robot += other.robot_into_robot;
+    robot_hit_by_robot += other.robot_hit_by_robot;
+    return *this;
+  }
 };
 
 // The metrics.json object `collisions_by_class`.

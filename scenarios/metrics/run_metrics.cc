@@ -254,13 +254,7 @@ Json FleetJson(const RunMetrics& m) {
     started += r.navigation->missions_started;
     completed += r.navigation->missions_completed;
     aborted += r.navigation->missions_aborted_total();
-    for (std::size_t k = 0; k < kCollisionClasses; ++k) {
-      collisions.by_class[k] += r.collisions_by_class.by_class[k];
-    }
-    collisions.robot_into_visitor += r.collisions_by_class.robot_into_visitor;
-    collisions.visitor_into_robot += r.collisions_by_class.visitor_into_robot;
-    collisions.robot_into_robot += r.collisions_by_class.robot_into_robot;
-    collisions.robot_hit_by_robot += r.collisions_by_class.robot_hit_by_robot;
+    collisions += r.collisions_by_class;
     if (r.localization) lost += r.localization->lost_situations;
     if (r.localization) declared_lost += r.localization->declared_lost_situations;
   }

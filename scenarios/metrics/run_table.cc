@@ -188,6 +188,8 @@ double RunTable::missions_completed_ratio() const {
 
 double RunTable::recovered_ratio() const { return Ratio(recovered, disturbances()); }
 
+double RunTable::median_recovery_motion_s() const { return Median(recovery_motion_s); }
+
 std::optional<RunTable> MakeRunTable(const RunMetrics& m) {
   RunTable t;
   t.hours = m.sim_duration_s / 3600.0;
@@ -226,13 +228,7 @@ std::optional<RunTable> MakeRunTable(const RunMetrics& m) {
     t.recovered += d.recovered;
     t.recovery_motion_s.insert(t.recovery_motion_s.end(), d.recovery_motion_s.begin(),
                                d.recovery_motion_s.end());
-    for (std::size_t c = 0; c < kCollisionClasses; ++c) {
-      t.collisions.by_class[c] += r.collisions_by_class.by_class[c];
-    }
-    t.collisions.robot_into_visitor += r.collisions_by_class.robot_into_visitor;
-    t.collisions.visitor_into_robot += r.collisions_by_class.visitor_into_robot;
-    t.collisions.robot_into_robot += r.collisions_by_class.robot_into_robot;
-    t.collisions.robot_hit_by_robot += r.collisions_by_class.robot_hit_by_robot;
+    t.collisions += r.collisions_by_class;
     t.still_over_60s += d.still_over_60s;
     t.lost_over_30s += d.lost_over_30s;
     if (r.social) {
@@ -283,7 +279,7 @@ Json RunTableToJson(const RunTable& t) {
         {"recovered", t.recovered},
         {"recovered_ratio", r(t.recovered_ratio(), 4)},
         {"mean_recovery_motion_s", r(Mean(rec), 3)},
-        {"median_recovery_motion_s", r(Median(rec), 3)},
+        {"median_recovery_motion_s", r(t.median_recovery_motion_s(), 3)},
         {"max_recovery_motion_s",
          r(rec.empty() ? 0.0 : *std::max_element(rec.begin(), rec.end()), 3)}}},
       {"collisions", CollisionCountsToJson(t.collisions)},

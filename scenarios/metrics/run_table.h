@@ -150,7 +150,8 @@ struct RunTable {
   // Of the missions that ended (completed or aborted): one still under way
   // when the run stops has not failed.
   double missions_completed_ratio() const;
-  double recovered_ratio() const;  // of the disturbances
+  double recovered_ratio() const;           // of the disturbances
+  double median_recovery_motion_s() const;  // 0 without a recovery
 };
 
 // The table of a run whose robots carry `day` figures; none without one.

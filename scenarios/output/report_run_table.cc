@@ -176,10 +176,8 @@ void LocalizationRows(const RunMetrics& m, const RowBuilder& b, const std::optio
                    }),
                    keys});
   if (t->disturbances() > 0) {
-    const std::vector<double>& rec = t->recovery_motion_s;
-    std::vector<double> sorted = rec;
-    std::sort(sorted.begin(), sorted.end());
-    const std::string median = sorted.empty() ? kNone : H(sorted[sorted.size() / 2]) + " s";
+    const std::string median =
+        t->recovery_motion_s.empty() ? kNone : H(t->median_recovery_motion_s()) + " s";
     rows->push_back({"kidnaps + staff pushes, recovered within 30 s of motion",
                      Int(t->kidnaps) + " + " + Int(t->pushes) + ", " + Int(t->recovered) + " (" +
                          Percent(t->recovered_ratio()) + "; median " + median + ")",
@@ -190,14 +188,7 @@ void LocalizationRows(const RunMetrics& m, const RowBuilder& b, const std::optio
 
 void CollisionRows(const RunMetrics& m, const RowBuilder& b, std::vector<RunRow>* rows) {
   CollisionCounts all;
-  for (const RobotMetrics& r : m.robots) {
-    for (std::size_t c = 0; c < kCollisionClasses; ++c)
-      all.by_class[c] += r.collisions_by_class.by_class[c];
-    all.robot_into_visitor += r.collisions_by_class.robot_into_visitor;
-    all.visitor_into_robot += r.collisions_by_class.visitor_into_robot;
-    all.robot_into_robot += r.collisions_by_class.robot_into_robot;
-    all.robot_hit_by_robot += r.collisions_by_class.robot_hit_by_robot;
-  }
+  for (const RobotMetrics& r : m.robots) all += r.collisions_by_class;
   std::int64_t total = 0;
   for (std::int64_t n : all.by_class) total += n;
   rows->push_back({"collisions",
