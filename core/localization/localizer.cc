@@ -79,6 +79,13 @@ void LocalizerOptions::Validate() const {
   Require(std::isfinite(lost_no_match_timeout_s) && lost_no_match_timeout_s > 0.0,
           "lost_no_match_timeout_s", "a finite value > 0");
   Require(lost_failed_cycles >= 1, "lost_failed_cycles", "an integer >= 1");
+  Require(max_short_ratio_for_failure >= 0.0 && max_short_ratio_for_failure <= 1.0,
+          "max_short_ratio_for_failure", "in [0, 1]");
+  try {
+    failure_free_space.Validate();
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string("failure_free_space.") + e.what());
+  }
   Require(min_observations_for_failure >= 1, "min_observations_for_failure", "an integer >= 1");
   Require(std::isfinite(lost_position_sigma_m) && lost_position_sigma_m > 0.0,
           "lost_position_sigma_m", "a finite value > 0");
@@ -99,6 +106,7 @@ Localizer::Localizer(RobotMap map, const LocalizerOptions& options)
       predictor_(map_,
                  PredictionOptions{options_.significance, options_.use_map_line_angle_variance}),
       matcher_(MatchingOptions{options_.significance, options_.use_extension_constraint}),
+      free_space_(map_, options_.failure_free_space),
       buffer_(options_.odometry.wheelbase_m, options_.odometry.noise(), options_.odometry_buffer_s),
       correlations_(map_) {}
 
@@ -255,7 +263,7 @@ ObservationStatus Localizer::ProcessScan(const LaserScan& raw) {
     if (admitted == ObservationStatus::kOutOfOrder) ++counters_.out_of_order;
     return admitted;
   }
-  return Integrate(ScanObservations(*scan, raw, laser));
+  return Integrate(ScanObservations(*scan, raw, laser), &*scan);
 }
 
 ObservationStatus Localizer::AddImage(const CameraImage& image) {
@@ -296,7 +304,7 @@ ObservationStatus Localizer::AddObservations(const ObservationBatch& batch) {
   return Integrate(batch);
 }
 
-ObservationStatus Localizer::Integrate(const ObservationBatch& batch) {
+ObservationStatus Localizer::Integrate(const ObservationBatch& batch, const LaserScan* scan) {
   // The state predicted at the observation's time stamp T (§4.4.3), matched
   // and estimated there, then carried forward to the present.
   const std::size_t at = buffer_.SplitAt(batch.stamp_s);
@@ -334,11 +342,22 @@ ObservationStatus Localizer::Integrate(const ObservationBatch& batch) {
       status_.consecutive_failed_cycles = 0;
     } else if (last_cycle_.observations >= options_.min_observations_for_failure &&
                last_cycle_.predictions >= options_.min_observations_for_failure) {
-      ++status_.consecutive_failed_cycles;
+      if (FailureShown(scan, state)) {
+        ++status_.consecutive_failed_cycles;
+      } else {
+        ++counters_.hidden_failures;
+      }
     }
     CheckLost(buffer_.latest_stamp_s());
   }
   return ObservationStatus::kIntegrated;
+}
+
+bool Localizer::FailureShown(const LaserScan* scan, const PoseWithCovariance& state) const {
+  if (scan == nullptr || options_.max_short_ratio_for_failure >= 1.0) return true;
+  const FreeSpaceCheck check = free_space_.Check(*scan, state, /*count_short=*/true);
+  if (!free_space_.Satisfied(check) || check.mapped == 0) return true;
+  return check.short_of_map <= options_.max_short_ratio_for_failure * check.mapped;
 }
 
 void Localizer::SuspendLostDetection(bool suspended, double now_s) {

@@ -13,6 +13,7 @@
 #include "core/features/line_extraction.h"
 #include "core/localization/camera_observations.h"
 #include "core/localization/encoder_odometry.h"
+#include "core/localization/global/free_space_constraint.h"
 #include "core/localization/map_cross_covariance.h"
 #include "core/localization/matching.h"
 #include "core/localization/measurement_prediction.h"
@@ -81,6 +82,17 @@ struct LocalizerOptions {
   // validation gate (the signature of a kidnapped robot); >= 1.
   int lost_failed_cycles = 20;
   int min_observations_for_failure = 3;  // >= 1
+  // A failed cycle of a scan counts only when the scan shows the map: at the
+  // estimate, at most this fraction of its readings that should meet a mapped
+  // wall end short of it — or some see through one (the free-space test of
+  // global localization, the mark of a wrong pose). Visitors standing round a
+  // robot hide its walls, and their bodies' lines pair with nothing, while it
+  // is where it believes (Expo.02's crowds, §6.5); counted, six such cycles
+  // declared it lost and sent it to global localization among look-alikes.
+  // In [0, 1]; 1: every failed cycle counts (the thesis' rule). Batches
+  // without a scan (AddObservations, images) always count.
+  double max_short_ratio_for_failure = 0.5;
+  FreeSpaceOptions failure_free_space;  // the casting of that test
   // Position uncertainty beyond which tracking is hopeless (the validation
   // gates then admit wrong pairings, Fig. 4.4): largest sigma of (x, y), m; > 0.
   double lost_position_sigma_m = 1.0;
@@ -126,6 +138,9 @@ struct LocalizerCounters {
   long deferred = 0;
   long too_old = 0;
   long out_of_order = 0;
+  // Cycles without a pairing that did not count towards lost_failed_cycles:
+  // their scans' readings ended short of the map (max_short_ratio_for_failure).
+  long hidden_failures = 0;
 };
 
 // EKF pose tracking (§4.4). Odometry from encoder readings predicts the state
@@ -208,7 +223,11 @@ class Localizer {
 
   const LaserSensorOptions& LaserOptions(const std::string& sensor_id) const;
   ObservationStatus ProcessScan(const LaserScan& scan);
-  ObservationStatus Integrate(const ObservationBatch& batch);
+  // `scan`: the registered scan the batch was extracted from, if any.
+  ObservationStatus Integrate(const ObservationBatch& batch, const LaserScan* scan = nullptr);
+  // Whether a cycle without a pairing counts towards lost_failed_cycles
+  // (max_short_ratio_for_failure), at the state it was matched at.
+  bool FailureShown(const LaserScan* scan, const PoseWithCovariance& state) const;
   // kOutOfOrder, kTooOld, or kIntegrated when the stamp can still be integrated.
   ObservationStatus Admit(double stamp_s) const;
   bool MustWait(double stamp_s, double ready_s) const;
@@ -222,6 +241,7 @@ class Localizer {
   LocalizerOptions options_;
   MeasurementPredictor predictor_;
   IterativeMatcher matcher_;
+  FreeSpaceConstraint free_space_;
   OdometryBuffer buffer_;
   // At the latest odometry node; used when options_.map_correlations.
   PoseMapCrossCovariance correlations_;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <stdexcept>
 #include <utility>
@@ -52,7 +53,8 @@ FreeSpaceConstraint::FreeSpaceConstraint(const RobotMap& map, const FreeSpaceOpt
     : options_(Validated(options)), geometry_(CollectMapGeometry(map, InfiniteLines::kOmit)) {}
 
 FreeSpaceCheck FreeSpaceConstraint::Check(const LaserScan& scan,
-                                          const PoseWithCovariance& world_from_robot) const {
+                                          const PoseWithCovariance& world_from_robot,
+                                          bool count_short) const {
   FreeSpaceCheck check;
   const Pose2 world_from_sensor = world_from_robot.pose * scan.robot_from_sensor;
   const Vec2 origin = world_from_sensor.translation();
@@ -86,10 +88,18 @@ FreeSpaceCheck FreeSpaceConstraint::Check(const LaserScan& scan,
     ++check.beams;
     const double heading = world_from_sensor.theta_rad + reading.bearing_rad;
     const Vec2 u(std::cos(heading), std::sin(heading));
+    const double tolerance_m =
+        options_.margin_m + k * (sigma_origin + reading.range_m * sigma_heading);
+    if (count_short) {
+      const double map_range_m = FirstMapCrossing(origin, u, scan.max_range_m, near);
+      if (std::isfinite(map_range_m)) {
+        ++check.mapped;
+        if (reading.range_m < map_range_m - tolerance_m) ++check.short_of_map;
+      }
+    }
     // Only the part of the beam that ends more than the margin before the
     // reading can contradict.
-    const double reach =
-        reading.range_m - options_.margin_m - k * (sigma_origin + reading.range_m * sigma_heading);
+    const double reach = reading.range_m - tolerance_m;
     if (reach <= 0.0) continue;
     const Vec2 end = origin + reach * u;
     bool contradicts = false;
@@ -116,6 +126,22 @@ FreeSpaceCheck FreeSpaceConstraint::Check(const LaserScan& scan,
     if (contradicts) ++check.see_through;
   }
   return check;
+}
+
+double FreeSpaceConstraint::FirstMapCrossing(const Vec2& origin, const Vec2& u, double max_range_m,
+                                             const std::vector<std::size_t>& near) const {
+  const Vec2 end = origin + max_range_m * u;
+  double first = 1.0;  // along origin -> end
+  for (const std::size_t i : near) {
+    const auto& [a, b] = geometry_.segments[i];
+    const double t = RaySegmentHit(origin, end, a, b);
+    if (std::isfinite(t)) first = std::min(first, t);
+  }
+  for (const auto& [centre, radius] : geometry_.discs) {
+    const std::vector<double> hits = LineCircleHits(origin, end, centre, radius);
+    if (hits.size() == 2 && hits[1] >= 0.0 && hits[0] <= first) first = std::max(0.0, hits[0]);
+  }
+  return first < 1.0 ? first * max_range_m : std::numeric_limits<double>::infinity();
 }
 
 bool FreeSpaceConstraint::Satisfied(const FreeSpaceCheck& check) const {

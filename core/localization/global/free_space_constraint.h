@@ -61,6 +61,11 @@ struct FreeSpaceOptions {
 struct FreeSpaceCheck {
   int beams = 0;        // valid readings cast
   int see_through = 0;  // of them, beams that contradict the hypothesis
+  // With Check's `count_short`: beams with a mapped wall or column within the
+  // scan's range, and of them those that end more than the margin before it —
+  // something unmapped stands in front of the map: a visitor, a cupboard.
+  int mapped = 0;
+  int short_of_map = 0;
 };
 
 // Holds the map's geometry; independent of the map object once built.
@@ -71,13 +76,22 @@ class FreeSpaceConstraint {
   // Casts the readings of `scan` (registered: every reading in the frame of
   // the scan's stamp, its mounting pose robot_from_sensor) from the robot
   // location `world_from_robot`.
-  FreeSpaceCheck Check(const LaserScan& scan, const PoseWithCovariance& world_from_robot) const;
+  // With `count_short`, also counts the beams short of the map (one more
+  // cast per beam).
+  FreeSpaceCheck Check(const LaserScan& scan, const PoseWithCovariance& world_from_robot,
+                       bool count_short = false) const;
   // Whether a check leaves the hypothesis standing.
   bool Satisfied(const FreeSpaceCheck& check) const;
 
   const FreeSpaceOptions& options() const { return options_; }
 
  private:
+  // The range along the unit direction `u` from `origin` at which the beam
+  // first meets a mapped wall (of `near`) or column, within max_range_m;
+  // infinity for none.
+  double FirstMapCrossing(const Eigen::Vector2d& origin, const Eigen::Vector2d& u,
+                          double max_range_m, const std::vector<std::size_t>& near) const;
+
   FreeSpaceOptions options_;
   MapGeometry geometry_;
 };
