@@ -111,7 +111,11 @@ struct NavigationControllerOptions {
   // recessed bodies. Points of them that fall inside its own outline are
   // dropped (the belief is that far off). A kidnapped robot sees them where
   // they are not: it avoids a phantom. (A Robox exploring at 0.3 m/s drove
-  // its flank into another standing 0.8 m off, seed 4, 3,431 s.)
+  // its flank into another standing 0.8 m off, seed 4, 3,431 s.) The hull a
+  // robot that declared itself lost publishes is drawn as much larger by the
+  // others: its belief is as uncertain (expo_tours seed 1, 3,068 s: a robot
+  // declared lost drew its hull 0.3 m from where it stood, and another,
+  // passing at 0.5 m/s, touched it).
   double lost_hull_margin_m = 0.3;
   EscapeOptions escape;
   // Fleet (§6.3.5), with a coordinator only: every this often while driving

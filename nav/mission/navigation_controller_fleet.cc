@@ -306,10 +306,13 @@ void NavigationController::AppendOtherHulls(const core::Pose2& belief,
     const FleetMessage& m = board.message(r);
     const std::vector<Eigen::Vector2d>& hull = board.footprint(r);
     if (r == fleet_.robot || !m.pose || hull.empty()) continue;
-    const double radius_m = Circumradius(hull) + margin_m;
+    // A robot that declared itself lost publishes a belief that may be as far
+    // off as the one a lost robot has of the others (lost_hull_margin_m).
+    const double grow_m = m.lost ? std::max(margin_m, options_.lost_hull_margin_m) : margin_m;
+    const double radius_m = Circumradius(hull) + grow_m;
     if ((m.pose->translation() - belief.translation()).norm() > reach_m + radius_m) continue;
     const core::Pose2 frame_from_robot = frame_from_world * *m.pose;
-    const core::Polygon2 grown = InflateConvexPolygon(hull, margin_m);
+    const core::Polygon2 grown = InflateConvexPolygon(hull, grow_m);
     // A moving robot is drawn also where it will be when it has stopped: on
     // the arc of its commanded speed and turn rate, as the dynamic window
     // models a command (held a cycle, then both wheels braked in proportion

@@ -362,5 +362,54 @@ TEST(NavigationControllerFleet, ALostRobotKeepsOffTheOthersPublishedHulls) {
   EXPECT_LT(ClosestWhileExploring(false), 0.01);
 }
 
+// A robot drives from a to b past another that declared itself lost: it
+// stands 0.45 m beside the way, but its belief, published, is 0.3 m further
+// off (a false loss's hypothesis, expo_tours seed 1). Drawn grown by
+// lost_hull_margin_m, the hull keeps the passer off the true one; taken at
+// its word (not lost), the passer brushes past where the other truly stands.
+double ClosestPassingALostRobot(bool declared_lost) {
+  NavigationControllerOptions options;
+  options.step_s = kStepS;
+  FleetCoordinator coordinator(2, FleetOptions{});
+  coordinator.SetStations({"a", "s", "b"});
+  NavigationController controller(Line(), Octagon(), MissionSequence::List({"b"}), options);
+  controller.SetFleet({&coordinator, 0});
+  coordinator.Join(1, Octagon());
+  const core::Pose2 truth{2.0, 0.45, 0.0};
+  const core::Pose2 published{2.0, 0.75, 0.0};
+  std::vector<Eigen::Vector2d> other_hull;
+  for (const Eigen::Vector2d& c : Octagon()) other_hull.push_back(truth * c);
+  core::Pose2 pose;
+  const double b = options.odometry.wheelbase_m;
+  WheelSpeeds held;
+  double closest_m = std::numeric_limits<double>::infinity();
+  for (std::int64_t tick = 0; tick * kStepS < 12.0; ++tick) {
+    const double now_s = tick * kStepS;
+    FleetMessage m;
+    m.pose = published;
+    m.lost = declared_lost;
+    coordinator.Send(1, m);
+    coordinator.Merge();
+    if (const std::optional<WheelSpeeds> w =
+            controller.OnTick(ControlTick{tick, now_s, pose, pose, false})) {
+      held = *w;
+    }
+    const core::WheelTravel travel{
+        held.left_radps * options.odometry.left_wheel_radius_m * kStepS,
+        held.right_radps * options.odometry.right_wheel_radius_m * kStepS};
+    pose = core::DiffDriveStep(pose, travel, b);
+    std::vector<Eigen::Vector2d> own;
+    for (const Eigen::Vector2d& c : Octagon()) own.push_back(pose * c);
+    closest_m = std::min(closest_m, HullDistance(own, other_hull));
+  }
+  EXPECT_GT(pose.x_m, 4.0) << "the passer got past";
+  return closest_m;
+}
+
+TEST(NavigationControllerFleet, KeepsFurtherFromARobotThatDeclaredItselfLost) {
+  EXPECT_GT(ClosestPassingALostRobot(true), 0.05);
+  EXPECT_LT(ClosestPassingALostRobot(false), 0.01);
+}
+
 }  // namespace
 }  // namespace pavilion::nav
