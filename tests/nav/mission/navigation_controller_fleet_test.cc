@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <numbers>
 #include <optional>
@@ -311,6 +312,35 @@ double HullDistance(const std::vector<Eigen::Vector2d>& a, const std::vector<Eig
   return d;
 }
 
+// Runs `controller` (a Robox octagon, its belief the truth, starting at the
+// origin) for duration_s, `publish` called before every tick; returns the
+// closest its hull came to the hull of a robot standing at `other`.
+double ClosestApproach(NavigationController& controller, const NavigationControllerOptions& options,
+                       const core::Pose2& other, bool lost, double duration_s,
+                       const std::function<void()>& publish, core::Pose2* end = nullptr) {
+  std::vector<Eigen::Vector2d> other_hull;
+  for (const Eigen::Vector2d& c : Octagon()) other_hull.push_back(other * c);
+  core::Pose2 pose;
+  WheelSpeeds held;
+  double closest_m = std::numeric_limits<double>::infinity();
+  for (std::int64_t tick = 0; tick * kStepS < duration_s; ++tick) {
+    publish();
+    if (const std::optional<WheelSpeeds> w =
+            controller.OnTick(ControlTick{tick, tick * kStepS, pose, pose, lost})) {
+      held = *w;
+    }
+    const core::WheelTravel travel{
+        held.left_radps * options.odometry.left_wheel_radius_m * kStepS,
+        held.right_radps * options.odometry.right_wheel_radius_m * kStepS};
+    pose = core::DiffDriveStep(pose, travel, options.odometry.wheelbase_m);
+    std::vector<Eigen::Vector2d> own;
+    for (const Eigen::Vector2d& c : Octagon()) own.push_back(pose * c);
+    closest_m = std::min(closest_m, HullDistance(own, other_hull));
+  }
+  if (end != nullptr) *end = pose;
+  return closest_m;
+}
+
 // A robot lost on an empty floor (nothing in its scans: another Robox's
 // recessed body can be all but invisible) explores straight ahead, where
 // another robot stands 1.5 m off. In the fleet it places the other's
@@ -328,33 +358,13 @@ double ClosestWhileExploring(bool fleet) {
     coordinator.Join(1, Octagon());
   }
   const core::Pose2 other{1.5, 0.0, 0.0};
-  std::vector<Eigen::Vector2d> other_hull;
-  for (const Eigen::Vector2d& c : Octagon()) other_hull.push_back(other * c);
-  core::Pose2 pose;
-  const double b = options.odometry.wheelbase_m;
-  WheelSpeeds held;
-  double closest_m = std::numeric_limits<double>::infinity();
-  for (std::int64_t tick = 0; tick * kStepS < 15.0; ++tick) {
-    const double now_s = tick * kStepS;
-    if (const std::optional<WheelSpeeds> w =
-            controller.OnTick(ControlTick{tick, now_s, pose, pose, true})) {
-      held = *w;
-    }
-    if (fleet) {
-      FleetMessage m;
-      m.pose = other;
-      coordinator.Send(1, m);
-      coordinator.Merge();
-    }
-    const core::WheelTravel travel{
-        held.left_radps * options.odometry.left_wheel_radius_m * kStepS,
-        held.right_radps * options.odometry.right_wheel_radius_m * kStepS};
-    pose = core::DiffDriveStep(pose, travel, b);
-    std::vector<Eigen::Vector2d> own;
-    for (const Eigen::Vector2d& c : Octagon()) own.push_back(pose * c);
-    closest_m = std::min(closest_m, HullDistance(own, other_hull));
-  }
-  return closest_m;
+  return ClosestApproach(controller, options, other, true, 15.0, [&] {
+    if (!fleet) return;
+    FleetMessage m;
+    m.pose = other;
+    coordinator.Send(1, m);
+    coordinator.Merge();
+  });
 }
 
 TEST(NavigationControllerFleet, ALostRobotKeepsOffTheOthersPublishedHulls) {
@@ -375,34 +385,18 @@ double ClosestPassingALostRobot(bool declared_lost) {
   NavigationController controller(Line(), Octagon(), MissionSequence::List({"b"}), options);
   controller.SetFleet({&coordinator, 0});
   coordinator.Join(1, Octagon());
-  const core::Pose2 truth{2.0, 0.45, 0.0};
-  const core::Pose2 published{2.0, 0.75, 0.0};
-  std::vector<Eigen::Vector2d> other_hull;
-  for (const Eigen::Vector2d& c : Octagon()) other_hull.push_back(truth * c);
-  core::Pose2 pose;
-  const double b = options.odometry.wheelbase_m;
-  WheelSpeeds held;
-  double closest_m = std::numeric_limits<double>::infinity();
-  for (std::int64_t tick = 0; tick * kStepS < 12.0; ++tick) {
-    const double now_s = tick * kStepS;
-    FleetMessage m;
-    m.pose = published;
-    m.lost = declared_lost;
-    coordinator.Send(1, m);
-    coordinator.Merge();
-    if (const std::optional<WheelSpeeds> w =
-            controller.OnTick(ControlTick{tick, now_s, pose, pose, false})) {
-      held = *w;
-    }
-    const core::WheelTravel travel{
-        held.left_radps * options.odometry.left_wheel_radius_m * kStepS,
-        held.right_radps * options.odometry.right_wheel_radius_m * kStepS};
-    pose = core::DiffDriveStep(pose, travel, b);
-    std::vector<Eigen::Vector2d> own;
-    for (const Eigen::Vector2d& c : Octagon()) own.push_back(pose * c);
-    closest_m = std::min(closest_m, HullDistance(own, other_hull));
-  }
-  EXPECT_GT(pose.x_m, 4.0) << "the passer got past";
+  core::Pose2 end;
+  const double closest_m = ClosestApproach(
+      controller, options, {2.0, 0.45, 0.0}, false, 12.0,
+      [&] {
+        FleetMessage m;
+        m.pose = core::Pose2{2.0, 0.75, 0.0};
+        m.lost = declared_lost;
+        coordinator.Send(1, m);
+        coordinator.Merge();
+      },
+      &end);
+  EXPECT_GT(end.x_m, 4.0) << "the passer got past";
   return closest_m;
 }
 
