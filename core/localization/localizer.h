@@ -13,7 +13,7 @@
 #include "core/features/line_extraction.h"
 #include "core/localization/camera_observations.h"
 #include "core/localization/encoder_odometry.h"
-#include "core/localization/global/free_space_constraint.h"
+#include "core/localization/free_space_constraint.h"
 #include "core/localization/map_cross_covariance.h"
 #include "core/localization/matching.h"
 #include "core/localization/measurement_prediction.h"

@@ -12,7 +12,7 @@
 #include <algorithm>
 #include <string>
 
-#include "core/localization/global/free_space_constraint.h"
+#include "core/localization/free_space_constraint.h"
 #include "core/localization/global/global_localizer.h"
 #include "core/localization/global/interpretation_tree.h"
 #include "core/localization/scan_observations.h"

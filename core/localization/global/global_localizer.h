@@ -59,7 +59,7 @@
 #include <string>
 #include <vector>
 
-#include "core/localization/global/free_space_constraint.h"
+#include "core/localization/free_space_constraint.h"
 #include "core/localization/global/interpretation_tree.h"
 #include "core/localization/localizer.h"
 

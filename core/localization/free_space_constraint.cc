@@ -1,4 +1,4 @@
-#include "core/localization/global/free_space_constraint.h"
+#include "core/localization/free_space_constraint.h"
 
 #include <algorithm>
 #include <cmath>

@@ -21,6 +21,10 @@
 // when it crosses a wall and reads more than a margin beyond it. The margin
 // and the distance a crossing must keep from a wall's end (door frames) grow
 // with the hypothesis' own uncertainty, three sigma of where the beam lies.
+//
+// Two users: global localization (chapter 5) tests its hypotheses with it,
+// and the chapter-4 tracker (Localizer) asks it, in a cycle where nothing
+// paired, whether the scan showed the map at all (the beams short of it).
 
 #include <vector>
 

@@ -2,7 +2,7 @@
 // beam that reads well beyond a mapped wall contradicts a hypothesis; a beam
 // cut short by something unmapped never does; the margins grow with the
 // hypothesis' uncertainty; infinite lines, which have no extent, are ignored.
-#include "core/localization/global/free_space_constraint.h"
+#include "core/localization/free_space_constraint.h"
 
 #include <gtest/gtest.h>
 
