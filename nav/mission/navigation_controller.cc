@@ -230,16 +230,28 @@ void NavigationController::OnBumper(const core::BumperReading& reading,
   bumper_until_s_ = context.now_s + options_.bumper_hold_s;
 }
 
+// The speed controller below the dynamic window (§6.3.4: the window at
+// 10 Hz, a speed controller at 1 kHz): each control tick moves the wheels'
+// set-points towards the cycle's command by at most the window's acceleration
+// (RampTowards), so the robot drives the arcs the window assumed.
 std::optional<WheelSpeeds> NavigationController::OnTick(const ControlTick& tick) {
-  if (tick.tick % dwa_period_ticks_ != 0) return std::nullopt;
-  held_ = command_;
-  Cycle(tick);
-  if (fleet_.coordinator) Publish(tick);
-  if (cycled_ && command_.left_mps == held_.left_mps && command_.right_mps == held_.right_mps) {
+  if (tick.tick % dwa_period_ticks_ == 0) {
+    held_ = output_;
+    Cycle(tick);
+    if (fleet_.coordinator) Publish(tick);
+  }
+  // A safety stop (the window found no admissible command) and a pressed
+  // bumper go to the motors at once, as Robox's security circuit stops it (A.5).
+  const bool at_once = no_admissible_ || tick.now_s <= bumper_until_s_;
+  const WheelVelocity next =
+      at_once ? command_
+              : RampTowards(output_, command_, options_.dwa.max_wheel_accel_mps2 * options_.step_s);
+  if (cycled_ && next.left_mps == output_.left_mps && next.right_mps == output_.right_mps) {
     return std::nullopt;
   }
   cycled_ = true;
-  return ToWheels(command_);
+  output_ = next;
+  return ToWheels(output_);
 }
 
 void NavigationController::Cycle(const ControlTick& tick) {
@@ -251,6 +263,7 @@ void NavigationController::Cycle(const ControlTick& tick) {
   last_odometry_ = tick.odometry;
   last_cycle_s_ = tick.now_s;
   command_ = {};
+  no_admissible_ = false;
   if (tick.now_s + 1e-9 < options_.start_s) return;
   if (state_ == State::kRelocalizing && !Relocalize(tick)) return Explore(tick);
   if (state_ == State::kLost) {
@@ -505,6 +518,7 @@ DwaResult NavigationController::Steer(const ControlTick& tick, const DwaGoal& go
   const DwaResult result = dwa_.Choose(held_, points_, goal);
   ++figures_.dwa_cycles;
   if (!result.admissible_found) ++figures_.no_admissible_cycles;
+  no_admissible_ = !result.admissible_found;
   command_ = result.command;
   arc_in_world_.clear();
   for (const Eigen::Vector2d& p : dwa_.ChosenArc(result, kArcDrawS)) {

@@ -325,10 +325,12 @@ class NavigationController : public Controller {
   std::optional<double> explore_heading_;  // Explore's bearing, odometry frame
   double mission_start_odometer_m_ = 0.0;
   double dwell_until_s_ = 0.0;
-  std::string local_target_;  // the queue node the band was planned to
-  std::uint64_t plans_ = 0;   // initial paths planned: the sampling planners' seed counter
-  WheelVelocity command_;     // rim speeds commanded by this cycle
-  WheelVelocity held_;        // rim speeds held since the last cycle
+  std::string local_target_;    // the queue node the band was planned to
+  std::uint64_t plans_ = 0;     // initial paths planned: the sampling planners' seed counter
+  WheelVelocity command_;       // rim speeds the last cycle chose
+  WheelVelocity held_;          // rim speeds sent to the wheels when the last cycle began
+  WheelVelocity output_;        // rim speeds sent to the wheels now (ramped towards command_)
+  bool no_admissible_ = false;  // the last cycle's window found no admissible command
   core::Pose2 last_odometry_;
   double last_cycle_s_ = 0.0;
   bool cycled_ = false;

@@ -53,6 +53,15 @@ double StoppableSpeed(double distance, double decel, double period_s) {
 
 }  // namespace
 
+WheelVelocity RampTowards(const WheelVelocity& from, const WheelVelocity& to, double max_step_mps) {
+  const double dl = to.left_mps - from.left_mps;
+  const double dr = to.right_mps - from.right_mps;
+  const double largest = std::max(std::abs(dl), std::abs(dr));
+  if (largest <= max_step_mps) return to;
+  const double f = max_step_mps / largest;
+  return {from.left_mps + f * dl, from.right_mps + f * dr};
+}
+
 void DynamicWindowOptions::Validate() const {
   auto fail = [](const std::string& message) { throw std::invalid_argument(message); };
   auto in = [](double x, double lo, double hi) { return x > lo && x <= hi; };

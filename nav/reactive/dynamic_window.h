@@ -93,6 +93,18 @@ struct WheelVelocity {
   double right_mps = 0.0;
 };
 
+// The speed controller's step (§6.3.4: below the 10 Hz window a 1 kHz speed
+// controller): `from` moved towards `to` by at most `max_step_mps` on either
+// wheel, both wheels in proportion (the straight segment between the two in
+// (v_l, v_r)). Sent as steps, a robot's motors take each new command at their
+// own torque limit (2.7 m/s² of rim for Robox, against the window's 1 m/s²),
+// and a stop commanded outside the window (a mission's end, a loss) comes at
+// that limit: the 115 kg body skidded round on its wheels, its heading off by
+// up to 3° in half a second where the calibrated odometry allows 0.3°, and the
+// EKF then failed its gates six cycles running — a false loss (expo_day,
+// docs/navigation.md).
+WheelVelocity RampTowards(const WheelVelocity& from, const WheelVelocity& to, double max_step_mps);
+
 // What the cycle steers to, in the robot frame now.
 struct DwaGoal {
   // Position-only mode: a point ahead on the elastic band or a via node (§6.3.3).

@@ -1,5 +1,6 @@
 #include "nav/stack/navigator.h"
 
+#include <stdexcept>
 #include <utility>
 
 namespace pavilion::nav {
@@ -8,7 +9,12 @@ Navigator::Navigator(const NavigatorOptions& options, std::unique_ptr<PoseEstima
                      std::unique_ptr<Controller> controller)
     : odometry_(options.odometry, options.start_pose),
       estimator_(std::move(estimator)),
-      controller_(std::move(controller)) {}
+      controller_(std::move(controller)),
+      collision_refractory_s_(options.collision_refractory_s) {
+  if (!(options.collision_refractory_s >= 0.0)) {
+    throw std::invalid_argument("NavigatorOptions.collision_refractory_s must be >= 0");
+  }
+}
 
 std::optional<WheelSpeeds> Navigator::Control(std::int64_t tick, double now_s) {
   if (!controller_) return std::nullopt;
@@ -22,11 +28,16 @@ SenseResult Navigator::Sense(const SensorFrame& frame) {
   SenseResult result;
   for (const core::EncoderReading& reading : frame.encoders) odometry_.Update(reading);
   // A zone pressed anew, and the release after a press: a collision moves the
-  // robot in ways its odometry does not see, for as long as it lasts.
+  // robot in ways its odometry does not see, for as long as it lasts. One
+  // collision's noise per refractory period, however often the zones flicker.
   for (const core::BumperReading& b : frame.bumpers) {
     const bool pressed_anew = (b.zones_in_contact & ~bumper_zones_) != 0;
     const bool released = b.zones_in_contact == 0 && bumper_zones_ != 0;
-    if ((pressed_anew || released) && estimator_) estimator_->OnCollision();
+    if ((pressed_anew || released) && estimator_ &&
+        b.stamp_s - last_collision_noise_s_ >= collision_refractory_s_) {
+      estimator_->OnCollision();
+      last_collision_noise_s_ = b.stamp_s;
+    }
     bumper_zones_ = b.zones_in_contact;
   }
   if (controller_ && !frame.bumpers.empty()) {

@@ -104,7 +104,10 @@ struct World::Impl {
   std::int64_t crowd_walls_revision = 0;        // static_revision the crowd's walls are from
   std::vector<crowd::CrowdRobot> crowd_robots;  // scratch
   crowd::CrowdStepResult crowd_result;          // scratch
-  std::vector<btRigidBody*> doors;              // parallel to description.doors
+  // Where people touched each robot in the last step (world frame): the
+  // bumpers feel them as they feel Bullet contacts.
+  std::vector<std::vector<Eigen::Vector2d>> person_touches_m;
+  std::vector<btRigidBody*> doors;  // parallel to description.doors
   ContactTracker contacts;
   std::vector<ContactChange> pending_changes;
 
@@ -284,7 +287,15 @@ void World::SetWheelSpeeds(int robot, double left_radps, double right_radps) {
 }
 
 std::vector<Eigen::Vector2d> World::RobotContactPoints(int robot) const {
-  return impl_->robots.at(robot).ContactPoints(impl_->physics.dispatcher());
+  const RobotBody& body = impl_->robots.at(robot);
+  std::vector<Eigen::Vector2d> points = body.ContactPoints(impl_->physics.dispatcher());
+  if (static_cast<std::size_t>(robot) < impl_->person_touches_m.size()) {
+    const core::Pose2 pose = body.State().pose;
+    for (const Eigen::Vector2d& p : impl_->person_touches_m[robot]) {
+      points.push_back(pose.Inverse() * p);
+    }
+  }
+  return points;
 }
 
 std::array<double, 2> World::DriveWheelLoads(int robot) const {
@@ -426,12 +437,15 @@ void World::StepCrowd(double dt) {
     p.point_m = push.point_m;
   }
   std::map<std::pair<int, int>, ContactChange> touching;
+  im.person_touches_m.resize(im.robots.size());
+  for (auto& touches : im.person_touches_m) touches.clear();
   for (auto& [key, entry] : by_person) {
     Eigen::Vector2d& force = entry.force_n;
     const Eigen::Vector2d& point = entry.point_m;
     if (!entry.pinned && force.norm() > limit_n) force *= limit_n / force.norm();
     const auto [robot, person] = key;
     im.robots[robot].ApplyImpulseAt(force * dt, point);
+    im.person_touches_m[robot].push_back(point);
     const int a = im.robots[robot].element(), b = im.crowd->person_element(person);
     ContactChange& c = touching[{std::min(a, b), std::max(a, b)}];
     c.a = std::min(a, b);

@@ -42,6 +42,8 @@ struct MissionRun {
   std::vector<NavigationEvent> events;
   NavigationFigures figures;
   core::Pose2 pose;
+  double max_rim_step_mps = 0.0;  // the largest change of a wheel's rim speed in one tick
+  double max_rim_speed_mps = 0.0;
 };
 
 // The robot drives to b on an ideal floor (its belief is the truth) and is
@@ -60,6 +62,12 @@ MissionRun DriveToB(double relocalization_timeout_s, double lost_from_s, double 
     const bool lost = now_s >= lost_from_s && now_s < lost_from_s + lost_for_s;
     if (const std::optional<WheelSpeeds> w =
             controller.OnTick(ControlTick{tick, now_s, run.pose, run.pose, lost})) {
+      const double r = options.odometry.left_wheel_radius_m;
+      run.max_rim_step_mps =
+          std::max({run.max_rim_step_mps, std::abs(w->left_radps - held.left_radps) * r,
+                    std::abs(w->right_radps - held.right_radps) * r});
+      run.max_rim_speed_mps = std::max(
+          {run.max_rim_speed_mps, std::abs(w->left_radps) * r, std::abs(w->right_radps) * r});
       held = *w;
     }
     // While lost the robot stands (explore_when_lost is off).
@@ -101,6 +109,18 @@ TEST(NavigationController, HoldsTheMissionWhileRelocalizingAndReplans) {
   }
   EXPECT_TRUE(replanned);
   EXPECT_NEAR(run.pose.x_m, 8.0, 0.1);
+}
+
+// The speed controller below the window (§6.3.4) moves the wheels' set-points
+// by at most the window's acceleration per control tick: when the robot is
+// declared lost at cruise speed it is commanded to stand, and it brakes at
+// 1 m/s² rather than in one step at the motors' own limit.
+TEST(NavigationController, RampsTheWheelsAtTheWindowsAcceleration) {
+  const MissionRun run = DriveToB(30.0, 3.0, 5.0, 60.0);
+  const double accel_mps2 = NavigationControllerOptions{}.dwa.max_wheel_accel_mps2;
+  EXPECT_GT(run.max_rim_speed_mps, 0.3);  // it cruised
+  EXPECT_LE(run.max_rim_step_mps, accel_mps2 * kStepS + 1e-12);
+  EXPECT_GT(run.max_rim_step_mps, 0.5 * accel_mps2 * kStepS);  // and used the window
 }
 
 // The run's one mission was aborted as lost at `at_s`.

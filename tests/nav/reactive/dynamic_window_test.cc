@@ -694,5 +694,25 @@ TEST(DynamicWindowTest, RejectsBadOptions) {
   EXPECT_THROW(dwa.Choose({std::nan(""), 0.0}, {}, DwaGoal{}), std::invalid_argument);
 }
 
+// The speed controller's step: towards the command by at most the step on
+// either wheel, both in proportion (the same straight line in (v_l, v_r)),
+// and exactly onto it once within reach.
+TEST(RampTowards, MovesBothWheelsInProportionAndStopsOnTheCommand) {
+  const WheelVelocity a = RampTowards({0.0, 0.0}, {0.5, 0.25}, 0.1);
+  EXPECT_DOUBLE_EQ(a.left_mps, 0.1);
+  EXPECT_DOUBLE_EQ(a.right_mps, 0.05);
+  const WheelVelocity b = RampTowards({0.4, -0.4}, {0.0, 0.0}, 0.1);  // braking a turn
+  EXPECT_DOUBLE_EQ(b.left_mps, 0.3);
+  EXPECT_DOUBLE_EQ(b.right_mps, -0.3);
+  const WheelVelocity c = RampTowards({0.45, 0.2}, {0.5, 0.25}, 0.1);
+  EXPECT_EQ(c.left_mps, 0.5);
+  EXPECT_EQ(c.right_mps, 0.25);
+  // Twenty steps of 5 ms at 1 m/s² reach anything the 10 Hz window allows.
+  WheelVelocity v{0.3, 0.3};
+  for (int k = 0; k < 20; ++k) v = RampTowards(v, {0.2, 0.4}, 1.0 * 0.005);
+  EXPECT_EQ(v.left_mps, 0.2);
+  EXPECT_EQ(v.right_mps, 0.4);
+}
+
 }  // namespace
 }  // namespace pavilion::nav

@@ -41,7 +41,9 @@ class FakeEstimator : public PoseEstimator {
   const core::PoseWithCovariance& estimate() const override { return estimate_; }
   std::string lost_reason() const override { return "none"; }
   LocalizationMode mode() const override { return mode_; }
+  void OnCollision() override { ++collisions; }
 
+  int collisions = 0;
   int encoders_seen = 0;
   int scans_seen = 0;
   core::PoseWithCovariance estimate_{core::Pose2{5.0, -1.0, 0.5}, Eigen::Matrix3d::Identity()};
@@ -136,6 +138,51 @@ TEST(NavigatorTest, TellsTheControllerWhenTheEstimatorIsNotLocalized) {
 TEST(NavigatorTest, WithoutAControllerCommandsNothing) {
   Navigator navigator(Options(), nullptr, nullptr);
   EXPECT_FALSE(navigator.Control(0, 0.0));
+}
+
+// A bumper press and its release add a collision's pose noise to the
+// estimator, once per refractory period: a visitor's bump flickers the zones
+// on and off, and each flicker is not another collision.
+TEST(NavigatorTest, AddsCollisionNoiseOncePerRefractoryPeriod) {
+  auto estimator = std::make_unique<FakeEstimator>();
+  FakeEstimator* e = estimator.get();
+  NavigatorOptions options = Options();
+  options.collision_refractory_s = 1.0;
+  Navigator navigator(options, std::move(estimator), nullptr);
+  const auto bump = [&](double t, std::uint32_t zones) {
+    const std::vector<core::BumperReading> readings{{t, zones}};
+    navigator.Sense(SensorFrame{t, {}, {}, readings, {}});
+  };
+  bump(10.00, 0b01);  // pressed: a collision
+  EXPECT_EQ(e->collisions, 1);
+  bump(10.08, 0);  // flickers within the second: the same collision
+  bump(10.20, 0b01);
+  bump(10.28, 0);
+  bump(10.40, 0b11);
+  EXPECT_EQ(e->collisions, 1);
+  bump(11.10, 0);  // released more than a second after the first: counted
+  EXPECT_EQ(e->collisions, 2);
+  bump(11.50, 0b10);  // pressed again within a second of that: not
+  EXPECT_EQ(e->collisions, 2);
+  bump(13.00, 0b10);  // no change: no reading would be sent, nothing added
+  EXPECT_EQ(e->collisions, 2);
+  bump(13.20, 0);  // the release, long after
+  EXPECT_EQ(e->collisions, 3);
+
+  NavigatorOptions zero = Options();
+  zero.collision_refractory_s = 0.0;  // every press and release
+  auto counted = std::make_unique<FakeEstimator>();
+  FakeEstimator* c = counted.get();
+  Navigator every(zero, std::move(counted), nullptr);
+  for (double t : {1.0, 1.1, 1.2, 1.3}) {
+    const std::vector<core::BumperReading> readings{{t, t == 1.0 || t == 1.2 ? 1u : 0u}};
+    every.Sense(SensorFrame{t, {}, {}, readings, {}});
+  }
+  EXPECT_EQ(c->collisions, 4);
+
+  NavigatorOptions bad = Options();
+  bad.collision_refractory_s = -1.0;
+  EXPECT_THROW(Navigator(bad, nullptr, nullptr), std::invalid_argument);
 }
 
 }  // namespace

@@ -111,10 +111,12 @@ double LateralDisplacementM(const fs::path& run_dir, double from_s, double windo
 constexpr double kPushAtS = 7.0;
 // The largest sideways push the 2 Hz EKF survives (N s): 180 N s moves the
 // robot 0.10 m, the validation gate then rejects every line and the estimator
-// declares itself lost (repeated gate failures); from 270 N s the 115 kg
+// declares itself lost (repeated gate failures; since the wheels' set-points
+// ramp at the window's acceleration, 2026-12-05, so does 170 N s, and 140 N s
+// moves it less than 8 cm); from 270 N s the 115 kg
 // robot also tips onto its base and jams. Issue 14's 1 m push is out of reach
 // of an impulse: the robot is carried instead (the test after this one).
-constexpr double kPushNs = 170.0;
+constexpr double kPushNs = 160.0;
 constexpr double kMinPushDisplacementM = 0.08;
 // Bound on the true final error at the station after the push, m.
 constexpr double kPushedGoalErrorM = 0.08;

@@ -29,6 +29,12 @@ struct PushOutcome {
   double encoder_m = 0.0;    // what its wheel angles saw (mean of both, in m)
   double predicted_m = 0.0;  // from the push, the motors and the wheels' friction
   double push_s = 0.0;       // how long the visitor pushed
+  // What its bumpers felt (World::RobotContactPoints): steps with a point
+  // behind the robot (bearing beyond ±135°), steps with points elsewhere, and
+  // whether anything was felt before the visitor came.
+  int felt_behind_steps = 0;
+  int felt_elsewhere_steps = 0;
+  bool felt_before_visitor = false;
 };
 
 // A Robox stands with its motors holding zero speed; one visitor who pushes
@@ -59,6 +65,8 @@ PushOutcome PushStandingRobox(WheelModel wheels, double force_n, double pulse_s)
   crowd.attractions = {{"far", core::Pose2{-8.0, 8.0, 0.0}, 1.0}};
   world.AddCrowd(crowd, 1);
   for (int i = 0; i < 100; ++i) world.Step();  // settle on the wheels
+  PushOutcome out;
+  out.felt_before_visitor = !world.RobotContactPoints(robot).empty();
   world.mutable_crowd()->SpawnGroup({-1.2, 0.0}, 1);
   const RobotState start = world.robot_state(robot);
   const RobotDescription& m = world.robot_model(robot);
@@ -67,6 +75,12 @@ PushOutcome PushStandingRobox(WheelModel wheels, double force_n, double pulse_s)
   int pushing_steps = 0;
   for (int i = 0; i < static_cast<int>(20.0 / world.step_s()); ++i) {
     world.Step();
+    bool behind = false, elsewhere = false;
+    for (const Eigen::Vector2d& p : world.RobotContactPoints(robot)) {
+      (std::abs(std::atan2(p.y(), p.x())) > 0.75 * kPi ? behind : elsewhere) = true;
+    }
+    out.felt_behind_steps += behind ? 1 : 0;
+    out.felt_elsewhere_steps += elsewhere ? 1 : 0;
     const sim::crowd::Crowd& c = *world.crowd();
     const bool pushing = c.activity(0) == sim::crowd::Activity::kEpisode &&
                          world.robot_state(robot).velocity_mps.norm() > 1e-3;
@@ -79,7 +93,6 @@ PushOutcome PushStandingRobox(WheelModel wheels, double force_n, double pulse_s)
     }
   }
   const RobotState end = world.robot_state(robot);
-  PushOutcome out;
   out.moved_m = (end.pose.translation() - start.pose.translation()).norm();
   out.encoder_m =
       0.5 * (std::abs(end.left_wheel_rad - start.left_wheel_rad) * m.left_wheel.radius_m +
@@ -119,6 +132,21 @@ TEST(CrowdWorldTest, DefaultPushLimitDoesNotSlideRobox) {
     // The articulated reference creeps a few centimetres under any push
     // (robot_body.cc: its wheels slip by millimetres to centimetres).
     EXPECT_LT(push.moved_m, 0.05) << WheelModelName(wheels);
+  }
+}
+
+// People are not Bullet bodies, yet the bumpers feel them: a visitor pushing
+// from behind presses the rear of the robot, and only while touching it.
+// (Until 2026-12-05 the bumpers felt Bullet contacts alone, so a whole
+// exhibition day of visitor contacts never pressed one, and the localization
+// never heard of the collisions.)
+TEST(CrowdWorldTest, TheBumpersFeelAVisitorWhoPushes) {
+  for (WheelModel wheels : {WheelModel::kArticulated, WheelModel::kRaycast}) {
+    const PushOutcome push = PushStandingRobox(wheels, 300.0, 0.5);
+    EXPECT_FALSE(push.felt_before_visitor) << WheelModelName(wheels);
+    // The pulse lasts 0.5 s (100 steps); the visitor leans on the robot before it.
+    EXPECT_GE(push.felt_behind_steps, 100) << WheelModelName(wheels);
+    EXPECT_EQ(push.felt_elsewhere_steps, 0) << WheelModelName(wheels);
   }
 }
 
