@@ -528,8 +528,14 @@ DwaResult NavigationController::Steer(const ControlTick& tick, const DwaGoal& go
 }
 
 void NavigationController::Explore(const ControlTick& tick) {
+  const bool holding = state_ == State::kRelocalizing;  // the mission is held
   if (!options_.explore_when_lost || !tick.localization_lost ||
       tick.now_s - lost_since_s_ < options_.explore.settle_s) {
+    if (holding) {  // standing: a deadlock it is in still counts
+      points_.clear();
+      AppendContours(tick, clip_contours_, &points_);
+      UpdateDeadlock(tick, true);
+    }
     return;
   }
   obstacles_.InRobot(tick.odometry, tick.belief, options_.dwa_reach_m, &points_,
@@ -541,7 +547,9 @@ void NavigationController::Explore(const ControlTick& tick) {
       std::remove_if(points_.begin() + static_cast<std::ptrdiff_t>(sensed), points_.end(),
                      [&](const Eigen::Vector2d& p) { return core::Contains(margin_outline_, p); }),
       points_.end());
-  AppendContours(tick, /*clip=*/false, &points_);
+  // Contours clipped as the deadlock rule says: a lost robot in a pile of
+  // robots sees their markers as well as a localized one does.
+  AppendContours(tick, clip_contours_, &points_);
   if (tick.now_s <= bumper_until_s_) {
     points_.insert(points_.end(), bumper_points_.begin(), bumper_points_.end());
   }
@@ -554,13 +562,15 @@ void NavigationController::Explore(const ControlTick& tick) {
   arc_in_world_.clear();
   if (!bearing) {  // nowhere open: stand until the others or the crowd move
     explore_heading_.reset();
+    if (holding) UpdateDeadlock(tick, true);
     return;
   }
   explore_heading_ = core::NormalizeAngle(*bearing + tick.odometry.theta_rad);
   DwaGoal goal;
   goal.target_in_robot = AheadAlong(*bearing);
   goal.speed_limit_mps = options_.explore.speed_mps;
-  Steer(tick, goal);
+  const DwaResult result = Steer(tick, goal);
+  if (holding) UpdateDeadlock(tick, !result.admissible_found);
 }
 
 void NavigationController::EndMission(const ControlTick& tick, bool completed, AbortReason reason) {
@@ -639,7 +649,10 @@ void NavigationController::AppendContours(const ControlTick& tick, bool clip,
 
 void NavigationController::UpdateDeadlock(const ControlTick& tick, bool stalled) {
   if (!options_.see_robots) return;
-  const bool driving = state_ == State::kDriving;
+  // A robot relocalizing holds its mission: a deadlock it is in still counts
+  // (until 2026-12-05 the episode was dropped when the robot declared itself
+  // lost, and a lost robot that stood 31 s in a pile was counted nowhere).
+  const bool driving = state_ == State::kDriving || state_ == State::kRelocalizing;
   const DeadlockMonitor::Step step = deadlock_.Update(
       tick.now_s, driving, driving && contour_overlap_, driving && stalled, odometer_m_);
   clip_contours_ = step.clip;

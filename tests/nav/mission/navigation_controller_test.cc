@@ -175,11 +175,13 @@ core::LaserScan MarkerScan(const core::Pose2& pose, const Eigen::Vector2d& marke
   return scan;
 }
 
-MissionRun DriveBesideAMarker(bool resolve, double duration_s) {
+MissionRun DriveBesideAMarker(bool resolve, double duration_s, double lost_from_s = 1e9) {
   NavigationControllerOptions options;
   options.step_s = kStepS;
   options.see_robots = true;
   options.deadlock.resolve = resolve;
+  options.relocalization_timeout_s = 2.0 * duration_s;  // the mission is held throughout
+  options.explore_when_lost = true;                     // as the scenarios' Robox
   NavigationController controller(TwoStations(), Square(), MissionSequence::List({"b"}), options);
   const Eigen::Vector2d marker(0.35, 0.2);
   MissionRun run;
@@ -187,8 +189,9 @@ MissionRun DriveBesideAMarker(bool resolve, double duration_s) {
   WheelSpeeds held;
   for (std::int64_t tick = 0; tick * kStepS < duration_s; ++tick) {
     const double now_s = tick * kStepS;
+    const bool lost = now_s >= lost_from_s;
     if (const std::optional<WheelSpeeds> w =
-            controller.OnTick(ControlTick{tick, now_s, run.pose, run.pose, false})) {
+            controller.OnTick(ControlTick{tick, now_s, run.pose, run.pose, lost})) {
       held = *w;
     }
     const core::WheelTravel travel{
@@ -222,6 +225,24 @@ TEST(NavigationController, StaysDeadlockedWithTheResolutionOff) {
   EXPECT_EQ(run.figures.deadlocks_resolved, 0);
   EXPECT_EQ(run.figures.missions_completed, 0);
   EXPECT_LT(run.pose.translation().norm(), 0.05);  // it never got away
+}
+
+// A robot that declares itself lost in the deadlock (its mission held while
+// it relocalizes) keeps the episode: with the resolution off it is counted
+// unresolved after give_up_s, and with it on the lost robot's contours are
+// clipped too and it gets away. Until 2026-12-05 the episode was dropped when
+// the robot was lost, and a lost robot that stood 31 s in a pile of robots
+// (expo_tours_fallback, seed 5) was counted nowhere.
+TEST(NavigationController, ARelocalizingRobotsDeadlockStillCounts) {
+  const MissionRun off = DriveBesideAMarker(false, 60.0, 0.5);
+  EXPECT_GE(off.figures.deadlocks_detected, 1);
+  EXPECT_GE(off.figures.deadlocks_unresolved, 1);
+  EXPECT_EQ(off.figures.deadlocks_resolved, 0);
+  const MissionRun on = DriveBesideAMarker(true, 60.0, 0.5);
+  EXPECT_GE(on.figures.deadlocks_detected, 1);
+  EXPECT_EQ(on.figures.deadlocks_resolved, on.figures.deadlocks_detected);
+  EXPECT_EQ(on.figures.deadlocks_unresolved, 0);
+  EXPECT_GT(on.pose.translation().norm(), 0.3);  // it got away while lost
 }
 
 // The fall-back's goal coordination by sight (seen_station_look_m): another
