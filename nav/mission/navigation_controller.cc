@@ -528,15 +528,17 @@ DwaResult NavigationController::Steer(const ControlTick& tick, const DwaGoal& go
 }
 
 void NavigationController::Explore(const ControlTick& tick) {
-  const bool holding = state_ == State::kRelocalizing;  // the mission is held
+  const bool stalled = ExploreStep(tick);
+  // A robot relocalizing holds its mission: a deadlock it is in still counts.
+  if (state_ == State::kRelocalizing) UpdateDeadlock(tick, stalled);
+}
+
+bool NavigationController::ExploreStep(const ControlTick& tick) {
   if (!options_.explore_when_lost || !tick.localization_lost ||
       tick.now_s - lost_since_s_ < options_.explore.settle_s) {
-    if (holding) {  // standing: a deadlock it is in still counts
-      points_.clear();
-      AppendContours(tick, clip_contours_, &points_);
-      UpdateDeadlock(tick, true);
-    }
-    return;
+    points_.clear();  // standing: only the overlap the deadlock monitor reads
+    AppendContours(tick, clip_contours_, &points_);
+    return true;
   }
   obstacles_.InRobot(tick.odometry, tick.belief, options_.dwa_reach_m, &points_,
                      /*map_outline=*/false);
@@ -562,15 +564,13 @@ void NavigationController::Explore(const ControlTick& tick) {
   arc_in_world_.clear();
   if (!bearing) {  // nowhere open: stand until the others or the crowd move
     explore_heading_.reset();
-    if (holding) UpdateDeadlock(tick, true);
-    return;
+    return true;
   }
   explore_heading_ = core::NormalizeAngle(*bearing + tick.odometry.theta_rad);
   DwaGoal goal;
   goal.target_in_robot = AheadAlong(*bearing);
   goal.speed_limit_mps = options_.explore.speed_mps;
-  const DwaResult result = Steer(tick, goal);
-  if (holding) UpdateDeadlock(tick, !result.admissible_found);
+  return !Steer(tick, goal).admissible_found;
 }
 
 void NavigationController::EndMission(const ControlTick& tick, bool completed, AbortReason reason) {

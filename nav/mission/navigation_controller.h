@@ -238,6 +238,9 @@ class NavigationController : public Controller {
   void Drive(const ControlTick& tick);
   // Not localized: drives towards open space (explore_when_lost).
   void Explore(const ControlTick& tick);
+  // Explore's drive; true when the robot stands (settling, nowhere open, or
+  // no admissible command).
+  bool ExploreStep(const ControlTick& tick);
   // Driving: starts, drives or ends an escape (EscapeOptions); true while
   // the escape has the wheels.
   bool Escape(const ControlTick& tick);

@@ -290,9 +290,9 @@ std::vector<Eigen::Vector2d> World::RobotContactPoints(int robot) const {
   const RobotBody& body = impl_->robots.at(robot);
   std::vector<Eigen::Vector2d> points = body.ContactPoints(impl_->physics.dispatcher());
   if (static_cast<std::size_t>(robot) < impl_->person_touches_m.size()) {
-    const core::Pose2 pose = body.State().pose;
+    const core::Pose2 base_from_world = body.State().pose.Inverse();
     for (const Eigen::Vector2d& p : impl_->person_touches_m[robot]) {
-      points.push_back(pose.Inverse() * p);
+      points.push_back(base_from_world * p);
     }
   }
   return points;
