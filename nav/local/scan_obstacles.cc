@@ -197,7 +197,7 @@ void ScanObstacles::AddScan(const core::LaserScan& scan, const core::Pose2& odom
   }
   last_scan_.emplace(scan.stamp_s, odom_from_robot);
   if (!it->in_odom.empty() && motion_clock_s_ - it->remembered_s >= kMemoryPeriodS) {
-    Remembered kept{motion_clock_s_, scan.stamp_s, {}};
+    Remembered kept{motion_clock_s_, it->stamp_s, {}};
     for (const Eigen::Vector2d& p : it->in_odom) {
       if ((p - odom_from_robot.translation()).squaredNorm() <= kMemoryReachM * kMemoryReachM) {
         kept.in_odom.push_back(p);
@@ -211,6 +211,7 @@ void ScanObstacles::AddScan(const core::LaserScan& scan, const core::Pose2& odom
            m.taken_s < scan.stamp_s - kBlindMemoryCapS;
   });
   it->in_odom.clear();
+  it->stamp_s = scan.stamp_s;
   it->sensor_from_robot = scan.robot_from_sensor.Inverse();
   it->max_range_m = scan.max_range_m;
   if (!scan.readings.empty()) {
@@ -245,21 +246,24 @@ void ScanObstacles::InRobot(const core::Pose2& odom_from_robot, const core::Pose
       if (q.squaredNorm() <= reach2) points_in_robot->push_back(q);
     }
   }
-  for (const Remembered& m : memory_) {
-    for (const Eigen::Vector2d& p : m.in_odom) {
-      const Eigen::Vector2d q = robot_from_odom.Apply(p);
-      if (q.squaredNorm() <= reach2 && !Covered(q)) points_in_robot->push_back(q);
-    }
-  }
-  const core::PointTransform robot_from_world(world_from_robot.Inverse());
-  const Eigen::Vector2d centre = world_from_robot.translation();
   // A map point deeper than kGhostInsideM in the polygon cannot be where the
-  // belief puts it.
+  // belief puts it; a remembered reading that deep is where the robot now
+  // stands, and what it saw there has gone.
   const auto under_robot = [&](const Eigen::Vector2d& q) {
     if (!footprint_convex_ || q.norm() >= footprint_radius_m_) return false;
     Eigen::Vector2d normal;
     return SignedDistance(footprint_, q, &normal) < -kGhostInsideM;
   };
+  for (const Remembered& m : memory_) {
+    for (const Eigen::Vector2d& p : m.in_odom) {
+      const Eigen::Vector2d q = robot_from_odom.Apply(p);
+      if (q.squaredNorm() <= reach2 && !Covered(q) && !under_robot(q)) {
+        points_in_robot->push_back(q);
+      }
+    }
+  }
+  const core::PointTransform robot_from_world(world_from_robot.Inverse());
+  const Eigen::Vector2d centre = world_from_robot.translation();
   barriers_.ForEachNear(centre, reach_m, [&](const Eigen::Vector2d& g) {
     const Eigen::Vector2d q = robot_from_world.Apply(g);
     if (!under_robot(q)) points_in_robot->push_back(q);
@@ -270,6 +274,10 @@ void ScanObstacles::InRobot(const core::Pose2& odom_from_robot, const core::Pose
                          const Eigen::Vector2d q = robot_from_world.Apply(w);
                          if (!Covered(q) && !under_robot(q)) points_in_robot->push_back(q);
                        });
+}
+
+void ScanObstacles::ForgetBefore(double stamp_s) {
+  std::erase_if(memory_, [&](const Remembered& m) { return m.taken_s < stamp_s; });
 }
 
 bool ScanObstacles::Covered(const Eigen::Vector2d& point_in_robot) const {

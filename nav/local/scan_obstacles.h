@@ -16,7 +16,11 @@
 // stood blocked 10-15 s beside the foil-wrapped column of expo_hall forgot it
 // and swung a corner into it when they turned, while without the cap a robot
 // that stopped kept a passer-by beside it for good (docs/benchmarks.md, "The
-// hour"). The local grid keeps to the thesis: no memory.
+// hour"). A remembered reading deeper than kGhostInsideM inside the robot's
+// polygon is where the robot now stands: what was seen there has gone (a
+// robot that pressed into the other's recess and drove off), and is left out
+// (docs/benchmarks.md, "Remembered under the hull"). The local grid keeps to
+// the thesis: no memory.
 //
 // Ghost points mark invisible barriers (§6.3.1: glass, a low plinth, an exit)
 // with points a map spacing apart (0.25 m in the derived maps). A polygon
@@ -138,6 +142,9 @@ class ScanObstacles {
   void InRobot(const core::Pose2& odom_from_robot, const core::Pose2& world_from_robot,
                double reach_m, std::vector<Eigen::Vector2d>* points_in_robot,
                bool map_outline = true) const;
+  // Drops the remembered blind-zone readings of scans before `stamp_s` (the
+  // deadlock rule's: NavigationController::GatherDrivePoints).
+  void ForgetBefore(double stamp_s);
   // The same within `reach_m` of the robot in the world frame (the local grid's input).
   void InWorld(const core::Pose2& odom_from_robot, const core::Pose2& world_from_robot,
                double reach_m, std::vector<Eigen::Vector2d>* points_in_world) const;
@@ -153,6 +160,7 @@ class ScanObstacles {
     double max_bearing_rad = 0.0;
     double max_range_m = 0.0;
     double remembered_s = -1e9;  // motion clock of its last scan kept in memory_
+    double stamp_s = 0.0;        // the time of the scan in_odom holds
   };
   struct Remembered {
     double stamp_s = 0.0;  // on the motion clock

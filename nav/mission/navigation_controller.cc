@@ -27,6 +27,9 @@ constexpr double kDeadlockTouchM = 0.05;
 // The deadlock rule's yield aims this far away (about one and a half Robox
 // lengths), m.
 constexpr double kRetreatM = 1.0;
+// While the deadlock rule clips, the blind-zone memory keeps this much, s:
+// the rule's retreat delay; the robots in the deadlock are their contours.
+constexpr double kDeadlockMemoryS = 2.0;
 // A robot that stayed within this of where it was stood still (the
 // longest_still_s figure): net displacement, so that a dither back and forth
 // is not progress, m.
@@ -497,6 +500,12 @@ void NavigationController::Drive(const ControlTick& tick) {
 }
 
 void NavigationController::GatherDrivePoints(const ControlTick& tick) {
+  // A robot that the deadlock rule clips for stands among robots that its
+  // markers place: its blind-zone memory (kept up to kBlindMemoryCapS while
+  // it stands) would hold a robot that has since driven off as a wall beside
+  // it. In fallback seed 1 a Robox stood 20 s pinched between an exhibit's
+  // plinth and the remembered flank of a robot gone 2 s after detection.
+  if (clip_contours_) obstacles_.ForgetBefore(tick.now_s - kDeadlockMemoryS);
   obstacles_.InRobot(tick.odometry, tick.belief, options_.dwa_reach_m, &points_);
   AppendOtherRobots(tick.belief, tick.belief.Inverse(), options_.dwa_reach_m, &points_);
   AppendContours(tick, clip_contours_, &points_);

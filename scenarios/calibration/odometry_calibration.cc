@@ -72,7 +72,7 @@ sim::WorldDescription BareFloor(double half_size_m, double friction) {
   sim::Material floor;
   floor.friction = friction;
   w.materials[kFloorMaterial] = floor;
-  w.floor = {{-half_size_m, -half_size_m}, {half_size_m, half_size_m}, kFloorMaterial};
+  w.floor = {{-half_size_m, -half_size_m}, {half_size_m, half_size_m}, kFloorMaterial, {}};
   return w;
 }
 

@@ -47,6 +47,10 @@ void RealismProfile::Validate() const {
   Require(in(accel_slip_k_s2, 0.0, 1e-2), "accel_slip_k_s2", "in [0, 1e-2] s^2");
   Require(in(carpet_fraction, 0.0, 1.0), "carpet_fraction", "in [0, 1]");
   Require(in(carpet_travel_error, 0.0, 0.05), "carpet_travel_error", "in [0, 0.05]");
+  Require(in(floor_max_slope_rad, 0.0, 0.05), "floor_max_slope_rad", "in [0, 0.05] rad");
+  Require(in(floor_min_wavelength_m, 0.1, 100.0) && in(floor_max_wavelength_m, 0.1, 100.0) &&
+              floor_min_wavelength_m <= floor_max_wavelength_m,
+          "floor_min_wavelength_m", "at most floor_max_wavelength_m, both in [0.1, 100] m");
   Require(in(wall_offset_sigma_m, 0.0, kMaxWallOffsetM), "wall_offset_sigma_m", "in [0, 0.1] m");
   Require(in(clutter_per_m, 0.0, kMaxClutterPerM), "clutter_per_m", "in [0, 2] per m");
   Require(in(door_flip_probability, 0.0, 1.0), "door_flip_probability", "in [0, 1]");

@@ -68,6 +68,14 @@ struct RealismProfile {
   // uniform draw in [0.2, 1] x carpet_travel_error.
   double carpet_fraction = 0.25;       // [0, 1]
   double carpet_travel_error = 0.005;  // [0, 0.05]
+  // An uneven floor (sim::FloorRelief): slopes and bumps no steeper than
+  // this, in the physics (both wheel models) and so in the lasers' tilt; the
+  // encoders do not see them. rad, [0, 0.05] (0: flat); key
+  // floor_max_slope_deg. The issue's ±0.5°. Its waves' wavelengths span
+  // [min, max] m, 0.1 <= min <= max <= 100.
+  double floor_max_slope_rad = 0.5 * 3.14159265358979323846 / 180.0;
+  double floor_min_wavelength_m = 0.5;
+  double floor_max_wavelength_m = 8.0;
 
   // The map and the world. Each end of each wall of a derived map is
   // surveyed off along the wall's normal by a draw of this σ (the whole wall

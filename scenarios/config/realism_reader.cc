@@ -42,6 +42,9 @@ void ReadRealism(YamlDocument* doc, MapReader& top, RealismProfile* profile) {
                {"accel_slip_k_s2", &P::accel_slip_k_s2},
                {"carpet_fraction", &P::carpet_fraction},
                {"carpet_travel_error", &P::carpet_travel_error},
+               {"floor_max_slope_deg", "floor_max_slope_rad", &P::floor_max_slope_rad, kRadPerDeg},
+               {"floor_min_wavelength_m", &P::floor_min_wavelength_m},
+               {"floor_max_wavelength_m", &P::floor_max_wavelength_m},
                {"wall_offset_sigma_m", &P::wall_offset_sigma_m},
                {"clutter_per_m", &P::clutter_per_m},
                {"door_flip_probability", &P::door_flip_probability}});

@@ -304,7 +304,17 @@ RealWorldChanges DrawRealWorld(const RealismProfile& profile, std::uint64_t seed
                                const sim::World& survey, const sim::WorldDescription& description,
                                const ClutterKeepOut& keep_out) {
   if (!profile.realistic) return {};
-  return ClutterPlacer(profile, seed, survey, description, keep_out).Draw();
+  RealWorldChanges changes = ClutterPlacer(profile, seed, survey, description, keep_out).Draw();
+  if (profile.floor_max_slope_rad > 0.0) {  // its own stream: the other draws keep theirs
+    core::RandomStream draw(seed, core::RandomStream::StreamId("realism/floor"));
+    sim::FloorReliefOptions relief;
+    relief.max_slope_rad = profile.floor_max_slope_rad;
+    relief.min_wavelength_m = profile.floor_min_wavelength_m;
+    relief.max_wavelength_m = profile.floor_max_wavelength_m;
+    changes.relief =
+        sim::DrawFloorRelief(relief, description.floor.min_m, description.floor.max_m, &draw);
+  }
+  return changes;
 }
 
 void ApplyRealWorld(const RealWorldChanges& changes, sim::WorldDescription* description) {
@@ -317,6 +327,7 @@ void ApplyRealWorld(const RealWorldChanges& changes, sim::WorldDescription* desc
   description->boxes.insert(description->boxes.end(), changes.boxes.begin(), changes.boxes.end());
   description->cylinders.insert(description->cylinders.end(), changes.cylinders.begin(),
                                 changes.cylinders.end());
+  if (!changes.relief.flat()) description->floor.relief = changes.relief;
   for (sim::Door& door : description->doors) {
     if (std::find(changes.opened_doors.begin(), changes.opened_doors.end(), door.id) !=
         changes.opened_doors.end()) {

@@ -21,6 +21,7 @@ struct RealWorldChanges {
   std::vector<sim::Cylinder> cylinders;  // plants in pots, table legs
   std::vector<std::string> opened_doors;
   std::vector<sim::FloorPatch> carpets;  // for every robot's encoders
+  sim::FloorRelief relief;               // slopes and bumps of the floor
 };
 
 // The name of the material clutter is made of (added to the description).
@@ -52,6 +53,10 @@ void AddRoads(const core::RobotMap& map, ClutterKeepOut* keep_out);
 // - Carpet: the floor in 4 m squares, each carpeted with probability
 //   carpet_fraction, its wheels turning farther per metre by a uniform draw
 //   in [0.2, 1] x carpet_travel_error.
+// - Relief: slopes and bumps of the floor no steeper than
+//   floor_max_slope_rad (sim::DrawFloorRelief, stream "realism/floor"), for
+//   the physics and both wheel models; the encoders and the map know nothing
+//   of them.
 // Nothing for an ideal profile. Deterministic for given inputs.
 RealWorldChanges DrawRealWorld(const RealismProfile& profile, std::uint64_t seed,
                                const sim::World& survey, const sim::WorldDescription& description,

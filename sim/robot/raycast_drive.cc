@@ -45,6 +45,9 @@ RaycastDrive::RaycastDrive(std::vector<RaycastWheelSpec> wheels, const RaycastDr
   if (options_.iterations < 1 || options_.iterations > 100) {
     throw std::invalid_argument("raycast drive iterations must be in [1, 100]");
   }
+  if (!(options_.contact_stiffness_npm >= 0.0) || !(options_.contact_damping_nspm >= 0.0)) {
+    throw std::invalid_argument("raycast drive contact stiffness and damping must be >= 0");
+  }
   normal_rows_.reserve(wheels_.size());
   traction_rows_.reserve(wheels_.size());
   lateral_rows_.reserve(wheels_.size());
@@ -81,12 +84,46 @@ struct RaycastDrive::Step {
   void SolveRow(const Row& row, double lo, double hi, double* accumulated) {
     const double velocity = row.linear.dot(v) + row.angular.dot(w);
     const double wanted = *accumulated + (row.target_mps - velocity) * row.inverse_effective_mass;
+    Clamp(row, wanted, lo, hi, accumulated);
+  }
+
+  // A spring-damper row (Catto's soft constraint): the impulse also answers
+  // the row's own accumulated impulse through its softness gamma, and its
+  // effective mass is 1 / (J M^-1 J^T + gamma) (`soft_effective_mass`).
+  void SolveSoftRow(const Row& row, double gamma, double soft_effective_mass, double lo, double hi,
+                    double* accumulated) {
+    const double velocity = row.linear.dot(v) + row.angular.dot(w);
+    const double wanted =
+        *accumulated + (row.target_mps - velocity - gamma * *accumulated) * soft_effective_mass;
+    Clamp(row, wanted, lo, hi, accumulated);
+  }
+
+  void Clamp(const Row& row, double wanted, double lo, double hi, double* accumulated) {
     const double clamped = std::clamp(wanted, lo, hi);
     Apply(row, clamped - *accumulated);
     largest_change_ns = std::max(largest_change_ns, std::abs(clamped - *accumulated));
     *accumulated = clamped;
   }
 };
+
+RaycastDrive::ContactFrame RaycastDrive::ReliefContact(const Eigen::Vector3d& centre,
+                                                       const Eigen::Vector3d& body_forward,
+                                                       double radius_m) const {
+  const Eigen::Vector2d xy = centre.head<2>();
+  const Eigen::Vector3d normal = options_.relief->NormalAt(xy);
+  const Eigen::Vector3d below(xy.x(), xy.y(), options_.floor_z_m + options_.relief->HeightAt(xy));
+  // The distance from the centre to the tangent plane, and its foot there.
+  const double distance = (centre - below).dot(normal);
+  ContactFrame frame;
+  frame.point = centre - distance * normal;
+  frame.normal = normal;
+  frame.gap = distance - radius_m;
+  frame.forward = body_forward - body_forward.dot(normal) * normal;
+  const double norm = frame.forward.norm();
+  if (norm > kMinForwardNorm) frame.forward /= norm;
+  frame.left = normal.cross(frame.forward);
+  return frame;
+}
 
 // Inlined into Solve (called once per robot and step).
 [[gnu::always_inline]] inline void RaycastDrive::AddContactRows(
@@ -101,11 +138,16 @@ struct RaycastDrive::Step {
   traction_rows_.clear();
   lateral_rows_.clear();
   contact_wheel_.clear();
+  const bool relief = options_.relief != nullptr && !options_.relief->flat();
   for (int i = 0; i < wheel_count(); ++i) {
     const RaycastWheelSpec& spec = wheels_[i];
     WheelState& s = state_[i];
     const Eigen::Vector3d centre = chassis.com_m + R * spec.centre_m;
-    const double gap = centre.z() - options_.floor_z_m - spec.radius_m;
+    // Above the relief's height below the centre (a tangent plane's vertical
+    // gap; the normal one is within cos 0.5° of it): the same contact test.
+    const double floor_z = relief ? options_.floor_z_m + options_.relief->HeightAt(centre.head<2>())
+                                  : options_.floor_z_m;
+    const double gap = centre.z() - floor_z - spec.radius_m;
     const bool on_floor = centre.x() >= options_.floor_min_m.x() &&
                           centre.x() <= options_.floor_max_m.x() &&
                           centre.y() >= options_.floor_min_m.y() &&
@@ -115,17 +157,29 @@ struct RaycastDrive::Step {
       continue;
     }
     // The ray from the sphere's centre straight down meets the floor at the
-    // sphere's contact point.
-    const Eigen::Vector3d arm =
-        Eigen::Vector3d(centre.x(), centre.y(), options_.floor_z_m) - chassis.com_m;
-    const double target = gap > 0.0 ? -gap / dt_s : -kPenetrationErp * gap / dt_s;
-    normal_rows_.push_back(step.MakeRow(up, arm, target));
+    // sphere's contact point; on a relief, the plane tangent to it there.
+    ContactFrame frame{Eigen::Vector3d(centre.x(), centre.y(), options_.floor_z_m), up,
+                       step.forward, step.left, gap};
+    if (relief) frame = ReliefContact(centre, R.col(0), spec.radius_m);
+    const Eigen::Vector3d arm = frame.point - chassis.com_m;
+    const double target = frame.gap > 0.0 ? -frame.gap / dt_s : -kPenetrationErp * frame.gap / dt_s;
+    normal_rows_.push_back(step.MakeRow(frame.normal, arm, target));
+    if (options_.contact_stiffness_npm > 0.0 && frame.gap <= 0.0) {
+      // The deflection -gap pushes back as a spring-damper (Catto's soft
+      // step: gamma = 1 / (h (c + h k)), the error reduced by h k / (c + h k)).
+      Row& row = normal_rows_.back();
+      const double k = options_.contact_stiffness_npm;
+      const double denominator = options_.contact_damping_nspm + dt_s * k;
+      row.softness = 1.0 / (dt_s * denominator);
+      row.target_mps = -(dt_s * k / denominator) * frame.gap / dt_s;
+      row.soft_effective_mass = 1.0 / (1.0 / row.inverse_effective_mass + row.softness);
+    }
     // Friction rows exist for drive wheels only; casters hold empty rows so
     // that the row lists stay parallel.
     const bool friction = spec.driven && step.level_enough;
     traction_rows_.push_back(
-        friction ? step.MakeRow(step.forward, arm, spec.radius_m * command_radps[i]) : Row{});
-    lateral_rows_.push_back(friction ? step.MakeRow(step.left, arm, 0.0) : Row{});
+        friction ? step.MakeRow(frame.forward, arm, spec.radius_m * command_radps[i]) : Row{});
+    lateral_rows_.push_back(friction ? step.MakeRow(frame.left, arm, 0.0) : Row{});
     contact_wheel_.push_back(i);
     if (s.contact) {
       s.normal_ns *= kWarmStartFactor;
@@ -157,7 +211,14 @@ struct RaycastDrive::Step {
     step.largest_change_ns = 0.0;
     for (std::size_t c = 0; c < contacts; ++c) {
       WheelState& s = state_[contact_wheel_[c]];
-      step.SolveRow(normal_rows_[c], 0.0, std::numeric_limits<double>::infinity(), &s.normal_ns);
+      const Row& row = normal_rows_[c];
+      constexpr double kUnbounded = std::numeric_limits<double>::infinity();
+      if (row.softness > 0.0) {
+        step.SolveSoftRow(row, row.softness, row.soft_effective_mass, 0.0, kUnbounded,
+                          &s.normal_ns);
+      } else {
+        step.SolveRow(row, 0.0, kUnbounded, &s.normal_ns);
+      }
     }
     // Friction after the normals, bounded by their current impulses (a
     // friction pyramid, as the reference's two friction rows per contact).

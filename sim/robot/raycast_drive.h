@@ -3,16 +3,20 @@
 #include <Eigen/Core>
 #include <vector>
 
+#include "sim/world/floor_relief.h"
+
 namespace pavilion::sim {
 
 // The fast wheel model's contact solver (sim::WheelModel::kRaycast): a robot is
 // one rigid body, and each drive wheel and caster a sphere fixed under it whose
 // contact with the floor plane is found by a vertical ray from its centre (the
 // exact contact of a sphere on a plane, as the articulated reference's sphere
-// wheels touch the floor). Every step, before the physics engine integrates,
-// the contacts' normal, traction and lateral friction impulses are solved on
-// the chassis alone by sequential impulses, as Bullet solves the reference's
-// contacts, but without the wheel bodies, joints and contact manifolds.
+// wheels touch the floor). On an uneven floor (FloorRelief) each wheel meets
+// the plane tangent to the relief below its centre: the contact's normal is
+// the floor's, its traction and lateral directions lie in that plane. Every step, before the
+// physics engine integrates, the contacts' normal, traction and lateral friction impulses are
+// solved on the chassis alone by sequential impulses, as Bullet solves the reference's contacts,
+// but without the wheel bodies, joints and contact manifolds.
 //
 // The drive wheels are massless and turned by ideal motors up to their torque
 // limit: while the motor holds, the wheel turns at its commanded rate whatever
@@ -47,6 +51,15 @@ struct RaycastDriveOptions {
   double floor_z_m = 0.0;                   // height of the floor plane
   Eigen::Vector2d floor_min_m{-1e9, -1e9};  // the floor's extent: no support beyond it
   Eigen::Vector2d floor_max_m{1e9, 1e9};
+  // Slopes and bumps above floor_z_m; null or flat: the plane alone. Not
+  // owned: it outlives the drive (the world description holds it).
+  const FloorRelief* relief = nullptr;
+  // The tyres' and casters' compliance under load, N/m and N·s/m per wheel
+  // (0: rigid, contact penetration removed at Bullet's default rate). Four
+  // rigid points cannot all touch an uneven floor; a real wheel deflects a
+  // millimetre or two under a tenth of a tonne and carries its share.
+  double contact_stiffness_npm = 0.0;
+  double contact_damping_nspm = 0.0;
 };
 
 // Contact solver and wheel state of one robot.
@@ -97,10 +110,27 @@ class RaycastDrive {
     Eigen::Vector3d inv_inertia_angular;  // I⁻¹ · angular
     double inverse_effective_mass = 0.0;  // 1 / (J M⁻¹ Jᵀ)
     double target_mps = 0.0;              // wanted J·v
+    // A soft (spring-damper) row: gamma, and 1 / (J M⁻¹ Jᵀ + gamma). 0: rigid.
+    double softness = 0.0;
+    double soft_effective_mass = 0.0;
   };
 
   // The chassis' velocities and mass properties while one step is solved.
   struct Step;
+  // Where a wheel meets the floor: the contact point, the floor's normal
+  // there, the rolling and lateral directions in the floor's plane, and the
+  // sphere's gap to it (negative: penetration).
+  struct ContactFrame {
+    Eigen::Vector3d point;
+    Eigen::Vector3d normal;
+    Eigen::Vector3d forward;
+    Eigen::Vector3d left;
+    double gap = 0.0;
+  };
+  // The contact of a sphere at `centre` on the plane tangent to the relief
+  // below it; `body_forward` is the chassis' forward axis.
+  ContactFrame ReliefContact(const Eigen::Vector3d& centre, const Eigen::Vector3d& body_forward,
+                             double radius_m) const;
 
   // The contact rows of the wheels on the floor, with their warm-start impulses applied.
   void AddContactRows(double dt_s, const std::vector<double>& command_radps,

@@ -36,6 +36,13 @@ constexpr double kMinWheelMassFraction = 1.0 / 8.0;
 // the axis in A) to "positive forward" wheel rotation; established by the
 // forward-drive test in tests/sim/robot/robot_world_test.cc.
 constexpr double kHingeSign = -1.0;
+// On an uneven floor the fast model's wheels and casters are springs: a solid
+// rubber tyre of a 0.1 m wheel deflects about 2 mm under a quarter of a
+// 110 kg Robox at this stiffness, damped near critically for that load
+// (chosen; a rigid four-point support would leave a drive wheel in the air
+// over a 1-2 mm dip between its contacts). On the flat floor they stay rigid.
+constexpr double kTyreStiffnessNpm = 1.5e5;
+constexpr double kTyreDampingNspm = 2.0e3;
 
 // True when the polygon is convex and counter-clockwise with non-zero area.
 bool IsConvexCcw(const std::vector<Eigen::Vector2d>& p) {
@@ -296,6 +303,11 @@ void RobotBody::AddRaycastDrive(const PartLayout& layout) {
   options.gravity_mps2 = world_.options->gravity_mps2;
   options.floor_min_m = description.floor.min_m;
   options.floor_max_m = description.floor.max_m;
+  options.relief = &description.floor.relief;
+  if (!description.floor.relief.flat()) {
+    options.contact_stiffness_npm = kTyreStiffnessNpm;
+    options.contact_damping_nspm = kTyreDampingNspm;
+  }
   drive_command_radps_.assign(specs.size(), 0.0);
   drive_ = std::make_unique<RaycastDrive>(std::move(specs), options);
 }
@@ -349,9 +361,18 @@ void RobotBody::AddArticulatedParts(std::unique_ptr<btCompoundShape> compound,
   }
 }
 
-// Places every part at `pose`, at rest.
+// Places every part at `pose`, at rest: on a relief, its base on the plane
+// tangent to the floor below the base's origin (the wheels then rest within
+// the relief's curvature of the floor, hundredths of a millimetre).
 void RobotBody::Place(const core::Pose2& pose) {
-  const btTransform world_from_base = PlanarTransform(pose, 0.0);
+  btTransform world_from_base = PlanarTransform(pose, 0.0);
+  if (const FloorRelief& relief = world_.description->floor.relief; !relief.flat()) {
+    const Eigen::Vector2d at(pose.x_m, pose.y_m);
+    const Eigen::Vector3d n = relief.NormalAt(at);
+    const btQuaternion tilt = shortestArcQuat(btVector3(0, 0, 1), btVector3(n.x(), n.y(), n.z()));
+    world_from_base.setRotation(tilt * world_from_base.getRotation());
+    world_from_base.setOrigin(btVector3(pose.x_m, pose.y_m, relief.HeightAt(at)));
+  }
   for (Part& part : parts_) {
     const btTransform t = world_from_base * part.base_from_part;
     part.rigid->setWorldTransform(t);

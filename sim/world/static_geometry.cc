@@ -1,9 +1,13 @@
 #include "sim/world/static_geometry.h"
 
+#include <BulletCollision/CollisionShapes/btHeightfieldTerrainShape.h>
 #include <btBulletDynamicsCommon.h>
 
+#include <algorithm>
+#include <cmath>
 #include <memory>
 #include <utility>
+#include <vector>
 
 #include "sim/world/bullet_conversions.h"
 #include "sim/world/triangle_mesh.h"
@@ -18,6 +22,21 @@ constexpr double kFloorThicknessM = 1.0;
 // meet the surface the description gives.
 constexpr double kMeshMarginM = 0.001;
 
+// The samples of a height field, kept alive before the shape that reads them
+// is built (a base class is constructed before the members of the derived one).
+struct HeightSamples {
+  std::vector<float> heights;
+};
+
+// An uneven floor (FloorRelief) as a Bullet height field that owns its samples.
+class ReliefShape : private HeightSamples, public btHeightfieldTerrainShape {
+ public:
+  ReliefShape(std::vector<float> heights, int columns, int rows, float min_m, float max_m)
+      : HeightSamples{std::move(heights)},
+        btHeightfieldTerrainShape(columns, rows, HeightSamples::heights.data(), min_m, max_m,
+                                  /*upAxis=*/2, /*flipQuadEdges=*/false) {}
+};
+
 // Adds static bodies of one world description to a physics world.
 class StaticBuilder {
  public:
@@ -27,6 +46,7 @@ class StaticBuilder {
   void AddFloor() {
     const Floor& floor = description_.floor;
     const int element = elements_.Add("floor", floor.material, false);
+    if (!floor.relief.flat()) return AddReliefFloor(element);
     const Eigen::Vector2d half = 0.5 * (floor.max_m - floor.min_m);
     const Eigen::Vector2d centre = 0.5 * (floor.max_m + floor.min_m);
     auto shape =
@@ -34,6 +54,36 @@ class StaticBuilder {
     btTransform t;
     t.setIdentity();
     t.setOrigin(btVector3(centre.x(), centre.y(), -0.5 * kFloorThicknessM));
+    AddStatic(std::move(shape), t, floor.material, element);
+  }
+
+  // The relief sampled every kReliefGridSpacingM (or closer, so that the
+  // samples meet the floor's edges) as a height field.
+  void AddReliefFloor(int element) {
+    const Floor& floor = description_.floor;
+    const Eigen::Vector2d extent = floor.max_m - floor.min_m;
+    const int columns = static_cast<int>(std::ceil(extent.x() / kReliefGridSpacingM)) + 1;
+    const int rows = static_cast<int>(std::ceil(extent.y() / kReliefGridSpacingM)) + 1;
+    const double dx = extent.x() / (columns - 1);
+    const double dy = extent.y() / (rows - 1);
+    std::vector<float> heights(static_cast<std::size_t>(columns) * rows);
+    for (int j = 0; j < rows; ++j) {
+      for (int i = 0; i < columns; ++i) {
+        const Eigen::Vector2d p(floor.min_m.x() + i * dx, floor.min_m.y() + j * dy);
+        heights[static_cast<std::size_t>(j) * columns + i] =
+            static_cast<float>(floor.relief.HeightAt(p));
+      }
+    }
+    const auto [lo, hi] = std::minmax_element(heights.begin(), heights.end());
+    const float min_m = *lo, max_m = *hi;
+    auto shape = std::make_unique<ReliefShape>(std::move(heights), columns, rows, min_m, max_m);
+    shape->setLocalScaling(btVector3(dx, dy, 1.0));
+    shape->setMargin(0.0);  // contacts on the surface the ray-cast wheels see
+    // Bullet centres a height field on its bounding box.
+    const Eigen::Vector2d centre = 0.5 * (floor.max_m + floor.min_m);
+    btTransform t;
+    t.setIdentity();
+    t.setOrigin(btVector3(centre.x(), centre.y(), 0.5 * (min_m + max_m)));
     AddStatic(std::move(shape), t, floor.material, element);
   }
 

@@ -10,6 +10,7 @@
 #include "core/geometry/planar_section.h"
 #include "core/geometry/polygon.h"
 #include "core/types/pose2.h"
+#include "sim/world/floor_relief.h"
 
 namespace pavilion::sim {
 
@@ -28,6 +29,8 @@ struct Floor {
   Eigen::Vector2d min_m{-10.0, -10.0};
   Eigen::Vector2d max_m{10.0, 10.0};
   std::string material;
+  // Slopes and bumps (`realism: realistic`); flat by default.
+  FloorRelief relief;
 };
 
 // An extruded 2D polyline, centred on the polyline, mitred at its joints.

@@ -146,7 +146,7 @@ sim::WorldDescription Hall() {
   d.name = "hall";
   d.materials["floor"] = sim::Material{0.8, 0.0, {0.6, 0.6, 0.6, 1}, core::LaserResponse::kNormal};
   d.materials["wall"] = sim::Material{0.8, 0.0, {0.8, 0.8, 0.8, 1}, core::LaserResponse::kNormal};
-  d.floor = {{-kHallHalfX - 1, -kHallHalfY - 1}, {kHallHalfX + 1, kHallHalfY + 1}, "floor"};
+  d.floor = {{-kHallHalfX - 1, -kHallHalfY - 1}, {kHallHalfX + 1, kHallHalfY + 1}, "floor", {}};
   const Eigen::Vector2d corners[4] = {{-kHallHalfX, -kHallHalfY},
                                       {kHallHalfX, -kHallHalfY},
                                       {kHallHalfX, kHallHalfY},

@@ -13,7 +13,7 @@ inline sim::WorldDescription FloorWorld(double half_extent_m, bool wall) {
   sim::WorldDescription w;
   w.name = "floor";
   w.materials["floor"] = sim::Material{0.8, 0.0, {0.5, 0.5, 0.5, 1}, core::LaserResponse::kNormal};
-  w.floor = {{-half_extent_m, -half_extent_m}, {half_extent_m, half_extent_m}, "floor"};
+  w.floor = {{-half_extent_m, -half_extent_m}, {half_extent_m, half_extent_m}, "floor", {}};
   if (wall) {
     sim::Wall x;
     x.id = "wall";

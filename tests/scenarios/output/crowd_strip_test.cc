@@ -34,7 +34,7 @@ sim::WorldDescription Room() {
   w.materials["wall"] = sim::Material{0.8, 0.0, {0.3, 0.3, 0.35, 1}, core::LaserResponse::kNormal};
   w.materials["visitor"] =
       sim::Material{0.6, 0.0, {0.85, 0.55, 0.35, 1}, core::LaserResponse::kNormal};
-  w.floor = {{-3, -3}, {3, 3}, "floor"};
+  w.floor = {{-3, -3}, {3, 3}, "floor", {}};
   sim::Wall room;
   room.id = "room";
   room.points_m = {{-3, -3}, {3, -3}, {3, 3}, {-3, 3}};

@@ -193,6 +193,55 @@ TEST(RealismProfileTest, ClutterStandsAgainstWallsOffTheRoads) {
   EXPECT_TRUE(DrawRealWorld(none, 1, survey, s.world, keep_out).boxes.empty());
 }
 
+// The floor's relief is a draw of its own: its maximum slope scales the same
+// waves, and turning it off or changing it leaves the clutter, the doors and
+// the carpet as they were. The ideal profile's floor stays flat.
+TEST(RealismProfileTest, TheFloorReliefIsADrawOfItsOwn) {
+  const Scenario s = OfficeTour({"realism=realistic"});
+  const sim::World survey(s.world, s.physics);
+  const ClutterKeepOut keep_out;
+  const RealWorldChanges a = DrawRealWorld(s.realism, 1, survey, s.world, keep_out);
+  ASSERT_FALSE(a.relief.flat());
+  const auto same_world = [&](const RealWorldChanges& b) {
+    ASSERT_EQ(a.boxes.size(), b.boxes.size());
+    for (std::size_t k = 0; k < a.boxes.size(); ++k) {
+      EXPECT_EQ(a.boxes[k].pose, b.boxes[k].pose) << a.boxes[k].id;
+    }
+    EXPECT_EQ(a.opened_doors, b.opened_doors);
+    ASSERT_EQ(a.carpets.size(), b.carpets.size());
+    for (std::size_t k = 0; k < a.carpets.size(); ++k) {
+      EXPECT_EQ(a.carpets[k].travel_scale_error, b.carpets[k].travel_scale_error);
+    }
+  };
+  RealismProfile half = s.realism;
+  half.floor_max_slope_rad *= 0.5;
+  const RealWorldChanges h = DrawRealWorld(half, 1, survey, s.world, keep_out);
+  same_world(h);
+  ASSERT_EQ(h.relief.waves().size(), a.relief.waves().size());
+  const double ratio = std::tan(half.floor_max_slope_rad) / std::tan(s.realism.floor_max_slope_rad);
+  for (std::size_t k = 0; k < a.relief.waves().size(); ++k) {
+    EXPECT_EQ(h.relief.waves()[k].wavevector_radpm, a.relief.waves()[k].wavevector_radpm);
+    EXPECT_NEAR(h.relief.waves()[k].amplitude_m, ratio * a.relief.waves()[k].amplitude_m, 1e-15);
+  }
+  RealismProfile flat = s.realism;
+  flat.floor_max_slope_rad = 0.0;
+  const RealWorldChanges f = DrawRealWorld(flat, 1, survey, s.world, keep_out);
+  same_world(f);
+  EXPECT_TRUE(f.relief.flat());
+  // Applied, the description's floor carries it.
+  sim::WorldDescription d = s.world;
+  ApplyRealWorld(a, &d);
+  EXPECT_EQ(d.floor.relief.HeightAt({1.0, 2.0}), a.relief.HeightAt({1.0, 2.0}));
+  EXPECT_TRUE(DrawRealWorld(OfficeTour({}).realism, 1, survey, s.world, keep_out).relief.flat());
+  try {
+    OfficeTour({"realism.profile=realistic", "realism.floor_max_slope_deg=5"});
+    FAIL() << "expected an error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("realism.floor_max_slope_deg"), std::string::npos)
+        << e.what();
+  }
+}
+
 // A realistic run builds its world from the surveyed one plus clutter and open
 // doors, and says so in its metrics; an ideal run's metrics have no such block.
 TEST(RealismProfileTest, ARealisticRunReportsWhatItAdded) {

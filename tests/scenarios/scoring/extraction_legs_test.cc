@@ -19,7 +19,7 @@ TEST(ExtractionLegs, LegSizedCylindersGiveNoLines) {
   sim::WorldDescription d;
   d.name = "legs";
   d.materials["wall"] = sim::Material{0.8, 0.0, {0.7, 0.7, 0.7, 1}, core::LaserResponse::kNormal};
-  d.floor = {{-1, -6}, {9, 6}, "wall"};
+  d.floor = {{-1, -6}, {9, 6}, "wall", {}};
   sim::Wall room;
   room.id = "room";
   room.points_m = {{-0.5, -5}, {8, -5}, {8, 5}, {-0.5, 5}};

@@ -33,7 +33,7 @@ WorldDescription Room() {
   w.name = "room";
   w.materials["paint"] = MaterialWith(core::LaserResponse::kNormal);
   w.materials["glass"] = MaterialWith(core::LaserResponse::kTransparent);
-  w.floor = {{-1, -1}, {7, 5}, "paint"};
+  w.floor = {{-1, -1}, {7, 5}, "paint", {}};
   Wall room;
   room.id = "room";
   room.points_m = {{0, 0}, {6, 0}, {6, 4}, {0, 4}};

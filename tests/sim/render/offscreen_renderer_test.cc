@@ -60,7 +60,7 @@ WorldDescription Studio() {
   d.materials["black"] = Material{0.8, 0.0, {0.05, 0.05, 0.05, 1}, core::LaserResponse::kNormal};
   d.materials["red"] = Material{0.8, 0.0, {0.8, 0.1, 0.1, 1}, core::LaserResponse::kNormal};
   d.materials["blue"] = Material{0.8, 0.0, {0.1, 0.2, 0.9, 1}, core::LaserResponse::kNormal};
-  d.floor = {{-10, -10}, {10, 10}, "floor"};
+  d.floor = {{-10, -10}, {10, 10}, "floor", {}};
   Wall w;
   w.id = "backdrop";
   w.points_m = {{kWallX, -10}, {kWallX, 10}};

@@ -177,7 +177,7 @@ struct Room {
     material("door", 0.2, 0.6, 0.25);
     material("robot", 0.1, 0.1, 0.12);
     material("visitor", 0.7, 0.5, 0.3);
-    d.floor = {{-1, -1}, {9, 7}, "floor"};
+    d.floor = {{-1, -1}, {9, 7}, "floor", {}};
     Wall room;
     room.id = "room";
     room.points_m = {{0, 0}, {8, 0}, {8, 6}, {0, 6}};

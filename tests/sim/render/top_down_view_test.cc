@@ -136,7 +136,7 @@ WorldDescription Room() {
   w.name = "room";
   w.materials["floor"] = Material{0.8, 0.0, {0.5, 0.5, 0.5, 1}, core::LaserResponse::kNormal};
   w.materials["wall"] = Material{0.8, 0.0, {0.2, 0.2, 0.6, 1}, core::LaserResponse::kNormal};
-  w.floor = {{0, 0}, {6, 6}, "floor"};
+  w.floor = {{0, 0}, {6, 6}, "floor", {}};
   Wall room;
   room.id = "room";
   room.points_m = {{0, 0}, {6, 0}, {6, 6}, {0, 6}};

@@ -25,7 +25,7 @@ WorldDescription Hall(bool with_wall) {
   w.materials["plastic"] = Material{0.4, 0.0, {0.2, 0.2, 0.8, 1}, core::LaserResponse::kNormal};
   w.materials["retro"] =
       Material{0.4, 0.0, {0.9, 0.9, 0.9, 1}, core::LaserResponse::kRetroReflective};
-  w.floor = {{-20, -20}, {20, 20}, "floor"};
+  w.floor = {{-20, -20}, {20, 20}, "floor", {}};
   if (with_wall) {
     Wall wall;
     wall.id = "wall";

@@ -89,7 +89,7 @@ WorldDescription Studio() {
   d.materials["floor"] = Material{0.8, 0.0, {0.6, 0.6, 0.6, 1}, core::LaserResponse::kNormal};
   d.materials["white"] = Material{0.8, 0.0, {0.95, 0.95, 0.95, 1}, core::LaserResponse::kNormal};
   d.materials["black"] = Material{0.8, 0.0, {0.05, 0.05, 0.05, 1}, core::LaserResponse::kNormal};
-  d.floor = {{-10, -10}, {10, 10}, "floor"};
+  d.floor = {{-10, -10}, {10, 10}, "floor", {}};
   Wall w;
   w.id = "backdrop";
   w.points_m = {{kWallX, -10}, {kWallX, 10}};

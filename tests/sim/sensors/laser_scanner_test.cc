@@ -38,7 +38,7 @@ WorldDescription EmptyWorld() {
   w.materials["velvet"] = MaterialWith(LaserResponse::kDark);
   w.materials["chrome"] = MaterialWith(LaserResponse::kSpecular);
   w.materials["glass"] = MaterialWith(LaserResponse::kTransparent);
-  w.floor = {{-30, -30}, {30, 30}, "paint"};
+  w.floor = {{-30, -30}, {30, 30}, "paint", {}};
   return w;
 }
 

@@ -30,7 +30,7 @@ WorldDescription FourWallRoom() {
   Material velvet;
   velvet.laser = LaserResponse::kDark;
   w.materials["velvet"] = velvet;
-  w.floor = {{-5, -5}, {15, 11}, "paint"};
+  w.floor = {{-5, -5}, {15, 11}, "paint", {}};
   const auto wall = [&](const std::string& id, Eigen::Vector2d a, Eigen::Vector2d b,
                         const std::string& material) {
     Wall x;

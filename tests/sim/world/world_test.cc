@@ -23,7 +23,7 @@ WorldDescription TestRoom() {
   w.materials["glass"] =
       Material{0.5, 0.0, {0.6, 0.8, 0.9, 0.3}, core::LaserResponse::kTransparent};
   w.materials["floor"] = Material{0.8, 0.0, {0.5, 0.5, 0.5, 1}, core::LaserResponse::kNormal};
-  w.floor = {{-1, -1}, {11, 11}, "floor"};
+  w.floor = {{-1, -1}, {11, 11}, "floor", {}};
   Wall room;
   room.id = "room";
   room.points_m = {{0, 0}, {10, 0}, {10, 10}, {0, 10}};
