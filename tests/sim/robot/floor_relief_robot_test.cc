@@ -19,6 +19,7 @@
 #include "sim/world/floor_relief.h"
 #include "sim/world/world.h"
 #include "tests/support/floor_world.h"
+#include "tests/support/shipped_robots.h"
 #include "tests/support/world_robot.h"
 
 namespace pavilion::sim {
@@ -30,13 +31,8 @@ constexpr double kDeg = kPi / 180.0;
 constexpr double kPoseToleranceM = 0.02;
 constexpr double kHeadingToleranceRad = kDeg;
 
-const RobotConfig& Config(const std::string& name) {
-  static const RobotConfig pygmalion =
-      scenarios::LoadRobotFile(PAVILION_SOURCE_DIR "/robots/pygmalion/robot.yaml");
-  static const RobotConfig robox =
-      scenarios::LoadRobotFile(PAVILION_SOURCE_DIR "/robots/robox/robot.yaml");
-  return name == "robox" ? robox : pygmalion;
-}
+// A shipped robot file (robots/<name>/robot.yaml).
+const RobotConfig& Config(const std::string& name) { return pavilion::testing::ShippedRobot(name); }
 
 // A slope of `slope_rad` rising along +x at the origin: one 40 m wave, so
 // that the floor under a robot is a plane within 0.01 mm.
