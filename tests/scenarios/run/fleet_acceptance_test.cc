@@ -29,8 +29,8 @@ RunMetrics RunFull(const std::string& scenario, std::uint64_t seed, bool resolve
 class ExpoToursAcceptance : public ::testing::TestWithParam<std::uint64_t> {};
 
 // Zero robot-robot and robot-wall collisions, >= 95 % of started missions
-// completed, >= 10 missions per robot-hour, never blocked over 60 s, never two
-// robots within 1 m of the same station node.
+// completed, >= 10 missions per robot-hour, never blocked (nor standing with a
+// mission) over 60 s, never two robots within 1 m of the same station node.
 TEST_P(ExpoToursAcceptance, TenRobotsGiveToursForAnHour) {
   const RunMetrics m = RunFull("expo_tours", GetParam());
   ASSERT_TRUE(m.fleet);
@@ -43,6 +43,11 @@ TEST_P(ExpoToursAcceptance, TenRobotsGiveToursForAnHour) {
     EXPECT_EQ(r.collisions_by_class.of(CollisionClass::kRobot), 0) << r.id;
     EXPECT_EQ(r.collisions_by_class.of(CollisionClass::kVisible), 0) << r.id;
     EXPECT_LE(r.navigation->longest_blocked_s, 60.0) << r.id;
+    // A blocked episode ends when its mission is aborted (after 45 s), and a
+    // robot can be blocked again at once: the stand across aborts is the
+    // criterion's plain sense (seed 4 at 545db6e: 1,005 s beside a lost
+    // robot, every episode under 60 s).
+    EXPECT_LE(r.navigation->longest_still_s, 60.0) << r.id;
   }
   // The mission each robot is on when the hour ends cannot complete.
   EXPECT_GE(completed, 0.95 * (started - robots));
