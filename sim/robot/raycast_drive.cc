@@ -90,11 +90,10 @@ struct RaycastDrive::Step {
   // A spring-damper row (Catto's soft constraint): the impulse also answers
   // the row's own accumulated impulse through its softness gamma, and its
   // effective mass is 1 / (J M^-1 J^T + gamma) (`soft_effective_mass`).
-  void SolveSoftRow(const Row& row, double gamma, double soft_effective_mass, double lo, double hi,
-                    double* accumulated) {
+  void SolveSoftRow(const Row& row, double lo, double hi, double* accumulated) {
     const double velocity = row.linear.dot(v) + row.angular.dot(w);
-    const double wanted =
-        *accumulated + (row.target_mps - velocity - gamma * *accumulated) * soft_effective_mass;
+    const double wanted = *accumulated + (row.target_mps - velocity - row.softness * *accumulated) *
+                                             row.soft_effective_mass;
     Clamp(row, wanted, lo, hi, accumulated);
   }
 
@@ -107,11 +106,11 @@ struct RaycastDrive::Step {
 };
 
 RaycastDrive::ContactFrame RaycastDrive::ReliefContact(const Eigen::Vector3d& centre,
+                                                       const FloorRelief::Sample& floor,
                                                        const Eigen::Vector3d& body_forward,
                                                        double radius_m) const {
-  const Eigen::Vector2d xy = centre.head<2>();
-  const Eigen::Vector3d normal = options_.relief->NormalAt(xy);
-  const Eigen::Vector3d below(xy.x(), xy.y(), options_.floor_z_m + options_.relief->HeightAt(xy));
+  const Eigen::Vector3d normal = floor.Normal();
+  const Eigen::Vector3d below(centre.x(), centre.y(), options_.floor_z_m + floor.height_m);
   // The distance from the centre to the tangent plane, and its foot there.
   const double distance = (centre - below).dot(normal);
   ContactFrame frame;
@@ -145,8 +144,9 @@ RaycastDrive::ContactFrame RaycastDrive::ReliefContact(const Eigen::Vector3d& ce
     const Eigen::Vector3d centre = chassis.com_m + R * spec.centre_m;
     // Above the relief's height below the centre (a tangent plane's vertical
     // gap; the normal one is within cos 0.5° of it): the same contact test.
-    const double floor_z = relief ? options_.floor_z_m + options_.relief->HeightAt(centre.head<2>())
-                                  : options_.floor_z_m;
+    const FloorRelief::Sample floor =
+        relief ? options_.relief->At(centre.head<2>()) : FloorRelief::Sample{};
+    const double floor_z = relief ? options_.floor_z_m + floor.height_m : options_.floor_z_m;
     const double gap = centre.z() - floor_z - spec.radius_m;
     const bool on_floor = centre.x() >= options_.floor_min_m.x() &&
                           centre.x() <= options_.floor_max_m.x() &&
@@ -160,7 +160,7 @@ RaycastDrive::ContactFrame RaycastDrive::ReliefContact(const Eigen::Vector3d& ce
     // sphere's contact point; on a relief, the plane tangent to it there.
     ContactFrame frame{Eigen::Vector3d(centre.x(), centre.y(), options_.floor_z_m), up,
                        step.forward, step.left, gap};
-    if (relief) frame = ReliefContact(centre, R.col(0), spec.radius_m);
+    if (relief) frame = ReliefContact(centre, floor, R.col(0), spec.radius_m);
     const Eigen::Vector3d arm = frame.point - chassis.com_m;
     const double target = frame.gap > 0.0 ? -frame.gap / dt_s : -kPenetrationErp * frame.gap / dt_s;
     normal_rows_.push_back(step.MakeRow(frame.normal, arm, target));
@@ -214,8 +214,7 @@ RaycastDrive::ContactFrame RaycastDrive::ReliefContact(const Eigen::Vector3d& ce
       const Row& row = normal_rows_[c];
       constexpr double kUnbounded = std::numeric_limits<double>::infinity();
       if (row.softness > 0.0) {
-        step.SolveSoftRow(row, row.softness, row.soft_effective_mass, 0.0, kUnbounded,
-                          &s.normal_ns);
+        step.SolveSoftRow(row, 0.0, kUnbounded, &s.normal_ns);
       } else {
         step.SolveRow(row, 0.0, kUnbounded, &s.normal_ns);
       }

@@ -129,8 +129,8 @@ class RaycastDrive {
   };
   // The contact of a sphere at `centre` on the plane tangent to the relief
   // below it; `body_forward` is the chassis' forward axis.
-  ContactFrame ReliefContact(const Eigen::Vector3d& centre, const Eigen::Vector3d& body_forward,
-                             double radius_m) const;
+  ContactFrame ReliefContact(const Eigen::Vector3d& centre, const FloorRelief::Sample& floor,
+                             const Eigen::Vector3d& body_forward, double radius_m) const;
 
   // The contact rows of the wheels on the floor, with their warm-start impulses applied.
   void AddContactRows(double dt_s, const std::vector<double>& command_radps,

@@ -33,9 +33,22 @@ Eigen::Vector2d FloorRelief::GradientAt(const Eigen::Vector2d& p_m) const {
   return g;
 }
 
+FloorRelief::Sample FloorRelief::At(const Eigen::Vector2d& p_m) const {
+  Sample s;
+  for (const FloorWave& w : waves_) {
+    const double phase = w.wavevector_radpm.dot(p_m) + w.phase_rad;
+    s.height_m += w.amplitude_m * std::cos(phase);
+    s.gradient -= w.amplitude_m * std::sin(phase) * w.wavevector_radpm;
+  }
+  return s;
+}
+
+Eigen::Vector3d FloorRelief::Sample::Normal() const {
+  return Eigen::Vector3d(-gradient.x(), -gradient.y(), 1.0).normalized();
+}
+
 Eigen::Vector3d FloorRelief::NormalAt(const Eigen::Vector2d& p_m) const {
-  const Eigen::Vector2d g = GradientAt(p_m);
-  return Eigen::Vector3d(-g.x(), -g.y(), 1.0).normalized();
+  return Sample{0.0, GradientAt(p_m)}.Normal();
 }
 
 double FloorRelief::SlopeBound() const {

@@ -35,6 +35,13 @@ class FloorRelief {
   bool flat() const { return waves_.empty(); }
   const std::vector<FloorWave>& waves() const { return waves_; }
 
+  // The height and its gradient at p in one pass over the waves.
+  struct Sample {
+    double height_m = 0.0;
+    Eigen::Vector2d gradient{0.0, 0.0};
+    Eigen::Vector3d Normal() const;  // upward unit normal
+  };
+  Sample At(const Eigen::Vector2d& p_m) const;
   double HeightAt(const Eigen::Vector2d& p_m) const;
   Eigen::Vector2d GradientAt(const Eigen::Vector2d& p_m) const;
   // The floor's upward unit normal at p.

@@ -39,7 +39,11 @@ TEST(FloorRelief, GradientAndNormalAgreeWithTheHeights) {
         (relief.HeightAt(p + dx) - relief.HeightAt(p - dx)) / (2 * kStepM),
         (relief.HeightAt(p + dy) - relief.HeightAt(p - dy)) / (2 * kStepM));
     EXPECT_NEAR((relief.GradientAt(p) - numeric).norm(), 0.0, 1e-8);
+    const FloorRelief::Sample sample = relief.At(p);  // the same values in one pass
+    EXPECT_EQ(sample.height_m, relief.HeightAt(p));
+    EXPECT_EQ(sample.gradient, relief.GradientAt(p));
     const Eigen::Vector3d n = relief.NormalAt(p);
+    EXPECT_EQ(sample.Normal(), n);
     EXPECT_NEAR(n.norm(), 1.0, 1e-12);
     // The normal is perpendicular to both tangents.
     EXPECT_NEAR(n.dot(Eigen::Vector3d(1.0, 0.0, numeric.x())), 0.0, 1e-8);
