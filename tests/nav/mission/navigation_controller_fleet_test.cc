@@ -406,5 +406,41 @@ TEST(NavigationControllerFleet, KeepsFurtherFromARobotThatDeclaredItselfLost) {
   EXPECT_LT(ClosestPassingALostRobot(false), 0.01);
 }
 
+// A robot declared lost stands 0.75 m behind another (hulls 7 cm apart) and
+// publishes a belief `published_x` along the line. Grown by
+// lost_hull_margin_m, its hull reaches into the other, which is sent to b
+// ahead: drawn whole, it would hold that robot where it stands (expo_tours
+// seed 4, 2,596 s: 17 minutes). The growth stops short of the other's hull
+// (a ratchet: it may move away, not closer), and where the published hull
+// itself reaches into it the points within its margin are left out. Returns
+// how far it got along the line in 15 s.
+double DistanceDrivenFromUnderALostHull(double published_x) {
+  NavigationControllerOptions options;
+  options.step_s = kStepS;
+  FleetCoordinator coordinator(2, FleetOptions{});
+  coordinator.SetStations({"a", "s", "b"});
+  NavigationController controller(Line(), Octagon(), MissionSequence::List({"b"}), options);
+  controller.SetFleet({&coordinator, 0});
+  coordinator.Join(1, Octagon());
+  core::Pose2 end;
+  const double closest_m = ClosestApproach(
+      controller, options, {-0.75, 0.0, 0.0}, false, 15.0,
+      [&] {
+        FleetMessage m;
+        m.pose = core::Pose2{published_x, 0.0, 0.0};
+        m.lost = true;
+        coordinator.Send(1, m);
+        coordinator.Merge();
+      },
+      &end);
+  EXPECT_GT(closest_m, 0.065) << "it never backed towards the lost robot";
+  return end.x_m;
+}
+
+TEST(NavigationControllerFleet, DrivesAwayFromALostRobotWhoseGrownHullReachesIntoIt) {
+  EXPECT_GT(DistanceDrivenFromUnderALostHull(-0.75), 4.0);  // the growth ratchets
+  EXPECT_GT(DistanceDrivenFromUnderALostHull(-0.55), 4.0);  // the hull itself reaches in
+}
+
 }  // namespace
 }  // namespace pavilion::nav
