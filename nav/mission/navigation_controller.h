@@ -386,6 +386,9 @@ class NavigationController : public Controller {
   enum class EscapeWay { kNone, kBearing, kReverse, kForward, kCreep };
   EscapeWay escape_way_ = EscapeWay::kNone;
   bool creep_reverse_ = true;
+  // kBearing: cycles held turning towards it with a point near the circle
+  // the corners sweep (then it turns with the creep's margin).
+  int creep_turn_cycles_ = 0;
   int escape_stalls_ = 0;
   double escape_heading_ = 0.0;
   struct PocketMark {

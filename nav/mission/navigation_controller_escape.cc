@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "nav/mission/navigation_controller.h"
@@ -29,6 +31,23 @@ constexpr double kCreepMarginM = 0.005;
 constexpr double kCreepSpeedMps = 0.05;
 constexpr double kCreepMinFreeM = 0.05;
 constexpr double kCreepClearM = 0.01;
+// The turn towards an escape bearing creeps too (the margin cut to
+// kCreepMarginM) once it has been held this many cycles more than
+// kTurnedRad from the bearing with some point within the circle its corners
+// sweep, grown by the full margin plus kCreepClearM: the window then admits
+// only a crawl, its corners sweeping 2.8 cm past an octagon's sides. A Robox
+// between a pedestal and a glass panel's ghost barrier, points 1.4-2.4 cm
+// outside that circle, turned 1 deg/s for 6 s per escape and stood 92 s
+// (expo_tours seed 5, robox_07 at 828 s).
+constexpr int kCreepTurnAfterCycles = 10;
+constexpr double kTurnedRad = 0.35;
+
+// The clearance of the circle the robot sweeps turning on the spot, m.
+double TurnClearance(std::span<const Eigen::Vector2d> points, double circumradius_m) {
+  double nearest_m = std::numeric_limits<double>::infinity();
+  for (const Eigen::Vector2d& p : points) nearest_m = std::min(nearest_m, p.norm());
+  return nearest_m - circumradius_m;
+}
 
 }  // namespace
 
@@ -111,6 +130,7 @@ bool NavigationController::Escape(const ControlTick& tick) {
     escape_from_ = at;
     escape_way_ = EscapeWay::kNone;
     escape_stalls_ = 0;
+    creep_turn_cycles_ = 0;
     ++figures_.escapes;
     if (o.remember_s > 0.0)
       pockets_.push_back({tick.belief.translation(), tick.now_s + o.remember_s});
@@ -140,7 +160,12 @@ bool NavigationController::Escape(const ControlTick& tick) {
   if (escape_way_ == EscapeWay::kBearing) {
     escape_heading_ = core::NormalizeAngle(*bearing + tick.odometry.theta_rad);
     goal.target_in_robot = AheadAlong(*bearing);
+    const bool cramped =
+        std::abs(*bearing) > kTurnedRad &&
+        TurnClearance(points_, circumradius_m_) <= options_.dwa.safety_margin_m + kCreepClearM;
+    creep_turn_cycles_ = cramped ? creep_turn_cycles_ + 1 : 0;
   } else {
+    creep_turn_cycles_ = 0;
     goal.reverse =
         escape_way_ == EscapeWay::kCreep ? creep_reverse_ : escape_way_ == EscapeWay::kReverse;
     goal.target_in_robot =
@@ -149,7 +174,7 @@ bool NavigationController::Escape(const ControlTick& tick) {
   goal.speed_limit_mps = o.speed_mps;
   // A pocket is where the table's cell-sized caution leaves only a crawl.
   goal.exact_clearance = true;
-  if (escape_way_ == EscapeWay::kCreep) {
+  if (escape_way_ == EscapeWay::kCreep || creep_turn_cycles_ > kCreepTurnAfterCycles) {
     goal.speed_limit_mps = std::min(o.speed_mps, kCreepSpeedMps);
     goal.margin_m = std::min(kCreepMarginM, options_.dwa.safety_margin_m);
   }

@@ -471,11 +471,12 @@ struct PocketRun {
   std::vector<NavigationEvent> events;
 };
 
-PocketRun DriveInto(const std::vector<Wall>& walls, double escape_after_s, double duration_s) {
+PocketRun DriveInto(const std::vector<Wall>& walls, double escape_after_s, double duration_s,
+                    const std::vector<Eigen::Vector2d>& hull = Square()) {
   NavigationControllerOptions options;
   options.step_s = kStepS;
   options.escape.after_s = escape_after_s;
-  NavigationController controller(TwoStations(), Square(), MissionSequence::List({"b"}), options);
+  NavigationController controller(TwoStations(), hull, MissionSequence::List({"b"}), options);
   std::vector<Eigen::Vector2d> wall_points;
   for (const Wall& w : walls) {
     for (double f = 0.0; f <= 1.0; f += 0.002)
@@ -510,7 +511,7 @@ PocketRun DriveInto(const std::vector<Wall>& walls, double escape_after_s, doubl
     trail.push_back(pose);
     in_robot.clear();
     for (const Eigen::Vector2d& p : wall_points) in_robot.push_back(pose.Inverse() * p);
-    run.min_clearance_m = std::min(run.min_clearance_m, PolygonClearance(Square(), in_robot));
+    run.min_clearance_m = std::min(run.min_clearance_m, PolygonClearance(hull, in_robot));
     controller.TakeEvents(&run.events);
   }
   for (std::size_t i = trail.size(); i-- > 0;) {
@@ -558,6 +559,38 @@ TEST(NavigationController, BacksStraightOutOfASlotItCannotTurnIn) {
   EXPECT_LT(run.min_x_m, -defaults.leave_m + 0.05);  // backwards
   EXPECT_LT(run.max_turn_rad, 0.05);                 // it never turned in the slot
   EXPECT_GT(run.min_clearance_m, 0.005);
+}
+
+// Robox's 0.68 m octagon (robots/robox/robot.yaml): turning on the spot its
+// corners sweep a circle 2.8 cm wider than its sides.
+std::vector<Eigen::Vector2d> Octagon() {
+  const double r = 0.34 / std::cos(std::numbers::pi / 8.0);
+  std::vector<Eigen::Vector2d> hull;
+  for (int k = 0; k < 8; ++k) {
+    const double a = std::numbers::pi / 8.0 + k * std::numbers::pi / 4.0;
+    hull.emplace_back(r * std::cos(a), r * std::sin(a));
+  }
+  return hull;
+}
+
+// A Robox faces a wall 5 cm before its front; another wall, on its right,
+// ends 4 cm off its rear-right side (expo_tours seed 5, 828 s: a pedestal
+// ahead, a glass panel's ghost barrier behind). The only way out is to the
+// left, but both lie 1.4-2.4 cm outside the circle its corners sweep
+// turning: within the window's 2 cm margin. The window admits a crawl of
+// a degree a second; the escape turns with the margin cut instead.
+TEST(NavigationController, TurnsOutOfAPocketWhoseCornersTheMarginWillNotSweep) {
+  const Eigen::Vector2d ahead_a(0.392, -3.0), ahead_b(0.392, 3.0);
+  const Eigen::Vector2d right_a(-3.0, -0.295), right_b(-0.243, -0.295);
+  const EscapeOptions defaults;
+  const PocketRun run =
+      DriveInto({{ahead_a, ahead_b}, {right_a, right_b}}, defaults.after_s, 30.0, Octagon());
+  ASSERT_GE(run.escapes, 1);
+  // Out by the escape's distance within its drive time, turned to the left,
+  // never within a few millimetres of either wall.
+  EXPECT_GE(run.farthest_after_m, defaults.leave_m - 0.05);
+  EXPECT_GT(run.max_turn_rad, 1.0);
+  EXPECT_GT(run.min_clearance_m, 0.003);
 }
 
 // On an open floor the robot, facing away from b, is held at the origin
