@@ -100,8 +100,10 @@ struct NavigationControllerOptions {
   // freest bearing (ExploreBearing) through the dynamic window, with the
   // laser points, the blind zones' memory, the map's ghost barriers placed
   // by the belief (glass the laser cannot see), other robots' contours and
-  // the bumpers — not the map outline, the others' published hulls or the
-  // station rings, which a wrong belief would misplace. Off: the robot stands.
+  // the bumpers, and with a coordinator the others' published hulls (grown,
+  // below) and the rings of the stations they hold, placed by the belief —
+  // not the map outline, which a wrong belief would misplace. Off: the robot
+  // stands.
   bool explore_when_lost = false;
   ExploreOptions explore;
   // While it explores, the others' published hulls are placed by its belief

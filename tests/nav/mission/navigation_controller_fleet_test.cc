@@ -406,6 +406,52 @@ TEST(NavigationControllerFleet, KeepsFurtherFromARobotThatDeclaredItselfLost) {
   EXPECT_LT(ClosestPassingALostRobot(false), 0.01);
 }
 
+// A robot lost on an empty floor explores straight ahead, over the station
+// another robot (standing 1.2 m beside it) holds. With the fleet it keeps
+// out of the station's ring placed by its belief; alone it drives over the
+// node. Returns how near its centre came to the node.
+double ClosestToAStationWhileExploring(bool fleet) {
+  NavigationControllerOptions options;
+  options.step_s = kStepS;
+  options.explore_when_lost = true;
+  FleetCoordinator coordinator(2, FleetOptions{});
+  coordinator.SetStations({"a", "s", "b"});
+  NavigationController controller(Line(), Octagon(), MissionSequence::List({"b"}), options);
+  if (fleet) {
+    controller.SetFleet({&coordinator, 0});
+    coordinator.Join(1, Octagon());
+  }
+  core::Pose2 pose;
+  WheelSpeeds held;
+  double closest_m = std::numeric_limits<double>::infinity();
+  for (std::int64_t tick = 0; tick * kStepS < 30.0; ++tick) {
+    if (fleet) {
+      FleetMessage m;
+      m.pose = core::Pose2{kStationAt.x(), 1.2, 0.0};
+      m.reserved_station = kStation;
+      m.claims = {kStation};
+      coordinator.Send(1, m);
+      coordinator.Merge();
+    }
+    if (const std::optional<WheelSpeeds> w =
+            controller.OnTick(ControlTick{tick, tick * kStepS, pose, pose, true})) {
+      held = *w;
+    }
+    const core::WheelTravel travel{
+        held.left_radps * options.odometry.left_wheel_radius_m * kStepS,
+        held.right_radps * options.odometry.right_wheel_radius_m * kStepS};
+    pose = core::DiffDriveStep(pose, travel, options.odometry.wheelbase_m);
+    closest_m = std::min(closest_m, (pose.translation() - kStationAt).norm());
+  }
+  EXPECT_GT(pose.x_m, 2.0) << "it explored";
+  return closest_m;
+}
+
+TEST(NavigationControllerFleet, ALostRobotKeepsOutOfAStationAnotherRobotHolds) {
+  EXPECT_GE(ClosestToAStationWhileExploring(true), 1.0);
+  EXPECT_LT(ClosestToAStationWhileExploring(false), 0.5);
+}
+
 // A robot declared lost stands 0.75 m behind another (hulls 7 cm apart) and
 // publishes a belief `published_x` along the line. Grown by
 // lost_hull_margin_m, its hull reaches into the other, which is sent to b
