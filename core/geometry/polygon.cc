@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <limits>
 
 #include "core/geometry/segment2.h"
 
@@ -63,6 +64,19 @@ bool IsSimple(const Polygon2& polygon) {
     }
   }
   return true;
+}
+
+double ConvexPolygonGap(const Polygon2& a, const Polygon2& b) {
+  if (a.empty() || b.empty()) return std::numeric_limits<double>::infinity();
+  if (Contains(a, b.front()) || Contains(b, a.front())) return 0.0;
+  double gap = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    for (std::size_t j = 0; j < b.size(); ++j) {
+      gap = std::min(
+          gap, SegmentSegmentDistance(a[i], a[(i + 1) % a.size()], b[j], b[(j + 1) % b.size()]));
+    }
+  }
+  return gap;
 }
 
 Polygon2 ConvexHull(std::vector<Eigen::Vector2d> p) {

@@ -31,19 +31,6 @@ constexpr double kRingSlipM = 0.25;
 constexpr double kRatchetGapM = 0.005;
 constexpr int kRatchetBisections = 10;
 
-// The gap between two convex polygons, m (0 when they overlap).
-double ConvexGap(const core::Polygon2& a, const core::Polygon2& b) {
-  if (core::Contains(a, b.front()) || core::Contains(b, a.front())) return 0.0;
-  double gap = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    for (std::size_t j = 0; j < b.size(); ++j) {
-      gap = std::min(gap, core::SegmentSegmentDistance(a[i], a[(i + 1) % a.size()], b[j],
-                                                       b[(j + 1) % b.size()]));
-    }
-  }
-  return gap;
-}
-
 }  // namespace
 
 void NavigationController::SwitchGoal(const ControlTick& tick,
@@ -343,7 +330,7 @@ void NavigationController::AppendOtherHulls(const core::Pose2& belief,
     const auto gap_at = [&](double grow_m) {
       core::Polygon2 other = InflateConvexPolygon(hull, grow_m);
       for (Eigen::Vector2d& c : other) c = robot_from_other * c;
-      return ConvexGap(footprint_, other);
+      return core::ConvexPolygonGap(footprint_, other);
     };
     double grow_m = uncertain_m;
     bool drop_inside = false;

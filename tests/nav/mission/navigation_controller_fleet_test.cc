@@ -16,10 +16,11 @@
 #include <string>
 #include <vector>
 
-#include "core/geometry/segment2.h"
+#include "core/geometry/polygon.h"
 #include "core/odometry/diff_drive.h"
 #include "nav/fleet/coordinator.h"
 #include "nav/mission/navigation_controller.h"
+#include "tests/support/robox_octagon.h"
 
 namespace pavilion::nav {
 namespace {
@@ -44,17 +45,7 @@ std::vector<Eigen::Vector2d> Square() {
   return {{-0.3, -0.3}, {0.3, -0.3}, {0.3, 0.3}, {-0.3, 0.3}};
 }
 
-// Robox's 0.68 m octagon (robots/robox/robot.yaml): it turns on the spot
-// beside an obstacle its square cousin's corners would sweep into.
-std::vector<Eigen::Vector2d> Octagon() {
-  const double r = 0.34 / std::cos(std::numbers::pi / 8.0);
-  std::vector<Eigen::Vector2d> hull;
-  for (int k = 0; k < 8; ++k) {
-    const double a = std::numbers::pi / 8.0 + k * std::numbers::pi / 4.0;
-    hull.emplace_back(r * std::cos(a), r * std::sin(a));
-  }
-  return hull;
-}
+using pavilion::testing::RoboxOctagon;
 
 struct RingRun {
   NavigationFigures figures;
@@ -173,7 +164,7 @@ TEST(NavigationControllerFleet, APasserKeepsOutWhileAnotherRobotIsInsideTheStati
 // ratchet it drove straight over the node the other held.
 TEST(NavigationControllerFleet, ARobotThatSlippedPastTheRingBacksOutUntilItIsFree) {
   const RingRun run = Drive({kStationAt.x() - 1.0, 0.0, 0.0}, "b", {4.0, 1.2}, kStation, 15.0, 60.0,
-                            /*other_first=*/true, Octagon());
+                            /*other_first=*/true, RoboxOctagon());
   // While the other holds it, the centre never gets nearer the node than it
   // started by more than the octagon's corners reach beyond its sides
   // (2.8 cm) and the window's slack.
@@ -300,19 +291,6 @@ TEST(NavigationControllerFleet, RevisitsAVisitedStationAfterWaitingForTakenOnes)
   EXPECT_EQ(controller.navigation()->station_revisits, 1);
 }
 
-// The smallest distance between two convex outlines (no overlap assumed
-// when > 0): between their edges.
-double HullDistance(const std::vector<Eigen::Vector2d>& a, const std::vector<Eigen::Vector2d>& b) {
-  double d = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    for (std::size_t j = 0; j < b.size(); ++j) {
-      d = std::min(d, core::SegmentSegmentDistance(a[i], a[(i + 1) % a.size()], b[j],
-                                                   b[(j + 1) % b.size()]));
-    }
-  }
-  return d;
-}
-
 // Runs `controller` (a Robox octagon, its belief the truth, starting at the
 // origin) for duration_s, `publish` called before every tick; returns the
 // closest its hull came to the hull of a robot standing at `other`.
@@ -320,7 +298,7 @@ double ClosestApproach(NavigationController& controller, const NavigationControl
                        const core::Pose2& other, bool lost, double duration_s,
                        const std::function<void()>& publish, core::Pose2* end = nullptr) {
   std::vector<Eigen::Vector2d> other_hull;
-  for (const Eigen::Vector2d& c : Octagon()) other_hull.push_back(other * c);
+  for (const Eigen::Vector2d& c : RoboxOctagon()) other_hull.push_back(other * c);
   core::Pose2 pose;
   WheelSpeeds held;
   double closest_m = std::numeric_limits<double>::infinity();
@@ -335,8 +313,8 @@ double ClosestApproach(NavigationController& controller, const NavigationControl
         held.right_radps * options.odometry.right_wheel_radius_m * kStepS};
     pose = core::DiffDriveStep(pose, travel, options.odometry.wheelbase_m);
     std::vector<Eigen::Vector2d> own;
-    for (const Eigen::Vector2d& c : Octagon()) own.push_back(pose * c);
-    closest_m = std::min(closest_m, HullDistance(own, other_hull));
+    for (const Eigen::Vector2d& c : RoboxOctagon()) own.push_back(pose * c);
+    closest_m = std::min(closest_m, core::ConvexPolygonGap(own, other_hull));
   }
   if (end != nullptr) *end = pose;
   return closest_m;
@@ -353,10 +331,10 @@ double ClosestWhileExploring(bool fleet) {
   options.explore_when_lost = true;
   FleetCoordinator coordinator(2, FleetOptions{});
   coordinator.SetStations({"a", "s", "b"});
-  NavigationController controller(Line(), Octagon(), MissionSequence::List({"b"}), options);
+  NavigationController controller(Line(), RoboxOctagon(), MissionSequence::List({"b"}), options);
   if (fleet) {
     controller.SetFleet({&coordinator, 0});
-    coordinator.Join(1, Octagon());
+    coordinator.Join(1, RoboxOctagon());
   }
   const core::Pose2 other{1.5, 0.0, 0.0};
   return ClosestApproach(controller, options, other, true, 15.0, [&] {
@@ -373,30 +351,39 @@ TEST(NavigationControllerFleet, ALostRobotKeepsOffTheOthersPublishedHulls) {
   EXPECT_LT(ClosestWhileExploring(false), 0.01);
 }
 
+// A robot (the controller) drives from the origin to b, another Robox
+// standing at `other` and publishing `published`, declared lost or not.
+// Returns the closest the two hulls came; `end`: where the driver ended.
+double ClosestBesideAPublishedRobot(const core::Pose2& other, const core::Pose2& published,
+                                    bool lost, double duration_s, core::Pose2* end) {
+  NavigationControllerOptions options;
+  options.step_s = kStepS;
+  FleetCoordinator coordinator(2, FleetOptions{});
+  coordinator.SetStations({"a", "s", "b"});
+  NavigationController controller(Line(), RoboxOctagon(), MissionSequence::List({"b"}), options);
+  controller.SetFleet({&coordinator, 0});
+  coordinator.Join(1, RoboxOctagon());
+  return ClosestApproach(
+      controller, options, other, false, duration_s,
+      [&] {
+        FleetMessage m;
+        m.pose = published;
+        m.lost = lost;
+        coordinator.Send(1, m);
+        coordinator.Merge();
+      },
+      end);
+}
+
 // A robot drives from a to b past another that declared itself lost: it
 // stands 0.45 m beside the way, but its belief, published, is 0.3 m further
 // off (a false loss's hypothesis, expo_tours seed 1). Drawn grown by
 // lost_hull_margin_m, the hull keeps the passer off the true one; taken at
 // its word (not lost), the passer brushes past where the other truly stands.
 double ClosestPassingALostRobot(bool declared_lost) {
-  NavigationControllerOptions options;
-  options.step_s = kStepS;
-  FleetCoordinator coordinator(2, FleetOptions{});
-  coordinator.SetStations({"a", "s", "b"});
-  NavigationController controller(Line(), Octagon(), MissionSequence::List({"b"}), options);
-  controller.SetFleet({&coordinator, 0});
-  coordinator.Join(1, Octagon());
   core::Pose2 end;
-  const double closest_m = ClosestApproach(
-      controller, options, {2.0, 0.45, 0.0}, false, 12.0,
-      [&] {
-        FleetMessage m;
-        m.pose = core::Pose2{2.0, 0.75, 0.0};
-        m.lost = declared_lost;
-        coordinator.Send(1, m);
-        coordinator.Merge();
-      },
-      &end);
+  const double closest_m =
+      ClosestBesideAPublishedRobot({2.0, 0.45, 0.0}, {2.0, 0.75, 0.0}, declared_lost, 12.0, &end);
   EXPECT_GT(end.x_m, 4.0) << "the passer got past";
   return closest_m;
 }
@@ -416,10 +403,10 @@ double ClosestToAStationWhileExploring(bool fleet) {
   options.explore_when_lost = true;
   FleetCoordinator coordinator(2, FleetOptions{});
   coordinator.SetStations({"a", "s", "b"});
-  NavigationController controller(Line(), Octagon(), MissionSequence::List({"b"}), options);
+  NavigationController controller(Line(), RoboxOctagon(), MissionSequence::List({"b"}), options);
   if (fleet) {
     controller.SetFleet({&coordinator, 0});
-    coordinator.Join(1, Octagon());
+    coordinator.Join(1, RoboxOctagon());
   }
   core::Pose2 pose;
   WheelSpeeds held;
@@ -461,24 +448,9 @@ TEST(NavigationControllerFleet, ALostRobotKeepsOutOfAStationAnotherRobotHolds) {
 // itself reaches into it the points within its margin are left out. Returns
 // how far it got along the line in 15 s.
 double DistanceDrivenFromUnderALostHull(double published_x) {
-  NavigationControllerOptions options;
-  options.step_s = kStepS;
-  FleetCoordinator coordinator(2, FleetOptions{});
-  coordinator.SetStations({"a", "s", "b"});
-  NavigationController controller(Line(), Octagon(), MissionSequence::List({"b"}), options);
-  controller.SetFleet({&coordinator, 0});
-  coordinator.Join(1, Octagon());
   core::Pose2 end;
-  const double closest_m = ClosestApproach(
-      controller, options, {-0.75, 0.0, 0.0}, false, 15.0,
-      [&] {
-        FleetMessage m;
-        m.pose = core::Pose2{published_x, 0.0, 0.0};
-        m.lost = true;
-        coordinator.Send(1, m);
-        coordinator.Merge();
-      },
-      &end);
+  const double closest_m =
+      ClosestBesideAPublishedRobot({-0.75, 0.0, 0.0}, {published_x, 0.0, 0.0}, true, 15.0, &end);
   EXPECT_GT(closest_m, 0.065) << "it never backed towards the lost robot";
   return end.x_m;
 }

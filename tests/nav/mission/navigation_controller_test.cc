@@ -18,6 +18,7 @@
 #include "core/geometry/segment2.h"
 #include "core/odometry/diff_drive.h"
 #include "nav/local/scan_obstacles.h"
+#include "tests/support/robox_octagon.h"
 
 namespace pavilion::nav {
 namespace {
@@ -561,17 +562,7 @@ TEST(NavigationController, BacksStraightOutOfASlotItCannotTurnIn) {
   EXPECT_GT(run.min_clearance_m, 0.005);
 }
 
-// Robox's 0.68 m octagon (robots/robox/robot.yaml): turning on the spot its
-// corners sweep a circle 2.8 cm wider than its sides.
-std::vector<Eigen::Vector2d> Octagon() {
-  const double r = 0.34 / std::cos(std::numbers::pi / 8.0);
-  std::vector<Eigen::Vector2d> hull;
-  for (int k = 0; k < 8; ++k) {
-    const double a = std::numbers::pi / 8.0 + k * std::numbers::pi / 4.0;
-    hull.emplace_back(r * std::cos(a), r * std::sin(a));
-  }
-  return hull;
-}
+using pavilion::testing::RoboxOctagon;
 
 // A Robox faces a wall 5 cm before its front; another wall, on its right,
 // ends 4 cm off its rear-right side (expo_tours seed 5, 828 s: a pedestal
@@ -584,7 +575,7 @@ TEST(NavigationController, TurnsOutOfAPocketWhoseCornersTheMarginWillNotSweep) {
   const Eigen::Vector2d right_a(-3.0, -0.295), right_b(-0.243, -0.295);
   const EscapeOptions defaults;
   const PocketRun run =
-      DriveInto({{ahead_a, ahead_b}, {right_a, right_b}}, defaults.after_s, 30.0, Octagon());
+      DriveInto({{ahead_a, ahead_b}, {right_a, right_b}}, defaults.after_s, 30.0, RoboxOctagon());
   ASSERT_GE(run.escapes, 1);
   // Out by the escape's distance within its drive time, turned to the left,
   // never within a few millimetres of either wall.
