@@ -31,6 +31,23 @@ TEST(PolygonTest, IsSimpleDetectsSelfIntersection) {
   EXPECT_FALSE(IsSimple({{0, 0}, {1, 0}}));
 }
 
+// The gap between convex polygons: edge to edge, corner to edge, 0 when they
+// overlap or one holds the other.
+TEST(PolygonTest, ConvexPolygonGapIsTheLeastEdgeDistance) {
+  const Polygon2 unit = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  const auto shifted = [&](double dx, double dy) {
+    Polygon2 p = unit;
+    for (Eigen::Vector2d& v : p) v += Eigen::Vector2d(dx, dy);
+    return p;
+  };
+  EXPECT_NEAR(ConvexPolygonGap(unit, shifted(1.25, 0.5)), 0.25, 1e-12);  // side to side
+  EXPECT_NEAR(ConvexPolygonGap(unit, shifted(1.3, 1.4)), 0.5, 1e-12);    // corner to corner
+  EXPECT_DOUBLE_EQ(ConvexPolygonGap(unit, shifted(0.5, 0.5)), 0.0);      // overlapping
+  const Polygon2 inner = {{0.4, 0.4}, {0.6, 0.4}, {0.6, 0.6}, {0.4, 0.6}};
+  EXPECT_DOUBLE_EQ(ConvexPolygonGap(unit, inner), 0.0);  // one inside the other
+  EXPECT_DOUBLE_EQ(ConvexPolygonGap(inner, unit), 0.0);
+}
+
 // Section bounds include circles' extents and total length sums segments.
 TEST(PlanarSectionTest, BoundsAndLengths) {
   PlanarSection s;
