@@ -31,6 +31,32 @@ constexpr double kRingSlipM = 0.25;
 constexpr double kRatchetGapM = 0.005;
 constexpr int kRatchetBisections = 10;
 
+// How much to grow `hull`, placed in the robot frame by `robot_from_other`:
+// `uncertain_m`, or less so that it stays kRatchetGapM off `footprint`, but
+// never less than `certain_m`. `reaches_in`: even that reaches into it.
+double RatchetedGrowth(const core::Polygon2& hull, const core::Pose2& robot_from_other,
+                       const core::Polygon2& footprint, double certain_m, double uncertain_m,
+                       bool* reaches_in) {
+  const auto gap_at = [&](double grow_m) {
+    core::Polygon2 other = InflateConvexPolygon(hull, grow_m);
+    for (Eigen::Vector2d& c : other) c = robot_from_other * c;
+    return core::ConvexPolygonGap(footprint, other);
+  };
+  *reaches_in = false;
+  if (uncertain_m <= certain_m || gap_at(uncertain_m) >= kRatchetGapM) return uncertain_m;
+  if (gap_at(certain_m) < kRatchetGapM) {
+    *reaches_in = true;
+    return certain_m;
+  }
+  double lo = certain_m;  // the largest growth found that leaves the gap
+  double hi = uncertain_m;
+  for (int i = 0; i < kRatchetBisections; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (gap_at(mid) >= kRatchetGapM ? lo : hi) = mid;
+  }
+  return lo;
+}
+
 }  // namespace
 
 void NavigationController::SwitchGoal(const ControlTick& tick,
@@ -325,25 +351,10 @@ void NavigationController::AppendOtherHulls(const core::Pose2& belief,
     // that far off), that outline's points within its margin are left out,
     // as a lost robot leaves out the others' (Explore); its lasers and
     // markers show the other as it is.
-    const double certain_m = margin_m;
-    const core::Pose2 robot_from_other = belief.Inverse() * *m.pose;
-    const auto gap_at = [&](double grow_m) {
-      core::Polygon2 other = InflateConvexPolygon(hull, grow_m);
-      for (Eigen::Vector2d& c : other) c = robot_from_other * c;
-      return core::ConvexPolygonGap(footprint_, other);
-    };
-    double grow_m = uncertain_m;
     bool drop_inside = false;
-    if (uncertain_m > certain_m && gap_at(uncertain_m) < kRatchetGapM) {
-      drop_inside = gap_at(certain_m) < kRatchetGapM;
-      double lo = certain_m;  // the largest growth found that leaves the gap
-      double hi = uncertain_m;
-      for (int i = 0; i < kRatchetBisections && !drop_inside; ++i) {
-        const double mid = 0.5 * (lo + hi);
-        (gap_at(mid) >= kRatchetGapM ? lo : hi) = mid;
-      }
-      grow_m = lo;
-    }
+    const double grow_m = m.lost ? RatchetedGrowth(hull, belief.Inverse() * *m.pose, footprint_,
+                                                   margin_m, uncertain_m, &drop_inside)
+                                 : margin_m;
     const core::Polygon2 grown = InflateConvexPolygon(hull, grow_m);
     // A moving robot is drawn also where it will be when it has stopped: on
     // the arc of its commanded speed and turn rate, as the dynamic window

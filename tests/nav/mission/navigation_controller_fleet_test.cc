@@ -296,7 +296,8 @@ TEST(NavigationControllerFleet, RevisitsAVisitedStationAfterWaitingForTakenOnes)
 // closest its hull came to the hull of a robot standing at `other`.
 double ClosestApproach(NavigationController& controller, const NavigationControllerOptions& options,
                        const core::Pose2& other, bool lost, double duration_s,
-                       const std::function<void()>& publish, core::Pose2* end = nullptr) {
+                       const std::function<void()>& publish, core::Pose2* end = nullptr,
+                       std::vector<core::Pose2>* trail = nullptr) {
   std::vector<Eigen::Vector2d> other_hull;
   for (const Eigen::Vector2d& c : RoboxOctagon()) other_hull.push_back(other * c);
   core::Pose2 pose;
@@ -315,6 +316,7 @@ double ClosestApproach(NavigationController& controller, const NavigationControl
     std::vector<Eigen::Vector2d> own;
     for (const Eigen::Vector2d& c : RoboxOctagon()) own.push_back(pose * c);
     closest_m = std::min(closest_m, core::ConvexPolygonGap(own, other_hull));
+    if (trail != nullptr) trail->push_back(pose);
   }
   if (end != nullptr) *end = pose;
   return closest_m;
@@ -408,29 +410,26 @@ double ClosestToAStationWhileExploring(bool fleet) {
     controller.SetFleet({&coordinator, 0});
     coordinator.Join(1, RoboxOctagon());
   }
-  core::Pose2 pose;
-  WheelSpeeds held;
+  const core::Pose2 other{kStationAt.x(), 1.2, 0.0};
+  core::Pose2 end;
+  std::vector<core::Pose2> trail;
+  ClosestApproach(
+      controller, options, other, true, 30.0,
+      [&] {
+        if (!fleet) return;
+        FleetMessage m;
+        m.pose = other;
+        m.reserved_station = kStation;
+        m.claims = {kStation};
+        coordinator.Send(1, m);
+        coordinator.Merge();
+      },
+      &end, &trail);
+  EXPECT_GT(end.x_m, 2.0) << "it explored";
   double closest_m = std::numeric_limits<double>::infinity();
-  for (std::int64_t tick = 0; tick * kStepS < 30.0; ++tick) {
-    if (fleet) {
-      FleetMessage m;
-      m.pose = core::Pose2{kStationAt.x(), 1.2, 0.0};
-      m.reserved_station = kStation;
-      m.claims = {kStation};
-      coordinator.Send(1, m);
-      coordinator.Merge();
-    }
-    if (const std::optional<WheelSpeeds> w =
-            controller.OnTick(ControlTick{tick, tick * kStepS, pose, pose, true})) {
-      held = *w;
-    }
-    const core::WheelTravel travel{
-        held.left_radps * options.odometry.left_wheel_radius_m * kStepS,
-        held.right_radps * options.odometry.right_wheel_radius_m * kStepS};
-    pose = core::DiffDriveStep(pose, travel, options.odometry.wheelbase_m);
-    closest_m = std::min(closest_m, (pose.translation() - kStationAt).norm());
+  for (const core::Pose2& p : trail) {
+    closest_m = std::min(closest_m, (p.translation() - kStationAt).norm());
   }
-  EXPECT_GT(pose.x_m, 2.0) << "it explored";
   return closest_m;
 }
 
