@@ -114,6 +114,7 @@ void IterativeMatcher::IntegrateType(ObservationType type, const MeasurementPred
                      [&](int a, int b) { return det(a) < det(b); });
   }
   prediction_used_.assign(predictions_.size(), 0);
+  FindDistractors(type, predictor, batch, *state, correlations);
   bool fresh = true;
   while (true) {
     if (!fresh) {  // (iii) re-prediction of the features not associated so far
@@ -122,6 +123,9 @@ void IterativeMatcher::IntegrateType(ObservationType type, const MeasurementPred
           predictions_[i] =
               predictor.Predict(predictions_[i].feature, type, *state, batch.view, correlations);
         }
+      }
+      for (PredictedMeasurement& d : distractors_) {
+        d = predictor.Predict(d.feature, type, *state, batch.view, correlations);
       }
     }
     fresh = false;
@@ -173,6 +177,21 @@ bool IterativeMatcher::FindLinePairing(const MeasurementPredictor& predictor,
   return false;
 }
 
+void IterativeMatcher::FindDistractors(ObservationType type, const MeasurementPredictor& predictor,
+                                       const ObservationBatch& batch,
+                                       const PoseWithCovariance& state,
+                                       const PoseMapCrossCovariance* correlations) {
+  distractors_.clear();
+  if (type != ObservationType::kVerticalEdge || !options_.unambiguous_vertical_edges) return;
+  SensorView unlimited = batch.view;
+  unlimited.perception_radius_m = std::numeric_limits<double>::max();
+  predictor.PredictVisible(type, state, unlimited, &distractors_, correlations);
+  std::erase_if(distractors_, [&](const PredictedMeasurement& d) {
+    return std::any_of(predictions_.begin(), predictions_.end(),
+                       [&](const PredictedMeasurement& p) { return p.feature == d.feature; });
+  });
+}
+
 bool IterativeMatcher::FindPointPairing(const ObservationBatch& batch, Candidate* best) const {
   Candidate unique;
   Candidate any;
@@ -181,16 +200,20 @@ bool IterativeMatcher::FindPointPairing(const ObservationBatch& batch, Candidate
   const bool strict = options_.unambiguous_vertical_edges && !predictions_.empty() &&
                       predictions_.front().type == ObservationType::kVerticalEdge;
   // How many unused predictions gate each observation (strict mode only).
+  // Mapped edges beyond the perception radius count too: the camera sees them.
   std::vector<int> gated_by(strict ? batch.observations.size() : 0, 0);
-  for (int i = 0; strict && i < static_cast<int>(predictions_.size()); ++i) {
-    if (prediction_used_[i]) continue;
+  const auto count_gated = [&](const PredictedMeasurement& p) {
     for (const int j : observations_) {
-      if (!observation_used_[j] && ComputeInnovation(predictions_[i], batch.observations[j]).nis <=
-                                       gate_[predictions_[i].dimension()]) {
+      if (!observation_used_[j] &&
+          ComputeInnovation(p, batch.observations[j]).nis <= gate_[p.dimension()]) {
         ++gated_by[j];
       }
     }
+  };
+  for (int i = 0; strict && i < static_cast<int>(predictions_.size()); ++i) {
+    if (!prediction_used_[i]) count_gated(predictions_[i]);
   }
+  if (strict) std::for_each(distractors_.begin(), distractors_.end(), count_gated);
   for (int i = 0; i < static_cast<int>(predictions_.size()); ++i) {
     if (prediction_used_[i]) continue;
     const double gate = gate_[predictions_[i].dimension()];

@@ -43,7 +43,9 @@ struct MatchingOptions {
   bool use_extension_constraint = true;
   // Vertical edges pair only without ambiguity either way: the prediction has
   // a single observation in its gate and that observation lies in no other
-  // prediction's gate. The thesis (§4.4.2) then also accepted ambiguous
+  // prediction's gate, nor in the gate of a mapped edge the camera sees beyond
+  // the perception radius (in the field of view, not occluded: never paired,
+  // but the image holds it). The thesis (§4.4.2) then also accepted ambiguous
   // candidates by the smallest Mahalanobis distance, and found that door
   // frames' groups of close edges produced false pairings that made vertical
   // edges "of limited utility" (§4.5.3, §4.6); false: the thesis' rule.
@@ -121,11 +123,18 @@ class IterativeMatcher {
                      PoseMapCrossCovariance* correlations, MatchingResult* result);
   bool FindLinePairing(const MeasurementPredictor& predictor, const ObservationBatch& batch,
                        const PoseWithCovariance& state, Candidate* best);
+  // Vertical edges with unambiguous_vertical_edges: the map's edges the camera
+  // sees beyond the perception radius (field of view, not occluded), which are
+  // never paired but make an observation in their gate ambiguous.
+  void FindDistractors(ObservationType type, const MeasurementPredictor& predictor,
+                       const ObservationBatch& batch, const PoseWithCovariance& state,
+                       const PoseMapCrossCovariance* correlations);
   bool FindPointPairing(const ObservationBatch& batch, Candidate* best) const;
 
   MatchingOptions options_;
   double gate_[3] = {0.0, 0.0, 0.0};  // chi^2_{alpha,n}, n = 1, 2
   std::vector<PredictedMeasurement> predictions_;
+  std::vector<PredictedMeasurement> distractors_;  // see FindDistractors
   std::vector<int> observations_;  // batch indices of the current type, in policy order
   std::vector<char> prediction_used_;
   std::vector<char> observation_used_;

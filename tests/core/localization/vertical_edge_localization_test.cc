@@ -2,7 +2,8 @@
 // image becomes a batch of bearings with the camera's view; bearings to
 // mapped edges correct the heading; an edge behind a map segment is not
 // predicted; a column (a point of radius > 0) is never paired with an edge;
-// and an observation that two predictions' gates share is not paired.
+// an observation that two predictions' gates share is not paired, nor one in
+// the gate of a mapped edge beyond the perception radius.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -182,6 +183,42 @@ TEST(VerticalEdgeMatchingTest, AnObservationTwoGatesShareIsNotPaired) {
   thesis.unambiguous_vertical_edges = false;
   state = start;
   EXPECT_EQ(IterativeMatcher(thesis).MatchAndUpdate(predictor, batch, &state).matches.size(), 1u);
+}
+
+TEST(VerticalEdgeMatchingTest, AnObservationNearAMappedEdgeBeyondTheRangeIsNotPaired) {
+  // Office seed 1 at 46 s: a door frame's edge 5 m ahead is predicted, the
+  // frames of the next door 6-7 m ahead are beyond the 5 m range and are not;
+  // the camera sees one of those 1.5 deg from the near edge, inside its gate
+  // (heading sigma 1 deg), and the near edge itself is not extracted.
+  RobotMap map;
+  map.points = {Edge("near", 4.8, 1.0), Edge("far", 6.5, 1.2)};
+  const MeasurementPredictor predictor(map);
+  ObservationBatch batch = EdgeBatch({EdgeObservation(Bearing({}, 6.5, 1.2), 0.01 * kDeg)});
+  batch.view.perception_radius_m = 5.0;
+  ASSERT_NEAR(Bearing({}, 4.8, 1.0) - Bearing({}, 6.5, 1.2), 1.3 * kDeg, 0.2 * kDeg);
+  const PoseWithCovariance start{{0, 0, 0},
+                                 Eigen::Vector3d(1e-6, 1e-6, std::pow(1.0 * kDeg, 2)).asDiagonal()};
+  PoseWithCovariance state = start;
+  EXPECT_TRUE(IterativeMatcher().MatchAndUpdate(predictor, batch, &state).matches.empty());
+  EXPECT_DOUBLE_EQ(state.pose.theta_rad, 0.0);
+  // Without the far edge in the map the same observation is paired (falsely).
+  RobotMap near_only;
+  near_only.points = {map.points[0]};
+  state = start;
+  const MeasurementPredictor near_predictor(near_only);
+  EXPECT_EQ(IterativeMatcher().MatchAndUpdate(near_predictor, batch, &state).matches.size(), 1u);
+  EXPECT_GT(std::abs(state.pose.theta_rad), 0.5 * kDeg);
+  // An edge behind a map segment is no distractor: a wall across x = 6 hides the far one.
+  MapSegment wall;
+  wall.id = "wall";
+  wall.line = testing::MapLineThrough("wall", {6.0, 0.0}, {6.0, 3.0}, {0.0, 0.0}).line;
+  wall.first_endpoint = {{6.0, 0.0}, Eigen::Matrix2d::Zero()};
+  wall.second_endpoint = {{6.0, 3.0}, Eigen::Matrix2d::Zero()};
+  map.segments.push_back(wall);
+  state = start;
+  EXPECT_EQ(
+      IterativeMatcher().MatchAndUpdate(MeasurementPredictor(map), batch, &state).matches.size(),
+      1u);
 }
 
 TEST(VerticalEdgeMatchingTest, LocalizerTakesImagesOfItsCamerasOnly) {
