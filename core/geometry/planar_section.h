@@ -32,11 +32,16 @@ struct SectionSegment {
   int element = -1;  // index into PlanarSection::elements
 };
 
-// A circle of a section (an upright cylinder cut by the plane).
+// A circle of a section (an upright cylinder cut by the plane), or the ellipse
+// of a tilted one: radius_m across major_axis, radius_m / squash along it,
+// where squash is the cosine of the cylinder's tilt and major_axis the
+// horizontal direction of its axis (a unit vector).
 struct SectionCircle {
   Eigen::Vector2d center_m;
   double radius_m = 0.0;
   int element = -1;  // index into PlanarSection::elements
+  Eigen::Vector2d major_axis{1.0, 0.0};
+  double squash = 1.0;  // (0, 1]; 1: a circle
 };
 
 // The 2D cut of a world by the horizontal plane z = height_m. Segments of one

@@ -71,8 +71,8 @@ void PlanarSlice::Split(const core::PlanarSection& section, bool statics,
   }
   for (const core::SectionCircle& c : section.circles) {
     if (!visible(c.element) || !(c.radius_m > 0.0)) continue;
-    circles->push_back(
-        {c.center_m, c.radius_m, c.radius_m * c.radius_m, c.element, elements[c.element].group});
+    circles->push_back({c.center_m, c.radius_m, c.radius_m * c.radius_m, c.element,
+                        elements[c.element].group, c.major_axis, c.squash, c.radius_m / c.squash});
   }
 }
 
@@ -145,7 +145,7 @@ void PlanarSlice::Fill(const std::vector<Segment>& segments, const std::vector<C
     return true;
   };
   const auto for_circle_cells = [&](const Circle& c, auto&& visit) {
-    const Eigen::Vector2d r = Eigen::Vector2d::Constant(c.radius_m);
+    const Eigen::Vector2d r = Eigen::Vector2d::Constant(c.reach_m);
     int x0, y0, x1, y1;
     if (!CellRange(c.center_m - r, c.center_m + r, &x0, &y0, &x1, &y1)) return false;
     for (int iy = y0; iy <= y1; ++iy) {
@@ -217,6 +217,10 @@ bool PlanarSlice::Covers(const Eigen::Vector2d& center_m, double radius_m, int i
   return true;
 }
 
+Eigen::Vector2d PlanarSlice::Unsquash(const Circle& c, const Eigen::Vector2d& v) {
+  return v - (1.0 - c.squash) * c.major_axis.dot(v) * c.major_axis;
+}
+
 // The closest hit of a ray so far. Tests are written so that most rejections
 // need no division.
 struct PlanarSlice::Best {
@@ -249,6 +253,7 @@ struct PlanarSlice::Best {
   }
 
   void Test(const Circle& c) {
+    if (c.squash != 1.0) return TestEllipse(c);
     const Eigen::Vector2d oc = o - c.center_m;
     const double b = oc.dot(d);
     if (b >= 0.0) return;  // moving away from the centre (or inside): no hit ahead
@@ -258,6 +263,25 @@ struct PlanarSlice::Best {
     const double disc = b * b - cc;
     if (disc < 0.0) return;
     // -b - √disc without cancellation: cc / (-b + √disc).
+    const double hit_t = cc / (-b + std::sqrt(disc));
+    if (!(hit_t > 0.0 && hit_t < t)) return;
+    if (c.group >= 0 && c.group == ignore_group) return;
+    t = hit_t;
+    circle = &c;
+    segment = nullptr;
+  }
+
+  // The ellipse scaled by its squash along the major axis is the circle of
+  // radius r (Unsquash); the ray's parameter t is the same in both.
+  void TestEllipse(const Circle& c) {
+    const Eigen::Vector2d oc = Unsquash(c, o - c.center_m);
+    const Eigen::Vector2d dc = Unsquash(c, d);
+    const double b = oc.dot(dc);
+    if (b >= 0.0) return;
+    const double cc = oc.squaredNorm() - c.radius_sq;
+    if (cc <= 0.0) return;
+    const double disc = b * b - dc.squaredNorm() * cc;
+    if (disc < 0.0) return;
     const double hit_t = cc / (-b + std::sqrt(disc));
     if (!(hit_t > 0.0 && hit_t < t)) return;
     if (c.group >= 0 && c.group == ignore_group) return;
@@ -284,8 +308,11 @@ struct PlanarSlice::Best {
     if (n.dot(d) > 0.0) n = -n;  // a two-sided mesh cut met from behind
     hit.element = best.segment->element;
   } else {
-    n = (point - best.circle->center_m).normalized();
-    hit.element = best.circle->element;
+    const Circle& c = *best.circle;
+    // The gradient of |Unsquash(p - centre)|^2.
+    n = c.squash == 1.0 ? (point - c.center_m).normalized()
+                        : Unsquash(c, Unsquash(c, point - c.center_m)).normalized();
+    hit.element = c.element;
   }
   hit.normal = {n.x(), n.y(), 0.0};
   return hit;

@@ -14,9 +14,9 @@ namespace pavilion::sim {
 
 struct PlanarCasterOptions {
   // Largest tilt of a scanner's beam plane (its robot pitched or rolled, e.g.
-  // in a collision) and of a cylinder near it for which the plane is cast in
-  // 2D; beyond it the scan's readings of that tick are cast with Bullet
-  // (a fallback). [0, π/4] rad; default 1°.
+  // in a collision) for which the plane is cast in 2D; beyond it the scan's
+  // readings of that tick are cast with Bullet (a fallback). Cylinders tilted
+  // up to it are cut as circles, beyond it as ellipses. [0, π/4] rad; default 1°.
   double max_tilt_rad = 0.017453292519943295;
   // Edge of the uniform grid's cells (m), [0.05, 10]. Measured in expo_hall
   // (tests/bench/laser_bench.cc, 361-beam scans, 10 robots, 100 legs, CPU
@@ -47,8 +47,8 @@ class PlanarSlice final : public LaserHitFinder {
               int ignore_group) const override;
   const std::vector<core::SectionElement>& elements() const override;
   // True when no dynamic element that the plane does not cut exactly (a
-  // cylinder tilted beyond max_tilt_rad, a box or chassis cut through its top
-  // or bottom) lies within radius_m of center_m, the ignored group's aside:
+  // cylinder, box or chassis cut through its top or bottom) lies within
+  // radius_m of center_m, the ignored group's aside:
   // then rays from center_m up to radius_m long are exact here.
   bool Covers(const Eigen::Vector2d& center_m, double radius_m, int ignore_group) const;
 
@@ -71,6 +71,11 @@ class PlanarSlice final : public LaserHitFinder {
     double radius_sq = 0.0;
     int element = -1;
     int group = -1;
+    // An ellipse (a tilted cylinder's cut, core::SectionCircle): squash < 1
+    // along major_axis; reach_m = radius_m / squash bounds it.
+    Eigen::Vector2d major_axis{1.0, 0.0};
+    double squash = 1.0;
+    double reach_m = 0.0;
   };
   // Primitives bucketed by cell: cell c holds [begin[c], begin[c + 1]).
   struct Buckets {
@@ -80,6 +85,9 @@ class PlanarSlice final : public LaserHitFinder {
     std::vector<Circle> circles;
   };
   struct Best;
+  // An ellipse's frame scaled to its circle: v's component along the major
+  // axis times the squash.
+  static Eigen::Vector2d Unsquash(const Circle& c, const Eigen::Vector2d& v);
   // The hit `best` found, in the plane z = z_m.
   static RayHit ToHit(const Best& best, double z_m);
 

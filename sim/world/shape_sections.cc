@@ -95,8 +95,16 @@ void CutCylinder(const btTransform& t, double radius, double half_height, double
     const double spread = radius * std::sqrt(std::max(0.0, 1.0 - axis.z() * axis.z())) / axis.z();
     if (s + spread < -half_height || s - spread >= half_height) return;  // not cut
     const bool sides_only = s - spread >= -half_height && s + spread < half_height;
-    if ((sides_only && axis.z() >= std::cos(max_tilt_rad)) || uncut == nullptr) {
-      out->circles.push_back({{c.x() + s * axis.x(), c.y() + s * axis.y()}, radius, element});
+    core::SectionCircle cut{{c.x() + s * axis.x(), c.y() + s * axis.y()}, radius, element};
+    if (sides_only && axis.z() < std::cos(max_tilt_rad)) {  // the ellipse
+      const double horizontal = std::hypot(axis.x(), axis.y());
+      cut.major_axis = {axis.x() / horizontal, axis.y() / horizontal};
+      cut.squash = axis.z();
+      out->circles.push_back(cut);
+      return;
+    }
+    if (sides_only || uncut == nullptr) {
+      out->circles.push_back(cut);
       return;
     }
   } else if (uncut == nullptr) {

@@ -35,10 +35,12 @@ void CutPrism(const btTransform& t, const std::vector<Eigen::Vector2d>& polygon,
 
 // A cylinder about its shape z axis, centred at its origin. Upright, its cut is
 // a circle; tilted by θ it is an ellipse with semi-axes r and r/cos θ about the
-// point where the axis meets the plane, taken as the circle of radius r there
-// while θ <= max_tilt_rad (error r(1/cos θ − 1): 7.6 µm for r = 5 cm at 1°).
-// Beyond that, or with the plane through a cap, it goes to `uncut` (or, with a
-// null `uncut`, is added as that circle anyway).
+// point where the axis meets the plane (a point at distance x along the axis'
+// horizontal direction and y across it is |p − axis| = √(x² cos² θ + y²) from
+// the axis), taken as the circle of radius r there while θ <= max_tilt_rad
+// (error r(1/cos θ − 1): 7.6 µm for r = 5 cm at 1°) and as the ellipse beyond.
+// With the plane through a cap it goes to `uncut` (or, with a null `uncut`, is
+// added as the circle anyway).
 void CutCylinder(const btTransform& t, double radius, double half_height, double h,
                  double max_tilt_rad, int element, core::PlanarSection* out,
                  std::vector<UncutElement>* uncut);

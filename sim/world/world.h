@@ -262,17 +262,18 @@ class World {
 
   // The world cut at height z: static elements and the bodies at their current
   // poses. Element indices as above. Bodies the plane does not cut exactly
-  // (see AppendDynamicSection) are approximated: tilted cylinders as circles,
-  // boxes cut through a cap as their upright extrusion.
+  // (see AppendDynamicSection) are approximated: cylinders cut through a cap
+  // as circles, boxes cut through a cap as their upright extrusion.
   core::PlanarSection SectionAt(double height_m) const;
   // The static elements alone (walls, boxes, cylinders, meshes, doors in their
   // current state), with every element of the world listed.
   core::PlanarSection StaticSectionAt(double height_m) const;
   // Appends the cut of every body and robot part at its current pose: spheres
   // as circles; boxes and robot chassis exactly, at any tilt, while the plane
-  // crosses only their sides; cylinders tilted up to max_cylinder_tilt_rad as
-  // circles about the point where their axis meets the plane. Other elements
-  // the plane reaches are listed in `uncut`.
+  // crosses only their sides; cylinders whose sides alone it crosses as
+  // circles about the point where their axis meets the plane while tilted up
+  // to max_cylinder_tilt_rad, as their ellipses beyond (CutCylinder). Other
+  // elements the plane reaches are listed in `uncut`.
   void AppendDynamicSection(double height_m, double max_cylinder_tilt_rad, core::PlanarSection* out,
                             std::vector<UncutElement>* uncut) const;
   // Changes of the static geometry so far (door moves), from 0.

@@ -231,6 +231,62 @@ TEST(PlanarCasterTest, BoxBodyIsCutUpToItsTopFace) {
   EXPECT_NEAR(hit.distance_m, 1.8, kExactM);
 }
 
+// A cylinder tipping over is cut as an ellipse (semi-axes r and r / cos tilt)
+// once its tilt passes max_tilt_rad: rays from all around meet it where
+// Bullet's do, and nothing is left uncut, so scans beside it need no fallback.
+TEST(PlanarCasterTest, ATiltedCylinderIsCutAsAnEllipse) {
+  World world(Room(), {});
+  BodySpec pole;
+  pole.id = "pole";
+  pole.shape.type = BodyShapeType::kCylinder;
+  pole.shape.radius_m = 0.1;
+  pole.shape.height_m = 1.2;
+  pole.mass_kg = 5.0;
+  pole.pose = {3.0, 2.0, 0.0};
+  pole.material = "paint";
+  pole.upright = false;
+  const int body = world.AddBody(pole);
+  world.ApplyImpulse(body, {4.0, 1.0});
+  constexpr double kMinTiltRad = 5.0 * kPi / 180.0;
+  for (int i = 0; i < 400 && world.body_state(body).tilt_rad < kMinTiltRad; ++i) world.Step();
+  const double tilt = world.body_state(body).tilt_rad;
+  ASSERT_GT(tilt, kMinTiltRad);
+  ASSERT_LT(tilt, 30.0 * kPi / 180.0);
+  constexpr double kHeightM = 0.5;  // crosses the pole's side only
+  PlanarCaster caster(&world, {});
+  const PlanarSlice& slice = caster.SliceAt(kHeightM);
+  EXPECT_TRUE(slice.Covers({3.0, 2.0}, 8.0, -1));
+  core::PlanarSection section;
+  std::vector<UncutElement> uncut;
+  world.AppendDynamicSection(kHeightM, caster.options().max_tilt_rad, &section, &uncut);
+  ASSERT_EQ(section.circles.size(), 1u);
+  EXPECT_NEAR(section.circles[0].squash, std::cos(tilt), 1e-9);
+  const WorldHitFinder bullet(world);
+  const Eigen::Vector2d centre = section.circles[0].center_m;
+  int hits = 0;
+  for (int k = 0; k < 72; ++k) {  // from 1.2 m all around, aimed across the ellipse
+    const double around = k * 2.0 * kPi / 72.0;
+    const Eigen::Vector3d origin(centre.x() + 1.2 * std::cos(around),
+                                 centre.y() + 1.2 * std::sin(around), kHeightM);
+    for (const double aside : {-0.12, -0.06, 0.0, 0.06, 0.12}) {
+      const Eigen::Vector2d d = Dir(around + kPi + aside);
+      const RayHit p = slice.Cast(origin, d, 8.0, -1);
+      const RayHit b = bullet.Cast(origin, d, 8.0, -1);
+      ASSERT_EQ(p.hit, b.hit) << k << " " << aside;
+      EXPECT_EQ(p.element, b.element) << k << " " << aside;
+      EXPECT_NEAR(p.distance_m, b.distance_m, 1e-4) << k << " " << aside;
+      if (p.element == ElementIndex(world, "pole")) {
+        ++hits;
+        // The caster's normal is the cut curve's, in the plane; Bullet's is
+        // the surface's, tilted with the cylinder: its horizontal part agrees.
+        const Eigen::Vector2d bullet_normal = b.normal.head<2>().normalized();
+        EXPECT_GT(p.normal.head<2>().dot(bullet_normal), 0.9999) << k << " " << aside;
+      }
+    }
+  }
+  EXPECT_GT(hits, 72 * 2);
+}
+
 // Whole scans with every error model give the same readings through either
 // hit finder (same draws from the same stream), for a scanner in the room.
 TEST(PlanarCasterTest, ScansMatchTheBulletHitFinder) {
