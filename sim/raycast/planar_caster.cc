@@ -263,12 +263,7 @@ struct PlanarSlice::Best {
     const double disc = b * b - cc;
     if (disc < 0.0) return;
     // -b - √disc without cancellation: cc / (-b + √disc).
-    const double hit_t = cc / (-b + std::sqrt(disc));
-    if (!(hit_t > 0.0 && hit_t < t)) return;
-    if (c.group >= 0 && c.group == ignore_group) return;
-    t = hit_t;
-    circle = &c;
-    segment = nullptr;
+    Take(c, cc / (-b + std::sqrt(disc)));
   }
 
   // The ellipse scaled by its squash along the major axis is the circle of
@@ -282,7 +277,11 @@ struct PlanarSlice::Best {
     if (cc <= 0.0) return;
     const double disc = b * b - dc.squaredNorm() * cc;
     if (disc < 0.0) return;
-    const double hit_t = cc / (-b + std::sqrt(disc));
+    Take(c, cc / (-b + std::sqrt(disc)));
+  }
+
+  // The circle's or ellipse's hit at hit_t, if ahead and closer than the best.
+  void Take(const Circle& c, double hit_t) {
     if (!(hit_t > 0.0 && hit_t < t)) return;
     if (c.group >= 0 && c.group == ignore_group) return;
     t = hit_t;
