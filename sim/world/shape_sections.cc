@@ -96,8 +96,8 @@ void CutCylinder(const btTransform& t, double radius, double half_height, double
     if (s + spread < -half_height || s - spread >= half_height) return;  // not cut
     const bool sides_only = s - spread >= -half_height && s + spread < half_height;
     core::SectionCircle cut{{c.x() + s * axis.x(), c.y() + s * axis.y()}, radius, element};
-    if (sides_only && axis.z() < std::cos(max_tilt_rad)) {  // the ellipse
-      const double horizontal = std::hypot(axis.x(), axis.y());
+    const double horizontal = std::hypot(axis.x(), axis.y());
+    if (sides_only && axis.z() < std::cos(max_tilt_rad) && horizontal > 0.0) {  // the ellipse
       cut.major_axis = {axis.x() / horizontal, axis.y() / horizontal};
       cut.squash = axis.z();
       out->circles.push_back(cut);
