@@ -72,7 +72,7 @@ void PlanarSlice::Split(const core::PlanarSection& section, bool statics,
   for (const core::SectionCircle& c : section.circles) {
     if (!visible(c.element) || !(c.radius_m > 0.0)) continue;
     circles->push_back({c.center_m, c.radius_m, c.radius_m * c.radius_m, c.element,
-                        elements[c.element].group, c.major_axis, c.squash, c.radius_m / c.squash});
+                        elements[c.element].group, c.major_axis, c.squash});
   }
 }
 
@@ -145,7 +145,7 @@ void PlanarSlice::Fill(const std::vector<Segment>& segments, const std::vector<C
     return true;
   };
   const auto for_circle_cells = [&](const Circle& c, auto&& visit) {
-    const Eigen::Vector2d r = Eigen::Vector2d::Constant(c.reach_m);
+    const Eigen::Vector2d r = Eigen::Vector2d::Constant(c.radius_m / c.squash);
     int x0, y0, x1, y1;
     if (!CellRange(c.center_m - r, c.center_m + r, &x0, &y0, &x1, &y1)) return false;
     for (int iy = y0; iy <= y1; ++iy) {

@@ -72,10 +72,9 @@ class PlanarSlice final : public LaserHitFinder {
     int element = -1;
     int group = -1;
     // An ellipse (a tilted cylinder's cut, core::SectionCircle): squash < 1
-    // along major_axis; reach_m = radius_m / squash bounds it.
+    // along major_axis; radius_m / squash bounds it.
     Eigen::Vector2d major_axis{1.0, 0.0};
     double squash = 1.0;
-    double reach_m = 0.0;
   };
   // Primitives bucketed by cell: cell c holds [begin[c], begin[c + 1]).
   struct Buckets {
