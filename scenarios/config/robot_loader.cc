@@ -107,6 +107,7 @@ class RobotReader {
     ReadLasers(top, c);
     ReadBumpers(top, &c.bumpers);
     ReadMarkers(top, &c.description);
+    ReadSuspension(top, &c.description);
     ReadCameras(top, c);
     top.Finish();
     return c;
@@ -409,6 +410,33 @@ class RobotReader {
     if (out->size() > kMaxBumperZones) {
       doc_->Error(list, "bumpers", "at most 32 zones (the bumper reading is a 32-bit mask)");
     }
+  }
+
+  // Casters on springs: `suspension: [{caster: <link>, stiffness_npm, damping_nspm}]`.
+  void ReadSuspension(MapReader& top, sim::RobotDescription* d) {
+    std::set<std::string> seen;
+    ForEachMapping(doc_, top, "suspension", false, [&](MapReader& r, std::size_t) {
+      const std::optional<std::string> link = r.RequiredString("caster");
+      const auto stiffness = r.RequiredNumber("stiffness_npm", 1.0, 1e8);
+      const double damping = r.Number("damping_nspm", 0.0, 0.0, 1e7);
+      if (!link) return;
+      auto caster = std::find_if(d->casters.begin(), d->casters.end(),
+                                 [&](const sim::CasterSpec& c) { return c.link == *link; });
+      if (caster == d->casters.end()) {
+        if (have_urdf_) {
+          doc_->Error(r.Child("caster"), r.PathOf("caster"),
+                      "'" + *link + "' is not one of the robot's `casters`");
+        }
+        return;
+      }
+      if (!seen.insert(*link).second) {
+        doc_->Error(r.Child("caster"), r.PathOf("caster"),
+                    "caster '" + *link + "' is given a suspension twice");
+        return;
+      }
+      caster->stiffness_npm = stiffness.value_or(0.0);
+      caster->damping_nspm = damping;
+    });
   }
 
   void ReadMarkers(MapReader& top, sim::RobotDescription* d) {

@@ -41,6 +41,9 @@ RaycastDrive::RaycastDrive(std::vector<RaycastWheelSpec> wheels, const RaycastDr
     if (w.driven && !(w.max_torque_nm > 0.0 && w.friction >= 0.0)) {
       throw std::invalid_argument("raycast drive wheel needs torque > 0 and friction >= 0");
     }
+    if (!(w.stiffness_npm >= 0.0) || !(w.damping_nspm >= 0.0)) {
+      throw std::invalid_argument("raycast wheel stiffness and damping must be >= 0");
+    }
   }
   if (options_.iterations < 1 || options_.iterations > 100) {
     throw std::invalid_argument("raycast drive iterations must be in [1, 100]");
@@ -164,12 +167,14 @@ RaycastDrive::ContactFrame RaycastDrive::ReliefContact(const Eigen::Vector3d& ce
     const Eigen::Vector3d arm = frame.point - chassis.com_m;
     const double target = frame.gap > 0.0 ? -frame.gap / dt_s : -kPenetrationErp * frame.gap / dt_s;
     normal_rows_.push_back(step.MakeRow(frame.normal, arm, target));
-    if (options_.contact_stiffness_npm > 0.0 && frame.gap <= 0.0) {
+    const bool sprung = spec.stiffness_npm > 0.0;
+    const double k = sprung ? spec.stiffness_npm : options_.contact_stiffness_npm;
+    if (k > 0.0 && frame.gap <= 0.0) {
       // The deflection -gap pushes back as a spring-damper (Catto's soft
       // step: gamma = 1 / (h (c + h k)), the error reduced by h k / (c + h k)).
       Row& row = normal_rows_.back();
-      const double k = options_.contact_stiffness_npm;
-      const double denominator = options_.contact_damping_nspm + dt_s * k;
+      const double c = sprung ? spec.damping_nspm : options_.contact_damping_nspm;
+      const double denominator = c + dt_s * k;
       row.softness = 1.0 / (dt_s * denominator);
       row.target_mps = -(dt_s * k / denominator) * frame.gap / dt_s;
       row.soft_effective_mass = 1.0 / (1.0 / row.inverse_effective_mass + row.softness);

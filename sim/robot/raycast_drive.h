@@ -33,6 +33,12 @@ struct RaycastWheelSpec {
   bool driven = false;                // a drive wheel (else a caster)
   double friction = 0.0;              // combined coefficient with the floor, >= 0 (drive wheels)
   double max_torque_nm = 0.0;         // motor torque limit, > 0 (drive wheels)
+  // A sprung wheel (a caster on a suspension): its floor contact pushes back
+  // as a spring-damper of these rates, N/m and N·s/m, instead of the drive's
+  // `contact_stiffness_npm` (0: as the others). The spring is at rest, its
+  // force zero, when the sphere just touches the floor.
+  double stiffness_npm = 0.0;
+  double damping_nspm = 0.0;
 };
 
 // The chassis as the solver sees it, world frame (z up; the floor is z = floor_z).

@@ -296,7 +296,10 @@ void RobotBody::AddRaycastDrive(const PartLayout& layout) {
          m.max_wheel_torque_nm});
   }
   for (const CasterSpec& c : m.casters) {
-    specs.push_back({{c.position_m.x(), c.position_m.y(), c.radius_m - com_z}, c.radius_m});
+    RaycastWheelSpec caster{{c.position_m.x(), c.position_m.y(), c.radius_m - com_z}, c.radius_m};
+    caster.stiffness_npm = c.stiffness_npm;
+    caster.damping_nspm = c.damping_nspm;
+    specs.push_back(caster);
   }
   RaycastDriveOptions options;
   options.iterations = world_.options->solver_iterations;

@@ -27,6 +27,10 @@ struct CasterSpec {
   std::string link;  // URDF link name
   Eigen::Vector2d position_m{0.0, 0.0};
   double radius_m = 0.03;  // a nearly frictionless sphere touching the floor
+  // A caster on a spring suspension (the robot file's `suspension`): its
+  // vertical stiffness and damping, N/m and N·s/m; 0: rigid.
+  double stiffness_npm = 0.0;
+  double damping_nspm = 0.0;
 };
 
 // A sensor mount: a URDF link's pose in the base frame. The link's orientation

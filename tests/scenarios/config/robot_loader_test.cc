@@ -405,6 +405,38 @@ TEST(RobotLoaderTest, MissingLinkIsReportedWhereItIsNamed) {
   EXPECT_TRUE(Contains(c.message, "caster link 'caster_x' does not exist"));
 }
 
+// Confirms that a caster's suspension is read onto that caster, and that one
+// naming no caster, or a caster twice, is reported where it is named.
+TEST(RobotLoaderTest, SuspensionSpringsTheNamedCaster) {
+  const std::string sprung =
+      "casters: [caster_front, caster_rear]\n"
+      "suspension:\n"
+      "  - {caster: caster_rear, stiffness_npm: 20000, damping_nspm: 500}\n";
+  const sim::RobotConfig c =
+      LoadRobotFile(WriteRobot(Edited("casters: [caster_front, caster_rear]\n", sprung)));
+  ASSERT_EQ(c.description.casters.size(), 2u);
+  EXPECT_EQ(c.description.casters[0].stiffness_npm, 0.0);
+  EXPECT_EQ(c.description.casters[1].stiffness_npm, 20000.0);
+  EXPECT_EQ(c.description.casters[1].damping_nspm, 500.0);
+
+  const Diagnostic unknown =
+      ExpectError(Edited("casters: [caster_front, caster_rear]\n",
+                         "casters: [caster_front, caster_rear]\nsuspension:\n"
+                         "  - {caster: left_wheel, stiffness_npm: 20000}\n"),
+                  "suspension[0].caster", "caster: left_wheel");
+  EXPECT_TRUE(Contains(unknown.message, "not one of the robot's `casters`"));
+  const Diagnostic twice = ExpectError(Edited("casters: [caster_front, caster_rear]\n",
+                                              "casters: [caster_front, caster_rear]\nsuspension:\n"
+                                              "  - {caster: caster_rear, stiffness_npm: 20000}\n"
+                                              "  - {caster: caster_rear, stiffness_npm: 30000}\n"),
+                                       "suspension[1].caster", "stiffness_npm: 30000");
+  EXPECT_TRUE(Contains(twice.message, "twice"));
+  ExpectError(Edited("casters: [caster_front, caster_rear]\n",
+                     "casters: [caster_front, caster_rear]\nsuspension:\n"
+                     "  - {caster: caster_rear, stiffness_npm: -5}\n"),
+              "suspension[0].stiffness_npm", "stiffness_npm: -5");
+}
+
 // Confirms that problems inside the URDF are reported at the `urdf` key with the
 // URDF's own file:line message: zero-mass chassis, joint without axis, missing link.
 TEST(RobotLoaderTest, UrdfErrorsAreReportedAtTheUrdfKey) {

