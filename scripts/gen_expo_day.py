@@ -118,18 +118,24 @@ def write(path, name, description, duration_s, count, present, max_present, arri
 
 def random_events(push_rate, kidnap_rate):
     return f"""\
-# Staff move a robot by hand with its motors disengaged (§6.5) and, now and then,
-# someone carries one off: a random robot, at random times drawn from the seed.
+# Staff move a robot by hand with its motors disengaged (§6.5), towards open floor
+# (not into a showcase), and, now and then, someone carries one off: a random
+# robot, at random times drawn from the seed.
 events:
   - type: push
     random: {{rate_per_h: {push_rate}}}
     force: [0.0, 120.0]
     duration_s: 1.5
     motors: disengaged
+    toward: open_floor
   - type: kidnap
     random: {{rate_per_h: {kidnap_rate}}}
     min_distance_m: 2.0
     min_turn_deg: 30
+    # Set down with 0.3 m clear around the footprint: its wheels still turn at
+    # the command they had, and 0.1 m (the default) put one facing a wall too
+    # close to brake (expo_day seed 2, 1,935 s).
+    margin_m: 0.3
 """
 
 
@@ -139,7 +145,7 @@ CI_EVENTS = """\
 # One staff push (motors disengaged) and one kidnap at fixed times.
 events:
   - {at_s: 50, type: push, body: robox_02, force: [0.0, 120.0], duration_s: 1.5,
-     motors: disengaged}
+     motors: disengaged, toward: open_floor}
   - {at_s: 70, type: kidnap, robot: robox_04, min_distance_m: 2.0, min_turn_deg: 30}
 """
 

@@ -235,9 +235,16 @@ void ExpandRandomEvent(MapReader& r, std::size_t index, const EventTargets& targ
   core::RandomStream stream(
       run.seed, core::RandomStream::StreamId(("random/" + std::to_string(index)).c_str()));
   const std::vector<double> times = DrawRandomTimes(*window, &stream);
+  // The robots from a stream of their own: the k-th event's robot is the
+  // k-th draw whatever the window's length, so that a run shortened with
+  // --duration (the demo) is the first part of the full run.
+  core::RandomStream robot_stream(
+      run.seed,
+      core::RandomStream::StreamId(("random/" + std::to_string(index) + "/robots").c_str()));
   std::vector<std::string> robots;
   for (std::size_t k = 0; k < times.size() && !pool.empty(); ++k) {
-    robots.push_back(pool[static_cast<std::size_t>(stream.UniformInt(0, std::ssize(pool) - 1))]);
+    robots.push_back(
+        pool[static_cast<std::size_t>(robot_stream.UniformInt(0, std::ssize(pool) - 1))]);
   }
   // Each event is read by its type's reader, with its drawn robot written into
   // the entry; with no time in the window, once all the same, to check the keys.

@@ -1,9 +1,15 @@
 #include "scenarios/events/scripted_events.h"
 
+#include <cmath>
 #include <memory>
+#include <numbers>
 #include <set>
+#include <vector>
 
+#include "nav/reactive/swept_polygon.h"
+#include "scenarios/events/free_space.h"
 #include "scenarios/events/kidnap_event.h"
+#include "scenarios/metrics/run_metrics.h"
 
 namespace pavilion::scenarios {
 namespace {
@@ -27,11 +33,50 @@ void PushEvent::Impulse(const EventContext& c, const Eigen::Vector2d& impulse_ns
   }
 }
 
+Eigen::Vector2d PushEvent::TowardOpenFloor(const EventContext& c, int index) const {
+  const sim::RobotDescription& model = c.world->robot_model(index);
+  const double radius_m = nav::Circumradius(model.footprint_m);
+  std::vector<core::PlanarSection> sections;
+  for (double h : ChassisCheckHeights(model.chassis_base_z_m,
+                                      model.chassis_base_z_m + model.chassis_height_m)) {
+    sections.push_back(c.world->SectionAt(h));
+  }
+  const sim::Floor& floor = c.world->description().floor;
+  const Eigen::Vector2d from = c.snapshot->robots[index].pose.translation();
+  const int group = c.world->robot_group(index);
+  const double given_rad = std::atan2(options_.force_n.y(), options_.force_n.x());
+  double best_travel = -1.0, best_turn = 0.0;
+  Eigen::Vector2d best = options_.force_n.normalized();
+  for (int k = 0; k < kOpenFloorDirections; ++k) {
+    const double angle = 2.0 * std::numbers::pi * k / kOpenFloorDirections;
+    const Eigen::Vector2d direction(std::cos(angle), std::sin(angle));
+    double travel = 0.0;
+    while (
+        travel + kOpenFloorStepM <= kOpenFloorReachM + 1e-9 &&
+        CheckDisc(sections, floor, from + (travel + kOpenFloorStepM) * direction, radius_m, group)
+            .free) {
+      travel += kOpenFloorStepM;
+    }
+    const double turn = std::abs(core::NormalizeAngle(angle - given_rad));
+    if (travel > best_travel + 1e-9 ||
+        (std::abs(travel - best_travel) <= 1e-9 && turn < best_turn)) {
+      best_travel = travel;
+      best_turn = turn;
+      best = direction;
+    }
+  }
+  return options_.force_n.norm() * best;
+}
+
 EventFields PushEvent::Apply(const EventContext& c) const {
   const Options& o = options_;
   EventFields fields{{"body", target_}};
+  force_n_ = o.force_n;
+  if (o.toward_open_floor && c.robot_index->contains(target_)) {
+    force_n_ = TowardOpenFloor(c, c.robot_index->at(target_));
+  }
   if (o.duration_s > 0.0) {
-    fields["force_n"] = {o.force_n.x(), o.force_n.y()};
+    fields["force_n"] = {RoundForJson(force_n_.x(), 3), RoundForJson(force_n_.y(), 3)};
     fields["duration_s"] = o.duration_s;
   } else {
     Impulse(c, o.impulse_ns);
@@ -52,7 +97,7 @@ EventFields PushEvent::Continue(const EventContext& c) const {
   const double now = c.world->time_s();
   if (now < until_s_ - 1e-9) {
     // The force over the coming step.
-    if (options_.duration_s > 0.0) Impulse(c, options_.force_n * c.world->step_s());
+    if (options_.duration_s > 0.0) Impulse(c, force_n_ * c.world->step_s());
     return nullptr;
   }
   until_s_ = -1.0;
@@ -93,6 +138,12 @@ void RegisterScriptedEvents(EventRegistry* registry) {
       o.impulse_ns = {(*v)[0], (*v)[1]};
     }
     o.motors_disengaged = r.Choice("motors", {"engaged", "disengaged"}, "engaged") == "disengaged";
+    o.toward_open_floor = r.Choice("toward", {"given", "open_floor"}, "given") == "open_floor";
+    if (o.toward_open_floor && (!pull || (!body.empty() && !targets.robots.contains(body)))) {
+      r.doc()->Error(r.Child("toward"), r.PathOf("toward"),
+                     "`toward: open_floor` turns a robot's `force`; '" + body +
+                         "' needs to be a robot pushed with a force");
+    }
     if (o.motors_disengaged && !body.empty() && !targets.robots.contains(body)) {
       r.doc()->Error(r.Child("motors"), r.PathOf("motors"), "'" + body + "' is not a robot");
     }

@@ -4,6 +4,7 @@
 // rolling). Bad input is one line at its key.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -32,7 +33,7 @@ const char* const kWorld =
     "boxes:\n"
     "  - {id: crate, pose: [4, 4, 0], size: [0.5, 0.5, 0.5], material: concrete}\n";
 
-std::string Write(const std::string& events) {
+std::string Write(const std::string& events, const std::string& robot_pose = "[-4, -4, 0]") {
   const auto dir = TestDir();
   WriteFile(dir, "world.yaml", kWorld);
   return WriteFile(dir, "scenario.yaml",
@@ -46,9 +47,11 @@ std::string Write(const std::string& events) {
                    "  - {id: box, pose: [-4, 4, 0], shape: {type: box, size: [0.4, 0.4, 0.4]},\n"
                    "     mass_kg: 10, material: concrete}\n"
                    "robots:\n"
-                   "  - {id: r1, model: robox, pose: [-4, -4, 0],\n"
-                   "     drive: [{at_s: 0, speed_mps: 0.0, turn_radps: 0.0}]}\n"
-                   "events:\n" +
+                   "  - {id: r1, model: robox, pose: " +
+                       robot_pose +
+                       ",\n"
+                       "     drive: [{at_s: 0, speed_mps: 0.0, turn_radps: 0.0}]}\n"
+                       "events:\n" +
                        events);
 }
 
@@ -92,6 +95,35 @@ TEST(PushEventTest, PullWithTheMotorsEngagedIsHeld) {
   EXPECT_EQ(Records(out, "push").size(), 1u);
 }
 
+// Staff pushing a robot 0.9 m from a wall towards it: as given, the robot
+// rolls into the wall; `toward: open_floor` turns the same 150 N to where the
+// floor is open, and the robot touches nothing.
+TEST(PushEventTest, TowardOpenFloorTurnsAPushAwayFromTheWall) {
+  const auto touched_wall = [](const std::filesystem::path& out) {
+    for (const nlohmann::json& c : Records(out, "collision")) {
+      if (c.at("a") == "outline" || c.at("b") == "outline") return true;
+    }
+    return false;
+  };
+  const std::string push =
+      "  - {at_s: 1, type: push, body: r1, force: [-150, 0], duration_s: 1.5, motors: "
+      "disengaged";
+  const auto as_given = TestDir() / "given";
+  RunScenario(LoadScenarioFile(Write(push + "}\n", "[-7.0, 0, 0]")),
+              RunOptions{as_given.string(), false, 1});
+  EXPECT_TRUE(touched_wall(as_given));
+
+  const auto turned = TestDir() / "turned";
+  RunScenario(LoadScenarioFile(Write(push + ", toward: open_floor}\n", "[-7.0, 0, 0]")),
+              RunOptions{turned.string(), false, 1});
+  const std::vector<nlohmann::json> pushes = Records(turned, "push");
+  ASSERT_EQ(pushes.size(), 2u);
+  const std::vector<double> force = pushes[0].at("force_n").get<std::vector<double>>();
+  EXPECT_NEAR(std::hypot(force[0], force[1]), 150.0, 1e-3);
+  EXPECT_GE(force[0], -1e-3);  // not towards the wall at x = -7.9
+  EXPECT_FALSE(touched_wall(turned));
+}
+
 // Motors belong to robots; impulse and force exclude each other.
 TEST(PushEventTest, BadInputIsAnErrorAtItsKey) {
   const auto expect_error = [](const std::string& events, const std::string& key_path,
@@ -104,6 +136,12 @@ TEST(PushEventTest, BadInputIsAnErrorAtItsKey) {
                "events[0].impulse", "not both");
   expect_error("  - {at_s: 1, type: push, body: r1, force: [5, 0], duration_s: 0}\n",
                "events[0].duration_s", "");
+  expect_error("  - {at_s: 1, type: push, body: r1, impulse: [5, 0], toward: open_floor}\n",
+               "events[0].toward", "needs to be a robot pushed with a force");
+  expect_error("  - {at_s: 1, type: push, body: box, force: [5, 0], toward: open_floor}\n",
+               "events[0].toward", "needs to be a robot pushed with a force");
+  expect_error("  - {at_s: 1, type: push, body: r1, force: [5, 0], toward: somewhere}\n",
+               "events[0].toward", "");
 }
 
 }  // namespace

@@ -132,6 +132,26 @@ TEST(RandomEventsTest, AnotherEntryDoesNotShiftTheDraws) {
   EXPECT_EQ(a, b);
 }
 
+// A run shortened with --duration is the first part of the full run: the
+// same times and robots up to its end (rate_per_h and every_s; a count is
+// spread over the window instead).
+TEST(RandomEventsTest, AShortenedRunDrawsTheFirstPartOfTheFullRun) {
+  const std::string path = Write(
+      "  - {type: kidnap, random: {rate_per_h: 20}}\n"
+      "  - {type: kidnap, random: {every_s: 300}}\n",
+      4 * 3600.0);
+  const auto full = Kidnaps(LoadScenarioFile(path));
+  ScenarioOverrides shorter;
+  shorter.duration_s = 3600;
+  const auto first_hour = Kidnaps(LoadScenarioFile(path, shorter));
+  std::vector<std::pair<double, std::string>> full_first_hour;
+  for (const auto& k : full) {
+    if (k.first < 3600.0) full_first_hour.push_back(k);
+  }
+  ASSERT_GT(first_hour.size(), 20u);
+  EXPECT_EQ(first_hour, full_first_hour);
+}
+
 // rate_per_h: a Poisson process. Over 1000 h at 10 per hour the count is
 // Poisson(10000) (sd 100): within 4 sd of its mean; its gaps are exponential:
 // the fraction shorter than the mean gap is 1 - 1/e, within 4 binomial sd.
