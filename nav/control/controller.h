@@ -44,6 +44,10 @@ class Controller {
   virtual ~Controller() = default;
   // A new wheel-speed command held from this step on, or none to keep the last.
   virtual std::optional<WheelSpeeds> OnTick(const ControlTick& tick) = 0;
+  // Whether OnTick at `tick` does enough work to be worth a worker thread
+  // (the runner calls the others inline: a thread hand-off costs more than
+  // a speed ramp). Only a hint: the calls and their results are the same.
+  virtual bool BusyTick(std::int64_t /*tick*/) const { return true; }
   // A scan the robot just finished; a command held from the next step on.
   virtual std::optional<WheelSpeeds> OnScan(const core::LaserScan& /*scan*/,
                                             const ScanContext& /*context*/) {

@@ -210,6 +210,8 @@ class NavigationController : public Controller {
                        MissionSequence missions, const NavigationControllerOptions& options);
   ~NavigationController() override;
 
+  // The window's cycle (dwa_rate_hz); between cycles OnTick only ramps.
+  bool BusyTick(std::int64_t tick) const override { return tick % dwa_period_ticks_ == 0; }
   std::optional<WheelSpeeds> OnTick(const ControlTick& tick) override;
   std::optional<WheelSpeeds> OnScan(const core::LaserScan& scan,
                                     const ScanContext& context) override;

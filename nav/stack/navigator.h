@@ -58,6 +58,8 @@ class Navigator {
 
   // Before the physics step `tick` at `now_s`: the controller's new command.
   std::optional<WheelSpeeds> Control(std::int64_t tick, double now_s);
+  // Whether Control at `tick` is worth a worker thread (Controller::BusyTick).
+  bool ControlBusy(std::int64_t tick) const { return controller_ && controller_->BusyTick(tick); }
   // After the step: the tick's readings update odometry and estimate; the
   // controller sees the scans.
   SenseResult Sense(const SensorFrame& frame);

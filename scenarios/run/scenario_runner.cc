@@ -1,5 +1,7 @@
 #include "scenarios/run/scenario_runner.h"
 
+#include <algorithm>
+
 #include "scenarios/run/scenario_run.h"
 
 namespace pavilion::scenarios {
@@ -406,11 +408,20 @@ void ScenarioRun::ControlRobots(std::int64_t tick, double t) {
   // (nav/fleet/coordinator.h). What it did reaches the world, the events and
   // the logs afterwards, in robot order, so the outputs are the same for any
   // thread count.
-  pool_->ParallelFor(robots_.size(), [&](std::size_t k) {
+  const auto control = [&](std::size_t k) {
     const auto t_control = Clock::now();
     work_[k].command = robots_[k].navigator->Control(tick, t);
     work_[k].control_s = Seconds(Clock::now() - t_control);
-  });
+  };
+  // Between the windows' cycles a controller only ramps its speeds: the
+  // calls run inline, as handing them to the pool would cost more.
+  const bool busy = std::any_of(robots_.begin(), robots_.end(),
+                                [&](const RobotRun& r) { return r.navigator->ControlBusy(tick); });
+  if (busy) {
+    pool_->ParallelFor(robots_.size(), control);
+  } else {
+    for (std::size_t k = 0; k < robots_.size(); ++k) control(k);
+  }
   for (std::size_t k = 0; k < robots_.size(); ++k) {
     RobotRun& r = robots_[k];
     const std::optional<nav::WheelSpeeds>& command = work_[k].command;
