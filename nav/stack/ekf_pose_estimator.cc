@@ -17,7 +17,7 @@ void EkfPoseEstimatorOptions::Validate() const {
 }
 
 EkfPoseEstimator::EkfPoseEstimator(core::RobotMap map, const EkfPoseEstimatorOptions& options)
-    : options_(options), gate_(options.lasers, options.rate_hz) {
+    : options_(options), gate_(options.lasers, options.rate_hz), expected_lasers_(options.lasers) {
   options_.Validate();
   localizer_ = std::make_unique<core::Localizer>(std::move(map), options_.localizer);
   localizer_->Initialize(options_.initial_pose, options_.initial_covariance, 0.0);
@@ -39,15 +39,29 @@ double FirstReadingStamp(const core::LaserScan& scan) {
 std::optional<EstimatorCycle> EkfPoseEstimator::Update(
     std::span<const core::EncoderReading> encoders,
     const std::vector<const core::LaserScan*>& scans) {
-  const long matches_before = localizer_->counters().matches - image_matches_;
   for (const core::EncoderReading& e : encoders) localizer_->AddEncoders(e);
   NoteScanCycle();
   // Scans in the order they finished, each laser's at most rate_hz times per
   // s; with a hold, they wait with the images (IntegrateHeld).
   const bool hold = options_.hold_s > 0.0;
+  std::optional<EstimatorCycle> closed;
   for (const core::LaserScan* scan : scans) {
     if (paused_) break;
     if (!gate_.Admit(*scan)) continue;
+    // A tick holds one scan of each laser: a second scan of one ends it (the
+    // other's was lost or refused).
+    if (std::find(tick_lasers_.begin(), tick_lasers_.end(), scan->sensor_id) !=
+        tick_lasers_.end()) {
+      if (!closed && ScanCycles() > tick_cycles_) closed = ReportCycle(tick_matches_);
+      expected_lasers_ = std::move(tick_lasers_);  // the lasers that still deliver
+      tick_lasers_.clear();
+    }
+    if (tick_lasers_.empty()) {
+      tick_cycles_ = ScanCycles();
+      tick_resolved_ = ResolvedScans();
+      tick_matches_ = localizer_->counters().matches - image_matches_;
+    }
+    tick_lasers_.push_back(scan->sensor_id);
     if (hold) {
       held_scans_.push_back(*scan);
     } else {
@@ -62,12 +76,30 @@ std::optional<EstimatorCycle> EkfPoseEstimator::Update(
     // Without a hold, only images wait: for the scans begun before them.
     IntegrateHeld(encoders.back().stamp_s - (hold ? options_.hold_s : kSweepWaitS));
   }
-  // A cycle is a laser's (Tables 4.1-4.2 count n_v per laser cycle): the
-  // images integrated since the last one report with the next.
-  const long scan_cycles = localizer_->counters().cycles - image_cycles_;
-  if (scan_cycles == last_cycles_) return std::nullopt;
-  last_cycles_ = scan_cycles;
-  return ReportCycle(matches_before);
+  if (closed) return closed;
+  // A cycle is a tick of the gate: each laser's scan of it integrated (or
+  // refused). Two lasers whose stamps differ by their latencies still make
+  // one cycle, as two with the same stamps do (Table 4.2 counts n_l per
+  // cycle); the images integrated since the last one report with the next.
+  if (tick_lasers_.empty() || ScanCycles() == tick_cycles_) return std::nullopt;
+  if (ResolvedScans() - tick_resolved_ < static_cast<long>(tick_lasers_.size())) {
+    return std::nullopt;
+  }
+  for (const std::string& laser : expected_lasers_) {
+    if (std::find(tick_lasers_.begin(), tick_lasers_.end(), laser) == tick_lasers_.end()) {
+      return std::nullopt;  // its scan of this tick is still to come
+    }
+  }
+  expected_lasers_ = std::move(tick_lasers_);
+  tick_lasers_.clear();
+  return ReportCycle(tick_matches_);
+}
+
+long EkfPoseEstimator::ScanCycles() const { return localizer_->counters().cycles - image_cycles_; }
+
+long EkfPoseEstimator::ResolvedScans() const {
+  const core::LocalizerCounters& c = localizer_->counters();
+  return c.cycles + c.too_old + c.out_of_order - image_cycles_ - image_refusals_;
 }
 
 void EkfPoseEstimator::IntegrateHeld(double before_s) {
@@ -91,6 +123,7 @@ void EkfPoseEstimator::IntegrateHeld(double before_s) {
     images_.pop_front();
     const core::LocalizerCounters& after = localizer_->counters();
     image_cycles_ += after.cycles - before.cycles;
+    image_refusals_ += after.too_old + after.out_of_order - before.too_old - before.out_of_order;
     image_matches_ += after.matches - before.matches;
     edge_matches_ += static_cast<int>(after.matches - before.matches);
     noted_cycles_ = after.cycles;
@@ -138,11 +171,11 @@ Eigen::Matrix3d CollisionCovariance(double sigma_m, double sigma_rad) {
   return Eigen::Vector3d(sigma_m * sigma_m, sigma_m * sigma_m, sigma_rad * sigma_rad).asDiagonal();
 }
 
-EstimatorCycle EkfPoseEstimator::ReportCycle(long matches_before) {
+EstimatorCycle EkfPoseEstimator::ReportCycle(long tick_matches) {
   EstimatorCycle c = CycleFromReport(scan_report_);
   // Batches before the last one of this tick: their matches count as lines
   // (lasers give lines and beacons; the last report says how many of each).
-  const long matched = localizer_->counters().matches - image_matches_ - matches_before;
+  const long matched = localizer_->counters().matches - image_matches_ - tick_matches;
   c.matched_lines += static_cast<int>(
       std::max(0L, matched - (c.matched_lines + c.matched_beacons + c.matched_other)));
   c.matched_edges = edge_matches_;

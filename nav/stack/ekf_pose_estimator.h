@@ -4,7 +4,9 @@
 // stack's estimator: the encoders at their own rate, each laser's scans at
 // most `rate_hz` times per second (the thesis localized at 2 Hz, §4.5.2), and
 // the vertical edges of the cameras in `localizer.cameras` after the lines
-// (§4.4.2), each image at its own stamp.
+// (§4.4.2), each image at its own stamp. A cycle (a row of localization.csv)
+// is a tick of that rate: one scan of each laser, whether their stamps agree
+// or differ by the lasers' latencies.
 
 #include <Eigen/Core>
 #include <deque>
@@ -20,7 +22,7 @@ namespace pavilion::nav {
 
 struct EkfPoseEstimatorOptions {
   core::LocalizerOptions localizer;
-  double rate_hz = 2.0;             // localization cycles per laser and second, > 0
+  double rate_hz = 2.0;             // localization cycles per second, > 0
   std::vector<std::string> lasers;  // lasers whose scans are used, in the robot's order
   core::Pose2 initial_pose;         // the estimate at time 0
   Eigen::Matrix3d initial_covariance = Eigen::Matrix3d::Identity() * 1e-4;
@@ -65,7 +67,11 @@ class EkfPoseEstimator : public PoseEstimator {
   const core::Localizer& localizer() const { return *localizer_; }
 
  private:
-  EstimatorCycle ReportCycle(long matches_before);
+  // The tick's cycle: the latest laser batch's counts, and the lines of the
+  // tick's earlier batches (the localizer's scan matches beyond tick_matches).
+  EstimatorCycle ReportCycle(long tick_matches);
+  long ScanCycles() const;     // the localizer's cycles that were the lasers'
+  long ResolvedScans() const;  // admitted scans integrated or refused (too old, out of order)
   // Integrates the waiting scans and images stamped before `before_s` in
   // time-stamp order (the localizer refuses a batch older than one it has
   // integrated, §4.4.3: an image arrives a grabber's delay late).
@@ -77,13 +83,22 @@ class EkfPoseEstimator : public PoseEstimator {
   std::unique_ptr<core::Localizer> localizer_;
   EkfPoseEstimatorOptions options_;
   ScanRateGate gate_;
-  long last_cycles_ = 0;
+  // The lasers a tick waits for: those of the last tick (at first, all). A
+  // laser that stops delivering leaves it when its tick is ended by the next.
+  std::vector<std::string> expected_lasers_;
+  // The open tick: the lasers admitted in it, and the scan cycles, resolved
+  // scans and scan matches before its first.
+  std::vector<std::string> tick_lasers_;
+  long tick_cycles_ = 0;
+  long tick_resolved_ = 0;
+  long tick_matches_ = 0;
   bool paused_ = false;
   std::deque<core::CameraImage> images_;     // waiting, in stamp order
   std::vector<core::LaserScan> held_scans_;  // admitted, waiting with the images
   long image_cycles_ = 0;                    // the localizer's cycles and matches that were images'
   long image_matches_ = 0;
-  int edge_matches_ = 0;  // matched vertical edges since the last reported cycle
+  long image_refusals_ = 0;  // images the localizer refused (too old, out of order)
+  int edge_matches_ = 0;     // matched vertical edges since the last reported cycle
   long noted_cycles_ = 0;
   core::CycleReport scan_report_;  // the latest laser batch's
 };

@@ -34,6 +34,7 @@ void RealismProfile::Validate() const {
           "in [0, 0.5] m");
   Require(in(laser_correlation_readings, 0.1, 1e4), "laser_correlation_readings", "in [0.1, 1e4]");
   Require(in(laser_intensity_bias_m, 0.0, kMaxRangeM), "laser_intensity_bias_m", "in [0, 0.5] m");
+  Require(in(laser_intensity_sigma_m, 0.0, kMaxRangeM), "laser_intensity_sigma_m", "in [0, 0.5] m");
   Require(in(laser_stamp_jitter_s, 0.0, kMaxTimeS), "laser_stamp_jitter_s", "in [0, 0.1] s");
   Require(in(laser_latency_sigma_s, 0.0, kMaxTimeS), "laser_latency_sigma_s", "in [0, 0.1] s");
   Require(in(wheel_radius_ratio_sigma, 0.0, kMaxFactorSigma), "wheel_radius_ratio_sigma",

@@ -33,13 +33,16 @@ struct RealismProfile {
   // The true white range noise σ (the robot file's laser profile says what
   // the datasheet and the extraction assume: 1 cm for the LMS 200). The real
   // logs' wall residuals are smaller near the sensor (docs/realism.md). m, [0, 0.1].
-  double laser_range_sigma_m = 0.005;
-  // Range bias per surface, correlated range noise along the scan and the
-  // intensity-dependent bias (sim::LaserSystematicErrors).
+  double laser_range_sigma_m = 0.006;
+  // Range bias per surface, correlated range noise along the scan, and the
+  // intensity-dependent bias and noise (sim::LaserSystematicErrors): the
+  // real logs' residuals grow with range where the simulated white noise
+  // alone stays flat.
   double laser_surface_bias_sigma_m = 0.004;  // m, [0, 0.5]
   double laser_correlated_sigma_m = 0.004;    // m, [0, 0.5]
   double laser_correlation_readings = 4.0;    // readings, [0.1, 1e4]
   double laser_intensity_bias_m = 0.01;       // m, [0, 0.5]
+  double laser_intensity_sigma_m = 0.025;     // m, [0, 0.5]
   // Time (§4.4.3): each scan's stamp jitters with this σ; each laser's stamps
   // lag (or lead) the encoders' by a constant drawn with this σ, the residual
   // of a timestamp calibration (§2.2.1.5).

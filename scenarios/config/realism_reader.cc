@@ -32,6 +32,7 @@ void ReadRealism(YamlDocument* doc, MapReader& top, RealismProfile* profile) {
                {"laser_correlated_sigma_m", &P::laser_correlated_sigma_m},
                {"laser_correlation_readings", &P::laser_correlation_readings},
                {"laser_intensity_bias_m", &P::laser_intensity_bias_m},
+               {"laser_intensity_sigma_m", &P::laser_intensity_sigma_m},
                {"laser_stamp_jitter_s", &P::laser_stamp_jitter_s},
                {"laser_latency_sigma_s", &P::laser_latency_sigma_s},
                {"wheel_radius_ratio_sigma", &P::wheel_radius_ratio_sigma},

@@ -50,6 +50,7 @@ void DrawRealisticRobot(const RealismProfile& profile, std::uint64_t seed, Robot
     e.correlated_sigma_m = p.laser_correlated_sigma_m;
     e.correlation_readings = p.laser_correlation_readings;
     e.intensity_bias_m = p.laser_intensity_bias_m;
+    e.intensity_sigma_m = p.laser_intensity_sigma_m;
     e.stamp_jitter_s = p.laser_stamp_jitter_s;
     e.seed = draw.NextU64();
     // A latency is a stamp later than the readings: a positive bias.

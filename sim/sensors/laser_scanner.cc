@@ -128,7 +128,7 @@ double RelativeAmplitude(double reflectivity, double range_m, double cos_inciden
 bool LaserSystematicErrors::Any() const {
   return mount_error.translation().squaredNorm() > 0.0 || mount_error.theta_rad != 0.0 ||
          surface_bias_sigma_m > 0.0 || correlated_sigma_m > 0.0 || intensity_bias_m > 0.0 ||
-         stamp_jitter_s > 0.0;
+         intensity_sigma_m > 0.0 || stamp_jitter_s > 0.0;
 }
 
 void LaserSystematicErrors::Validate() const {
@@ -150,6 +150,8 @@ void LaserSystematicErrors::Validate() const {
           "systematic.correlation_readings", "in [0.1, 1e4]", correlation_readings);
   Require(intensity_bias_m >= 0.0 && intensity_bias_m <= kMaxBiasM, "systematic.intensity_bias_m",
           "in [0, 0.5] m", intensity_bias_m);
+  Require(intensity_sigma_m >= 0.0 && intensity_sigma_m <= kMaxBiasM,
+          "systematic.intensity_sigma_m", "in [0, 0.5] m", intensity_sigma_m);
   Require(stamp_jitter_s >= 0.0 && stamp_jitter_s <= kMaxJitterS, "systematic.stamp_jitter_s",
           "in [0, 0.1] s", stamp_jitter_s);
 }
@@ -565,10 +567,9 @@ core::LaserScan LaserScanner::Finalize(const Sweep& sweep) {
     double retro_amplitude = 0.0;
     double range_m = FootprintReturn(g, &amplitude, &retro_amplitude);
     if (!(amplitude > 0.0)) continue;  // no return
-    if (sys.intensity_bias_m > 0.0) {
-      range_m += sys.intensity_bias_m *
-                 std::clamp(-std::log10(amplitude) / kIntensityBiasDecades, 0.0, 1.0);
-    }
+    // How far the return is below the white target's, on the intensity errors' scale.
+    const double weakness = std::clamp(-std::log10(amplitude) / kIntensityBiasDecades, 0.0, 1.0);
+    if (sys.intensity_bias_m > 0.0) range_m += sys.intensity_bias_m * weakness;
 
     const bool dark = o.effects && g.centre.hit && g.centre.response == core::LaserResponse::kDark;
     if (dark && o.noise && o.dark_dropout_probability > 0.0 &&
@@ -580,6 +581,8 @@ core::LaserScan LaserScanner::Finalize(const Sweep& sweep) {
       double sigma_m = o.amplitude_model && amplitude < o.min_amplitude ? o.low_amplitude_sigma_m
                                                                         : o.range_sigma_m;
       if (dark) sigma_m *= o.dark_sigma_factor;
+      if (sys.intensity_sigma_m > 0.0)
+        sigma_m = std::hypot(sigma_m, sys.intensity_sigma_m * weakness);
       if (sigma_m > 0.0) range_m += stream_.Normal(0.0, sigma_m);
     }
     if (correlated) range_m += correlated_state_m_;

@@ -48,6 +48,12 @@ struct LaserSystematicErrors {
   // a (RelativeAmplitude below): nothing for the white target at 2 m, the
   // whole bias at a thousandth of its signal. m, [0, 0.5].
   double intensity_bias_m = 0.0;
+  // Intensity-dependent noise: a weaker return's time of flight is timed less
+  // sharply, so the white range noise grows as the amplitude falls. Its σ is
+  // the datasheet σ and intensity_sigma_m · clamp(-log10(a) / 3, 0, 1) added
+  // in quadrature (the same amplitude law as the bias): nothing for the white
+  // target at 2 m, 40 % of it for a white wall at 8 m. m, [0, 0.5].
+  double intensity_sigma_m = 0.0;
   // White error of each scan's stamp (scheduling and bus jitter, §2.2.1.5,
   // §4.4.3), σ; a constant latency is LaserScannerOptions::timestamp_bias_s. s, [0, 0.1].
   double stamp_jitter_s = 0.0;

@@ -209,6 +209,46 @@ TEST(LaserSystematicTest, IntensityBiasGrowsAsTheReturnWeakens) {
   }
 }
 
+// Weak returns are noisier: the white σ and intensity_sigma_m times the same
+// amplitude law as the bias, in quadrature. The draws are the plain scan's, so
+// each reading's error is the plain one's scaled by exactly that ratio; over
+// many scans the head-on reading at 5.95 m has the σ it claims.
+TEST(LaserSystematicTest, IntensityNoiseGrowsAsTheReturnWeakens) {
+  World world(FourWallRoom(), {});
+  LaserScannerOptions plain = Lms200();  // white noise on, σ 1 cm
+  LaserScannerOptions o = plain;
+  o.systematic.intensity_sigma_m = 0.03;
+  LaserScanner noisy = Scanner(o);
+  LaserScanner reference = Scanner(plain);
+  const Pose2 facing_east{4.0, 2.5, 0.0};
+  // Head-on at 5.95 m: amplitude (2 / 5.95)^2, weakness log10((5.95 / 2)^2) / 3.
+  const double weakness = std::log10(std::pow(5.95 / 2.0, 2)) / 3.0;
+  const double sigma = std::hypot(plain.range_sigma_m, 0.03 * weakness);
+  double sum2 = 0.0;
+  constexpr int kScans = 800;
+  for (int scan = 0; scan < kScans; ++scan) {
+    const Shot n = ScanOnce(&noisy, world, facing_east, 0.05 * scan);
+    const Shot r = ScanOnce(&reference, world, facing_east, 0.05 * scan);
+    EXPECT_EQ(n.scan.stamp_s, r.scan.stamp_s);
+    for (std::size_t k = 0; k < n.scan.readings.size(); ++k) {
+      ASSERT_EQ(n.scan.readings[k].valid, r.scan.readings[k].valid);
+      if (!n.scan.readings[k].valid) continue;
+      const double truth = n.truth.true_range_m[k];
+      const double e_noisy = n.scan.readings[k].range_m - truth;
+      const double e_plain = r.scan.readings[k].range_m - truth;
+      // Never less noise; the same sign as the plain draw.
+      EXPECT_GE(std::abs(e_noisy), std::abs(e_plain) - 1e-12);
+      EXPECT_GE(e_noisy * e_plain, 0.0);
+      if (std::abs(n.scan.readings[k].bearing_rad) < 1e-9) {
+        EXPECT_NEAR(e_noisy, e_plain * sigma / plain.range_sigma_m, 1e-9);
+        sum2 += e_noisy * e_noisy;
+      }
+    }
+  }
+  // Sample σ of 800 draws within 8 % (its standard error is 2.5 %).
+  EXPECT_NEAR(std::sqrt(sum2 / kScans), sigma, 0.08 * sigma);
+}
+
 // Turning an error on changes only what it should: the white noise draws
 // stay the same, so the difference is the error itself.
 TEST(LaserSystematicTest, EachErrorChangesOnlyWhatItShould) {
@@ -269,6 +309,14 @@ TEST(LaserSystematicTest, ValidateNamesTheField) {
   o = Lms200();
   o.systematic.mount_error = Pose2{0.2, 0.0, 0.0};
   EXPECT_THROW(o.Validate(), std::invalid_argument);
+  o = Lms200();
+  o.systematic.intensity_sigma_m = -0.01;
+  try {
+    o.Validate();
+    FAIL() << "expected an error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("intensity_sigma_m"), std::string::npos);
+  }
 }
 
 }  // namespace
