@@ -50,11 +50,9 @@ std::optional<EstimatorCycle> EkfPoseEstimator::Update(
     if (!gate_.Admit(*scan)) continue;
     // A tick holds one scan of each laser: a second scan of one ends it (the
     // other's was lost or refused).
-    if (std::find(tick_lasers_.begin(), tick_lasers_.end(), scan->sensor_id) !=
-        tick_lasers_.end()) {
-      if (!closed && ScanCycles() > tick_cycles_) closed = ReportCycle(tick_matches_);
-      expected_lasers_ = std::move(tick_lasers_);  // the lasers that still deliver
-      tick_lasers_.clear();
+    if (InTick(scan->sensor_id)) {
+      if (!closed && ScanCycles() > tick_cycles_) closed = ReportCycle();
+      CloseTick();  // its lasers are those that still deliver
     }
     if (tick_lasers_.empty()) {
       tick_cycles_ = ScanCycles();
@@ -86,13 +84,20 @@ std::optional<EstimatorCycle> EkfPoseEstimator::Update(
     return std::nullopt;
   }
   for (const std::string& laser : expected_lasers_) {
-    if (std::find(tick_lasers_.begin(), tick_lasers_.end(), laser) == tick_lasers_.end()) {
-      return std::nullopt;  // its scan of this tick is still to come
-    }
+    if (!InTick(laser)) return std::nullopt;  // its scan of this tick is still to come
   }
+  const EstimatorCycle cycle = ReportCycle();
+  CloseTick();
+  return cycle;
+}
+
+bool EkfPoseEstimator::InTick(const std::string& laser) const {
+  return std::find(tick_lasers_.begin(), tick_lasers_.end(), laser) != tick_lasers_.end();
+}
+
+void EkfPoseEstimator::CloseTick() {
   expected_lasers_ = std::move(tick_lasers_);
   tick_lasers_.clear();
-  return ReportCycle(tick_matches_);
 }
 
 long EkfPoseEstimator::ScanCycles() const { return localizer_->counters().cycles - image_cycles_; }
@@ -171,11 +176,11 @@ Eigen::Matrix3d CollisionCovariance(double sigma_m, double sigma_rad) {
   return Eigen::Vector3d(sigma_m * sigma_m, sigma_m * sigma_m, sigma_rad * sigma_rad).asDiagonal();
 }
 
-EstimatorCycle EkfPoseEstimator::ReportCycle(long tick_matches) {
+EstimatorCycle EkfPoseEstimator::ReportCycle() {
   EstimatorCycle c = CycleFromReport(scan_report_);
   // Batches before the last one of this tick: their matches count as lines
   // (lasers give lines and beacons; the last report says how many of each).
-  const long matched = localizer_->counters().matches - image_matches_ - tick_matches;
+  const long matched = localizer_->counters().matches - image_matches_ - tick_matches_;
   c.matched_lines += static_cast<int>(
       std::max(0L, matched - (c.matched_lines + c.matched_beacons + c.matched_other)));
   c.matched_edges = edge_matches_;

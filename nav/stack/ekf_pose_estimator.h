@@ -67,10 +67,13 @@ class EkfPoseEstimator : public PoseEstimator {
   const core::Localizer& localizer() const { return *localizer_; }
 
  private:
-  // The tick's cycle: the latest laser batch's counts, and the lines of the
-  // tick's earlier batches (the localizer's scan matches beyond tick_matches).
-  EstimatorCycle ReportCycle(long tick_matches);
-  long ScanCycles() const;     // the localizer's cycles that were the lasers'
+  // The open tick's cycle: the latest laser batch's counts, and the lines of
+  // the tick's earlier batches (the scan matches beyond tick_matches_).
+  EstimatorCycle ReportCycle();
+  // Ends the open tick: its lasers become the ones the next waits for.
+  void CloseTick();
+  bool InTick(const std::string& laser) const;  // a scan of `laser` was admitted in the open tick
+  long ScanCycles() const;                      // the localizer's cycles that were the lasers'
   long ResolvedScans() const;  // admitted scans integrated or refused (too old, out of order)
   // Integrates the waiting scans and images stamped before `before_s` in
   // time-stamp order (the localizer refuses a batch older than one it has

@@ -567,9 +567,13 @@ core::LaserScan LaserScanner::Finalize(const Sweep& sweep) {
     double retro_amplitude = 0.0;
     double range_m = FootprintReturn(g, &amplitude, &retro_amplitude);
     if (!(amplitude > 0.0)) continue;  // no return
-    // How far the return is below the white target's, on the intensity errors' scale.
-    const double weakness = std::clamp(-std::log10(amplitude) / kIntensityBiasDecades, 0.0, 1.0);
-    if (sys.intensity_bias_m > 0.0) range_m += sys.intensity_bias_m * weakness;
+    // How far the return is below the white target's, on the intensity errors'
+    // scale (only when an intensity error is on: a log per reading).
+    const double weakness =
+        sys.intensity_bias_m > 0.0 || sys.intensity_sigma_m > 0.0
+            ? std::clamp(-std::log10(amplitude) / kIntensityBiasDecades, 0.0, 1.0)
+            : 0.0;
+    range_m += sys.intensity_bias_m * weakness;
 
     const bool dark = o.effects && g.centre.hit && g.centre.response == core::LaserResponse::kDark;
     if (dark && o.noise && o.dark_dropout_probability > 0.0 &&
