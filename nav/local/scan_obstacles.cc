@@ -14,6 +14,11 @@ namespace pavilion::nav {
 namespace {
 
 // Blind-zone memory: one scan per laser this often (s), points this near (m).
+// Covered()'s cone test decides a point without atan2 only this far from the
+// field of view's edges (rad), where the two cannot disagree; the cone's two
+// cosine thresholds must then lie at least kConeCosineGap apart.
+constexpr double kConeMarginRad = 1e-6;
+constexpr double kConeCosineGap = 1e-9;
 constexpr double kMemoryPeriodS = 0.1;
 constexpr double kMemoryReachM = 3.0;
 // Between two scans the robot moved when its odometry pose changed by more
@@ -213,6 +218,7 @@ void ScanObstacles::AddScan(const core::LaserScan& scan, const core::Pose2& odom
   it->in_odom.clear();
   it->stamp_s = scan.stamp_s;
   it->sensor_from_robot = scan.robot_from_sensor.Inverse();
+  it->sensor_from_robot_points = core::PointTransform(it->sensor_from_robot);
   it->max_range_m = scan.max_range_m;
   if (!scan.readings.empty()) {
     it->min_bearing_rad =
@@ -220,6 +226,7 @@ void ScanObstacles::AddScan(const core::LaserScan& scan, const core::Pose2& odom
     it->max_bearing_rad =
         std::max(scan.readings.front().bearing_rad, scan.readings.back().bearing_rad);
   }
+  SetCone(&*it);
   const core::PointTransform odom_from_sensor(odom_from_robot * scan.robot_from_sensor);
   const core::PointTransform robot_from_sensor(scan.robot_from_sensor);
   for (const core::LaserReading& r : scan.readings) {
@@ -280,13 +287,32 @@ void ScanObstacles::ForgetBefore(double stamp_s) {
   std::erase_if(memory_, [&](const Remembered& m) { return m.taken_s < stamp_s; });
 }
 
+void ScanObstacles::SetCone(LaserPoints* l) {
+  const double half_rad = 0.5 * (l->max_bearing_rad - l->min_bearing_rad);
+  const double mid_rad = 0.5 * (l->max_bearing_rad + l->min_bearing_rad);
+  l->cone_axis = {std::cos(mid_rad), std::sin(mid_rad)};
+  l->cos_surely_inside = std::cos(half_rad - kConeMarginRad);
+  l->cos_surely_outside = std::cos(half_rad + kConeMarginRad);
+  // Within atan2's range, and the two thresholds well apart (the cone neither
+  // a sliver nor a whole turn): a point's cosine, good to a few 1e-16, then
+  // cannot be on the wrong side of either.
+  l->cone = l->min_bearing_rad >= -std::numbers::pi && l->max_bearing_rad <= std::numbers::pi &&
+            half_rad > kConeMarginRad &&
+            l->cos_surely_inside - l->cos_surely_outside > kConeCosineGap;
+}
+
 bool ScanObstacles::Covered(const Eigen::Vector2d& point_in_robot) const {
   for (const LaserPoints& l : lasers_) {
-    const Eigen::Vector2d q = l.sensor_from_robot * point_in_robot;
-    const double bearing = std::atan2(q.y(), q.x());
-    if (bearing >= l.min_bearing_rad && bearing <= l.max_bearing_rad && q.norm() < l.max_range_m) {
-      return true;
+    const Eigen::Vector2d q = l.sensor_from_robot_points.Apply(point_in_robot);
+    const double range_m = q.norm();
+    if (!(range_m < l.max_range_m)) continue;
+    if (l.cone && range_m > 0.0) {
+      const double cos_off_axis = l.cone_axis.dot(q) / range_m;
+      if (cos_off_axis > l.cos_surely_inside) return true;
+      if (cos_off_axis < l.cos_surely_outside) continue;
     }
+    const double bearing = std::atan2(q.y(), q.x());
+    if (bearing >= l.min_bearing_rad && bearing <= l.max_bearing_rad) return true;
   }
   return false;
 }

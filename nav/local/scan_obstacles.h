@@ -156,11 +156,22 @@ class ScanObstacles {
     std::string sensor_id;
     std::vector<Eigen::Vector2d> in_odom;
     core::Pose2 sensor_from_robot;  // its mount, inverted once per scan
-    double min_bearing_rad = 0.0;   // the scan's field of view
+    // sensor_from_robot's rotation, its cosine and sine taken once per scan.
+    core::PointTransform sensor_from_robot_points{core::Pose2{}};
+    double min_bearing_rad = 0.0;  // the scan's field of view
     double max_bearing_rad = 0.0;
     double max_range_m = 0.0;
-    double remembered_s = -1e9;  // motion clock of its last scan kept in memory_
-    double stamp_s = 0.0;        // the time of the scan in_odom holds
+    // The field of view as a cone about its middle bearing, for Covered() to
+    // decide most points without an arctangent: a point whose bearing is
+    // more than kConeMarginRad inside (outside) the cone is in (out of) it;
+    // only those nearer its edges take atan2. `cone` false when the view is
+    // not one cone within atan2's (-π, π] (then every point takes atan2).
+    bool cone = false;
+    Eigen::Vector2d cone_axis{1.0, 0.0};
+    double cos_surely_inside = 1.0;   // cos(half-width - margin)
+    double cos_surely_outside = 1.0;  // cos(half-width + margin)
+    double remembered_s = -1e9;       // motion clock of its last scan kept in memory_
+    double stamp_s = 0.0;             // the time of the scan in_odom holds
   };
   struct Remembered {
     double stamp_s = 0.0;  // on the motion clock
@@ -169,6 +180,7 @@ class ScanObstacles {
   };
   // True when a laser's current field of view covers the point (robot frame).
   bool Covered(const Eigen::Vector2d& point_in_robot) const;
+  static void SetCone(LaserPoints* laser);
 
   // Points in square buckets of kBucketM, row-major over origin .. + size * kBucketM.
   struct Buckets {

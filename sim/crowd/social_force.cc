@@ -19,6 +19,8 @@ constexpr double kCellM = 1.2;
 constexpr double kSkinMarginM = 0.1;
 // The largest person radius the wall bins allow for, m.
 constexpr double kMaxPersonRadiusM = 0.4;
+// Slack on a lower bound of a distance against rounding (m).
+constexpr double kGapBoundSlackM = 1e-9;
 
 void Require(bool ok, const char* field, const char* what) {
   if (!ok) throw std::invalid_argument(std::string("social_force.") + field + " " + what);
@@ -119,11 +121,13 @@ void SocialForceModel::SetRobots(std::vector<RobotObstacle> robots) {
   // The fastest a point of each hull moves: its translation plus the turn of
   // its farthest point from the reference.
   robot_sweep_mps_.clear();
+  robot_reach_m_.clear();
   for (const RobotObstacle& robot : robots_) {
     double reach = 0.0;
     for (const Eigen::Vector2d& v : robot.hull_m)
       reach = std::max(reach, (v - robot.center_m).norm());
     robot_sweep_mps_.push_back(robot.velocity_mps.norm() + std::abs(robot.yaw_rate_radps) * reach);
+    robot_reach_m_.push_back(reach);
   }
 }
 
@@ -333,13 +337,19 @@ Eigen::Vector2d SocialForceModel::RobotForce(int i, double skin, double period) 
   // Robots, seen all around.
   for (std::size_t r = 0; r < robots_.size(); ++r) {
     const RobotObstacle& robot = robots_[r];
+    const double robot_speed = robot_sweep_mps_[r];
+    const double near_gap_m = skin + 2.0 * robot_speed * period;
+    const double force_gap_m = o.social_cutoff_m + o.robot_range_m * 4;
+    // The hull lies within its reach of the centre: a lower bound of the gap
+    // beyond both limits skips the exact distance (the same result).
+    const double gap_bound_m =
+        (a.position_m - robot.center_m).norm() - robot_reach_m_[r] - a.radius_m - kGapBoundSlackM;
+    if (gap_bound_m > near_gap_m && gap_bound_m > force_gap_m) continue;
     Eigen::Vector2d normal, closest;
     const double d = SignedDistanceToConvex(robot.hull_m, a.position_m, &normal, &closest);
     const double gap = d - a.radius_m;
-    const double robot_speed = robot_sweep_mps_[r];
-    if (gap < skin + 2.0 * robot_speed * period) near_robots_.emplace_back(static_cast<int>(r), i);
-    if (gap <= o.social_cutoff_m + o.robot_range_m * 4 &&
-        a.approached_robot != static_cast<int>(r)) {
+    if (gap < near_gap_m) near_robots_.emplace_back(static_cast<int>(r), i);
+    if (gap <= force_gap_m && a.approached_robot != static_cast<int>(r)) {
       f += o.robot_strength_n * std::exp(-std::max(gap, 0.0) / o.robot_range_m) * normal;
     }
   }

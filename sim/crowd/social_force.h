@@ -188,6 +188,7 @@ class SocialForceModel {
   std::vector<WallCircle> circles_;
   std::vector<RobotObstacle> robots_;
   std::vector<double> robot_sweep_mps_;  // by robot: the fastest a point of its hull moves
+  std::vector<double> robot_reach_m_;    // by robot: its hull's farthest point from center_m
   // Walls binned into square cells, each listing the walls within reach of a
   // person standing in it (sorted: segments by group, then circles).
   Eigen::Vector2d wall_grid_min_m_{0, 0};

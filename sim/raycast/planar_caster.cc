@@ -112,6 +112,31 @@ bool PlanarSlice::CellRange(const Eigen::Vector2d& lo, const Eigen::Vector2d& hi
   return true;
 }
 
+void PlanarSlice::Buckets::Clear(int cell_count) {
+  if (cells.size() != static_cast<std::size_t>(cell_count)) {
+    cells.assign(cell_count, CellSpans{});
+  } else {
+    for (const int c : touched) cells[c] = CellSpans{};
+  }
+  touched.clear();
+}
+
+void PlanarSlice::Buckets::CountsToBegins() {
+  int segment_count = 0;
+  int circle_count = 0;
+  for (const int c : touched) {
+    CellSpans& span = cells[c];
+    span.segment_begin = segment_count;
+    segment_count += span.segment_end;
+    span.segment_end = span.segment_begin;
+    span.circle_begin = circle_count;
+    circle_count += span.circle_end;
+    span.circle_end = span.circle_begin;
+  }
+  segments.resize(segment_count);
+  circles.resize(circle_count);
+}
+
 void PlanarSlice::Fill(const std::vector<Segment>& segments, const std::vector<Circle>& circles,
                        Buckets* buckets, std::vector<Segment>* outside_segments,
                        std::vector<Circle>* outside_circles) const {
@@ -153,31 +178,34 @@ void PlanarSlice::Fill(const std::vector<Segment>& segments, const std::vector<C
     }
     return true;
   };
-  buckets->segment_begin.assign(cells + 1, 0);
-  buckets->circle_begin.assign(cells + 1, 0);
+  // Count into the ends, turn the counts into begins, then place (each
+  // placement moving its cell's end up to where the count left it). Only the
+  // cells touched last time are cleared and only those touched now summed:
+  // the dynamic bodies cover a few hundred of the grid's thousands of cells,
+  // and the grid is refilled every tick.
+  buckets->Clear(cells);
+  const auto count = [&](int c, int CellSpans::*end) {
+    CellSpans& span = buckets->cells[c];
+    if (span.segment_end == 0 && span.circle_end == 0) buckets->touched.push_back(c);
+    ++(span.*end);
+  };
   for (const Segment& s : segments) {
-    if (!for_segment_cells(s, [&](int c) { ++buckets->segment_begin[c + 1]; })) {
+    if (!for_segment_cells(s, [&](int c) { count(c, &CellSpans::segment_end); })) {
       outside_segments->push_back(s);
     }
   }
   for (const Circle& c : circles) {
-    if (!for_circle_cells(c, [&](int cell) { ++buckets->circle_begin[cell + 1]; })) {
+    if (!for_circle_cells(c, [&](int cell) { count(cell, &CellSpans::circle_end); })) {
       outside_circles->push_back(c);
     }
   }
-  for (int c = 0; c < cells; ++c) {
-    buckets->segment_begin[c + 1] += buckets->segment_begin[c];
-    buckets->circle_begin[c + 1] += buckets->circle_begin[c];
-  }
-  buckets->segments.resize(buckets->segment_begin[cells]);
-  buckets->circles.resize(buckets->circle_begin[cells]);
-  std::vector<int> next(buckets->segment_begin.begin(), buckets->segment_begin.end() - 1);
+  buckets->CountsToBegins();
   for (const Segment& s : segments) {
-    for_segment_cells(s, [&](int c) { buckets->segments[next[c]++] = s; });
+    for_segment_cells(s, [&](int c) { buckets->segments[buckets->cells[c].segment_end++] = s; });
   }
-  next.assign(buckets->circle_begin.begin(), buckets->circle_begin.end() - 1);
   for (const Circle& circle : circles) {
-    for_circle_cells(circle, [&](int c) { buckets->circles[next[c]++] = circle; });
+    for_circle_cells(circle,
+                     [&](int c) { buckets->circles[buckets->cells[c].circle_end++] = circle; });
   }
 }
 
@@ -359,18 +387,14 @@ RayHit PlanarSlice::Cast(const Eigen::Vector3d& origin_m, const Eigen::Vector2d&
                         : kInf;
     for (;;) {
       const int cell = iy * nx_ + ix;
-      for (int k = static_.segment_begin[cell]; k < static_.segment_begin[cell + 1]; ++k) {
-        best.Test(static_.segments[k]);
-      }
-      for (int k = static_.circle_begin[cell]; k < static_.circle_begin[cell + 1]; ++k) {
-        best.Test(static_.circles[k]);
-      }
-      for (int k = dynamic_.segment_begin[cell]; k < dynamic_.segment_begin[cell + 1]; ++k) {
+      const CellSpans& fixed = static_.cells[cell];
+      const CellSpans& moving = dynamic_.cells[cell];
+      for (int k = fixed.segment_begin; k < fixed.segment_end; ++k) best.Test(static_.segments[k]);
+      for (int k = fixed.circle_begin; k < fixed.circle_end; ++k) best.Test(static_.circles[k]);
+      for (int k = moving.segment_begin; k < moving.segment_end; ++k) {
         best.Test(dynamic_.segments[k]);
       }
-      for (int k = dynamic_.circle_begin[cell]; k < dynamic_.circle_begin[cell + 1]; ++k) {
-        best.Test(dynamic_.circles[k]);
-      }
+      for (int k = moving.circle_begin; k < moving.circle_end; ++k) best.Test(dynamic_.circles[k]);
       // Every hit closer than the best lies in a cell visited by now once the
       // best is no farther than this cell's exit (or the ray ends in it).
       const double exit_t = std::min(next_x, next_y);

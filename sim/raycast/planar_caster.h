@@ -76,11 +76,26 @@ class PlanarSlice final : public LaserHitFinder {
     Eigen::Vector2d major_axis{1.0, 0.0};
     double squash = 1.0;
   };
-  // Primitives bucketed by cell: cell c holds [begin[c], begin[c + 1]).
+  // A cell's primitives: segments [segment_begin, segment_end), circles
+  // [circle_begin, circle_end) of its Buckets; the four read together by the
+  // walk (one load per cell and grid).
+  struct CellSpans {
+    int segment_begin = 0;
+    int segment_end = 0;
+    int circle_begin = 0;
+    int circle_end = 0;
+  };
+  // Primitives bucketed by cell, in the order they were given.
   struct Buckets {
-    std::vector<int> segment_begin;
+    std::vector<CellSpans> cells;
+    std::vector<int> touched;  // the cells holding any, in first-touch order
+
+    // Empties the cells the last fill touched (all of them on a new grid size).
+    void Clear(int cell_count);
+    // Turns the touched cells' counts (held in their ends) into begins, and
+    // sizes the primitive arrays for them.
+    void CountsToBegins();
     std::vector<Segment> segments;
-    std::vector<int> circle_begin;
     std::vector<Circle> circles;
   };
   struct Best;

@@ -149,6 +149,15 @@ void SimRobot::UsePlanarCaster(PlanarCaster* caster) {
   for (const LaserScanner& laser : lasers_) planar_->SliceAt(laser.mount_height_m());
 }
 
+bool SimRobot::HeavyTick() const {
+  const std::int64_t tick = world_->tick();
+  const double end_s = world_->time_s();
+  for (std::size_t k = 0; k < sensors_.size(); ++k) {
+    if (schedule_.IsDue(static_cast<int>(k), tick) && sensors_[k]->Heavy(tick, end_s)) return true;
+  }
+  return false;
+}
+
 SensorOutputs SimRobot::AfterStep(const RobotState& before, const RobotState& after) {
   const World& world = *world_;
   SensorTick tick;

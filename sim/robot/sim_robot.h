@@ -49,6 +49,11 @@ class SimRobot {
   // physics rate.
   void AddSensor(std::unique_ptr<Sensor> sensor);
 
+  // True when one of its sensors casts rays or renders in the tick the world
+  // has just stepped (Sensor::Heavy): AfterStep then needs the planar slices
+  // current, and is worth a worker thread.
+  bool HeavyTick() const;
+
   // Casts this robot's scans with `caster` (shared by the world's robots; it
   // must outlive the robot) where the beam plane allows, Bullet elsewhere;
   // null (the default): Bullet for every scan.

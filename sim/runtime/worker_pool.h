@@ -1,5 +1,6 @@
 #pragma once
 
+#include <atomic>
 #include <condition_variable>
 #include <cstddef>
 #include <exception>
@@ -43,6 +44,11 @@ class WorkerPool {
   void WorkerLoop();
   // Takes indices of the current job until none is left.
   void Drain();
+  // Waits up to spin_s_ without sleeping for `ready` to hold (true when it does).
+  template <typename Ready>
+  bool Spin(Ready ready) const;
+  // Sets published_done_ from the job's counts (under mutex_).
+  void PublishDone();
 
   std::vector<std::thread> workers_;
   std::mutex mutex_;
@@ -57,6 +63,16 @@ class WorkerPool {
   std::size_t busy_workers_ = 0;
   std::size_t error_index_ = 0;
   std::exception_ptr error_;
+  // Copies of generation_, stopping_ and (finished_ == count_ && no busy
+  // worker), written under mutex_, read without it while spinning.
+  std::atomic<std::size_t> published_generation_{0};
+  std::atomic<bool> published_stopping_{false};
+  std::atomic<bool> published_done_{false};
+  // How long a thread spins for the next job or the job's end before it
+  // sleeps on a condition variable: a tick's serial part is a few hundred
+  // microseconds, and waking a sleeping thread costs tens. 0 (always sleep)
+  // when there are more threads than the hardware runs at once.
+  double spin_s_ = 0.0;
 };
 
 }  // namespace pavilion::sim

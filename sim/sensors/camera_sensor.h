@@ -54,6 +54,11 @@ class CameraSensor final : public Sensor {
   // Sampled every tick: exposures at the mount's rate, arrivals in between.
   double sample_rate_hz() const override { return physics_rate_hz_; }
   void Sample(const SensorTick& tick, SensorOutputs* out) override;
+  // Renders in the ticks it exposes an image.
+  bool Heavy(std::int64_t tick, double end_s) const override {
+    (void)end_s;
+    return tick % period_ticks_ == 0;
+  }
 
   const CameraMount& mount() const { return mount_; }
   const core::CameraIntrinsics& intrinsics() const { return optics_.intrinsics; }

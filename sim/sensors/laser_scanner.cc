@@ -24,6 +24,9 @@ constexpr int kEdgeBisections = 5;
 constexpr double kMinAmplitudeRangeM = 1e-3;
 // A surface whose plane meets a ray at a cosine below this cannot explain its hit.
 constexpr double kMinPlaneCosine = 1e-6;
+// A probe's range limit lies this far (m) beyond the last range its surface
+// explains, so that rounding cannot cut off an explained hit.
+constexpr double kProbeSlackM = 1e-6;
 // Half of RandomStream::Uniform()'s 2^-53 step: added to a draw in [0, 1), it
 // gives one in (0, 1).
 constexpr double kHalfUniformStep = 0x1.0p-54;
@@ -400,12 +403,14 @@ Eigen::Vector3d LaserScanner::RayOrigin(const core::Pose2& world_from_sensor) co
 
 LaserScanner::RaySample LaserScanner::CastBeam(const LaserHitFinder& finder,
                                                const core::Pose2& world_from_sensor,
-                                               double bearing_rad, int ignore_group) const {
+                                               double bearing_rad, int ignore_group,
+                                               double max_range_m) const {
   const Eigen::Vector3d from = RayOrigin(world_from_sensor);
   const Eigen::Vector3d dir = BeamDirection(world_from_sensor, bearing_rad);
   // Transparent elements are skipped by the finder itself.
   ++rays_cast_;
-  const RayHit hit = finder.Cast(from, dir.head<2>(), options_.max_range_m, ignore_group);
+  const RayHit hit = finder.Cast(
+      from, dir.head<2>(), max_range_m < 0.0 ? options_.max_range_m : max_range_m, ignore_group);
   RaySample s;
   s.direction = dir;
   if (!hit.hit) return s;
@@ -436,6 +441,31 @@ bool LaserScanner::Explains(const RaySample& surface, const core::Pose2& world_f
   const double predicted_m =
       surface.normal.dot(surface.point_m - RayOrigin(world_from_sensor)) / cos_plane;
   return std::abs(sample.range_m - predicted_m) <= options_.mixed_pixel_min_gap_m;
+}
+
+// A probe explained by `surface` hits within the mixed-pixel gap of where the
+// ray meets the surface's plane: nothing farther matters, so the ray stops
+// there (a bisection's probes that pass an edge into the background no longer
+// walk the whole range). The decision is Explains()'s: a hit it explains lies
+// short of the limit, and one beyond it is not explained, cast or not.
+bool LaserScanner::ExplainsBeam(const LaserHitFinder& finder, const RaySample& surface,
+                                const core::Pose2& world_from_sensor, double bearing_rad,
+                                int ignore_group) const {
+  if (surface.hit) {
+    const Eigen::Vector3d dir = BeamDirection(world_from_sensor, bearing_rad);
+    const double cos_plane = surface.normal.dot(dir);
+    if (cos_plane > -kMinPlaneCosine) return false;
+    const double predicted_m =
+        surface.normal.dot(surface.point_m - RayOrigin(world_from_sensor)) / cos_plane;
+    const double reach_m = predicted_m + options_.mixed_pixel_min_gap_m + kProbeSlackM;
+    if (!(reach_m > 0.0)) return false;
+    if (reach_m < options_.max_range_m) {
+      return Explains(surface, world_from_sensor,
+                      CastBeam(finder, world_from_sensor, bearing_rad, ignore_group, reach_m));
+    }
+  }
+  return Explains(surface, world_from_sensor,
+                  CastBeam(finder, world_from_sensor, bearing_rad, ignore_group));
 }
 
 void LaserScanner::CastReading(const LaserHitFinder& finder, int i,
@@ -492,8 +522,7 @@ void LaserScanner::CheckEdge(const LaserHitFinder& finder, int i, int side, int 
   for (int step = 0; step < kEdgeBisections; ++step) {
     const double mid_rad = 0.5 * (explained_rad + unexplained_rad);
     const double b = bearing + sign * mid_rad;
-    const RaySample probe = CastBeam(finder, world_from_sensor, b, ignore_group);
-    if (Explains(g.centre, world_from_sensor, probe)) {
+    if (ExplainsBeam(finder, g.centre, world_from_sensor, b, ignore_group)) {
       explained_rad = mid_rad;
     } else {
       unexplained_rad = mid_rad;

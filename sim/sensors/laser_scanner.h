@@ -243,11 +243,17 @@ class LaserScanner {
   Sweep NewSweep(double start_s) const;
   // Sets `sweep` up for a new sweep starting at start_s, keeping its buffers.
   void ResetSweep(double start_s, Sweep* sweep) const;
+  // A ray of at most max_range_m (the scanner's range when negative).
   RaySample CastBeam(const LaserHitFinder& finder, const core::Pose2& world_from_sensor,
-                     double bearing_rad, int ignore_group) const;
+                     double bearing_rad, int ignore_group, double max_range_m = -1.0) const;
   Eigen::Vector3d RayOrigin(const core::Pose2& world_from_sensor) const;
   bool Explains(const RaySample& surface, const core::Pose2& world_from_sensor,
                 const RaySample& sample) const;
+  // Explains(surface, world_from_sensor, CastBeam(...bearing_rad...)), casting
+  // the ray only as far as a hit it explains could lie.
+  bool ExplainsBeam(const LaserHitFinder& finder, const RaySample& surface,
+                    const core::Pose2& world_from_sensor, double bearing_rad,
+                    int ignore_group) const;
   void CastReading(const LaserHitFinder& finder, int i, const core::Pose2& world_from_robot,
                    int ignore_group, Sweep* sweep) const;
   void CheckEdge(const LaserHitFinder& finder, int i, int side, int ignore_group,

@@ -26,6 +26,11 @@ class LaserSensor final : public Sensor {
   const std::string& id() const override { return id_; }
   double sample_rate_hz() const override { return physics_rate_hz_; }
   void Sample(const SensorTick& tick, SensorOutputs* out) override;
+  // Casts in a tick when a sweep is under way or starts before its end.
+  bool Heavy(std::int64_t tick, double end_s) const override {
+    (void)tick;
+    return sweeping_ || next_sweep_s_ < end_s;
+  }
 
   const LaserScanner& scanner() const { return laser_; }
   LaserScanner& mutable_scanner() { return laser_; }

@@ -75,6 +75,16 @@ class Sensor {
   virtual double sample_rate_hz() const = 0;
   // Appends the readings of the tick that just ended to `out`.
   virtual void Sample(const SensorTick& tick, SensorOutputs* out) = 0;
+  // True when Sample of the tick `tick` (World::tick() after its step), ending
+  // at end_s, does heavy work: casts rays or renders. Ticks in which no sensor
+  // of any robot does are sensed on the calling thread, without bringing the
+  // planar slices up to date (SimRobot::HeavyTick). A sensor that casts or
+  // renders must say so, or it would cast from several threads.
+  virtual bool Heavy(std::int64_t tick, double end_s) const {
+    (void)tick;
+    (void)end_s;
+    return false;
+  }
 };
 
 }  // namespace pavilion::sim

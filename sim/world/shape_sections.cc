@@ -40,7 +40,6 @@ void CutPrism(const btTransform& t, const std::vector<Eigen::Vector2d>& polygon,
   std::vector<Eigen::Vector2d> cut;
   cut.reserve(polygon.size());
   std::size_t below = 0, above = 0;
-  double reach = 0.0;  // horizontal bound of the prism around its origin
   for (const Eigen::Vector2d& p : polygon) {
     const btVector3 foot = t * btVector3(p.x(), p.y(), 0.0);
     // Shape-frame height at which this side edge meets the plane.
@@ -48,10 +47,6 @@ void CutPrism(const btTransform& t, const std::vector<Eigen::Vector2d>& polygon,
     if (s < z0) ++below;
     if (s >= z1) ++above;
     cut.emplace_back(foot.x() + s * axis.x(), foot.y() + s * axis.y());
-    for (const double zz : {z0, z1}) {
-      const btVector3 v = t * btVector3(p.x(), p.y(), zz) - t.getOrigin();
-      reach = std::max(reach, std::hypot(v.x(), v.y()));
-    }
   }
   const std::size_t n = polygon.size();
   if (axis.z() > kMinAxisZ && (below == n || above == n)) return;  // not cut
@@ -70,7 +65,15 @@ void CutPrism(const btTransform& t, const std::vector<Eigen::Vector2d>& polygon,
         hi = std::max(hi, vz);
       }
     }
-    if (h >= lo && h <= hi) AddUncut(t.getOrigin(), reach, element, uncut);
+    if (h < lo || h > hi) return;
+    double reach = 0.0;  // horizontal bound of the prism around its origin
+    for (const Eigen::Vector2d& p : polygon) {
+      for (const double zz : {z0, z1}) {
+        const btVector3 v = t * btVector3(p.x(), p.y(), zz) - t.getOrigin();
+        reach = std::max(reach, std::hypot(v.x(), v.y()));
+      }
+    }
+    AddUncut(t.getOrigin(), reach, element, uncut);
     return;
   }
   // Upright extrusion at the planar pose (as the section did before tilts were cut).

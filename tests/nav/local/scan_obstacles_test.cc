@@ -254,6 +254,57 @@ TEST(ScanObstacles, RemembersBlindZoneReadingsForTheMemoryTimeOfMotion) {
   EXPECT_TRUE(points.empty());
 }
 
+// A remembered point is left out when a laser's field of view covers it now.
+// Most points are decided by a cone test without an arctangent; the points
+// near the field's edges (the robot turned so that a remembered reading sits
+// within 1e-12..1e-5 rad of an edge, on either side) must come out exactly as
+// the bearing rule says: atan2 within the scan's first and last bearings.
+TEST(ScanObstacles, TheFieldOfViewsEdgesDecideARememberedPointAsItsBearingDoes) {
+  const double fov = 1.0;
+  const core::LaserScan wall = WallAhead("front", 0.0, fov);
+  std::vector<double> turns;
+  for (const core::LaserReading& r : wall.readings) {
+    for (const double edge : {-0.5 * fov, 0.5 * fov}) {
+      for (const double off : {0.0, 1e-12, -1e-12, 1e-9, -1e-9, 1e-7, -1e-7, 1e-5, -1e-5}) {
+        turns.push_back(r.bearing_rad - edge + off);
+      }
+    }
+  }
+  int kept_total = 0;
+  int dropped_total = 0;
+  for (const double turn : turns) {
+    const core::Pose2 turned(0.0, 0.0, turn);
+    ScanObstacles obstacles(kSquareFootprint, {}, /*blind_memory_s=*/1.0);
+    obstacles.AddScan(wall, core::Pose2());
+    core::LaserScan empty = WallAhead("front", 0.2, fov);
+    for (core::LaserReading& r : empty.readings) r.valid = false;
+    obstacles.AddScan(empty, turned);
+    std::vector<Eigen::Vector2d> points;
+    obstacles.InRobot(turned, turned, 3.0, &points);
+    // The rule, on the same bits: each reading in the odometry frame (the
+    // first pose is the identity), then in the robot frame as turned.
+    const core::PointTransform robot_from_odom(turned.Inverse());
+    std::vector<Eigen::Vector2d> expected;
+    for (const core::LaserReading& r : wall.readings) {
+      const Eigen::Vector2d in_odom(r.range_m * std::cos(r.bearing_rad),
+                                    r.range_m * std::sin(r.bearing_rad));
+      const Eigen::Vector2d q = robot_from_odom.Apply(in_odom);
+      const double bearing = std::atan2(q.y(), q.x());
+      const bool covered = bearing >= -0.5 * fov && bearing <= 0.5 * fov && q.norm() < 8.0;
+      if (!covered) expected.push_back(q);
+    }
+    ASSERT_EQ(points.size(), expected.size()) << "turn " << turn;
+    for (std::size_t k = 0; k < points.size(); ++k) {
+      EXPECT_EQ(points[k], expected[k]) << "turn " << turn;
+    }
+    kept_total += static_cast<int>(points.size());
+    dropped_total += static_cast<int>(wall.readings.size() - points.size());
+  }
+  // Both outcomes occur many times over (the test is not decided one way).
+  EXPECT_GT(kept_total, 1000);
+  EXPECT_GT(dropped_total, 1000);
+}
+
 // The deadlock rule's forgetting: remembered readings of scans before the
 // given stamp go, later ones stay.
 TEST(ScanObstacles, ForgetsRememberedReadingsOfScansBeforeAStamp) {

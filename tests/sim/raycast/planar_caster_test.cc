@@ -202,6 +202,40 @@ TEST(PlanarCasterTest, IgnoresTheCastingRobotsGroup) {
   EXPECT_NEAR(other.distance_m, 0.3, 1e-9);
 }
 
+// The moving bodies' grid is refilled every tick, clearing only the cells the
+// last fill used: a robot that moved away leaves nothing in its old cells,
+// and is found in its new ones, again after it comes back.
+TEST(PlanarCasterTest, AMovedRobotLeavesNoTraceInItsOldCells) {
+  World world(Room(), {});
+  const int b = pavilion::testing::AddRobot(world, Robot("b", {3.0, 1.0, 0.0}));
+  PlanarCaster caster(&world, {});
+  const PlanarSlice& slice = caster.SliceAt(kBeamM);
+  const int robot = ElementIndex(world, "b");
+  const int room = ElementIndex(world, "room");
+  const Eigen::Vector3d low(1.0, 1.0, kBeamM);   // looks along y = 1
+  const Eigen::Vector3d high(1.0, 3.0, kBeamM);  // looks along y = 3
+  EXPECT_EQ(slice.Cast(low, Dir(0.0), 8.0, -1).element, robot);
+  for (int round = 0; round < 2; ++round) {
+    world.TeleportRobot(b, {3.0, 3.0, 0.0});
+    caster.Refresh();
+    const RayHit old_cells = slice.Cast(low, Dir(0.0), 8.0, -1);
+    ASSERT_TRUE(old_cells.hit);
+    EXPECT_EQ(old_cells.element, room);
+    EXPECT_NEAR(old_cells.distance_m, 5.95 - 1.0, kExactM);
+    const RayHit new_cells = slice.Cast(high, Dir(0.0), 8.0, -1);
+    EXPECT_EQ(new_cells.element, robot);
+    EXPECT_NEAR(new_cells.distance_m, 1.8, 1e-9);
+    world.TeleportRobot(b, {3.0, 1.0, 0.0});
+    caster.Refresh();
+    const RayHit vacated = slice.Cast(high, Dir(0.0), 8.0, -1);
+    EXPECT_EQ(vacated.element, room);
+    EXPECT_NEAR(vacated.distance_m, 5.95 - 1.0, kExactM);
+    const RayHit back = slice.Cast(low, Dir(0.0), 8.0, -1);
+    EXPECT_EQ(back.element, robot);
+    EXPECT_NEAR(back.distance_m, 1.8, 1e-9);
+  }
+}
+
 // A box body is cut over [bottom, top) of its faces, as the static section
 // cuts boxes: just below its top four segments, at the top nothing, and
 // nothing is left uncut. (Tilted chassis cut through their sides are checked

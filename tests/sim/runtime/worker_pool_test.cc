@@ -5,9 +5,11 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "core/random/random_stream.h"
@@ -46,6 +48,26 @@ TEST(WorkerPoolTest, RunsEveryIndexExactlyOnceAcrossManyJobs) {
     std::vector<std::atomic<int>> calls(n);
     pool.ParallelFor(n, [&](std::size_t i) { calls[i].fetch_add(1); });
     for (std::size_t i = 0; i < n; ++i) ASSERT_EQ(calls[i].load(), 1) << job << " " << i;
+  }
+}
+
+// Two threads on this machine kind spin between jobs before sleeping: jobs
+// back to back (caught while spinning) and jobs after pauses longer than the
+// spin (caught after sleeping) both run every index once, and ParallelFor
+// returns only when every call has finished.
+TEST(WorkerPoolTest, SpinningAndSleepingWorkersBothFinishEveryJob) {
+  WorkerPool pool(2);
+  for (int job = 0; job < 4000; ++job) {
+    const std::size_t n = 2 + static_cast<std::size_t>(job % 5);
+    std::vector<std::atomic<int>> calls(n);
+    std::atomic<int> finished{0};
+    pool.ParallelFor(n, [&](std::size_t i) {
+      calls[i].fetch_add(1);
+      finished.fetch_add(1);
+    });
+    ASSERT_EQ(finished.load(), static_cast<int>(n)) << job;
+    for (std::size_t i = 0; i < n; ++i) ASSERT_EQ(calls[i].load(), 1) << job << " " << i;
+    if (job % 50 == 49) std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
 }
 

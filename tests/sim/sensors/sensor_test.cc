@@ -132,5 +132,33 @@ TEST(SensorTest, SensorsReportInTheOrderAdded) {
   }
 }
 
+// A robot's tick is heavy exactly when its lasers cast: the ticks of each
+// 10 Hz sweep (19.98 ms of readings, so 4 of every 20 ticks at 200 Hz, 5 when
+// a reading's time rounds into the next tick), not the encoder-only ticks
+// between them, which the scenario runner senses inline.
+TEST(SensorTest, ATickIsHeavyExactlyWhenTheLasersCast) {
+  World world(testing::FloorWorld(5, false), WorldOptions{});
+  RobotConfig config = TestRobot();
+  LaserMount laser;
+  laser.id = "front";
+  laser.z_m = 0.3;  // LaserScannerOptions: the LMS 200's, 10 Hz
+  config.lasers.push_back(laser);
+  SimRobot robot(&world, config, RobotPlacement{"r", {}}, 1);
+  const LaserScanner& scanner = robot.lasers().front().get();
+  int heavy = 0;
+  const int ticks = 400;  // 2 s: 20 sweeps
+  for (int k = 0; k < ticks; ++k) {
+    const RobotState before = world.robot_state(robot.index());
+    world.Step();
+    const bool says_heavy = robot.HeavyTick();
+    const std::int64_t rays = scanner.rays_cast();
+    robot.AfterStep(before, world.robot_state(robot.index()));
+    EXPECT_EQ(says_heavy, scanner.rays_cast() > rays) << "tick " << k;
+    heavy += says_heavy ? 1 : 0;
+  }
+  EXPECT_GE(heavy, ticks / 20 * 4);
+  EXPECT_LE(heavy, ticks / 20 * 5);
+}
+
 }  // namespace
 }  // namespace pavilion::sim
