@@ -9,6 +9,11 @@
 namespace pavilion::scenarios {
 namespace {
 
+// Relative and absolute slack (m) on the edge boxes' gap against rounding in
+// the point-to-segment distances it bounds.
+constexpr double kBoxGapSlack = 1e-12;
+constexpr double kBoxGapSlackM = 1e-12;
+
 void Place(const core::Polygon2& outline, const core::Pose2& pose, core::Polygon2* out) {
   out->resize(outline.size());
   for (std::size_t i = 0; i < outline.size(); ++i) (*out)[i] = pose * outline[i];
@@ -30,9 +35,17 @@ double ConvexPolygonDistance(const core::Polygon2& a, const core::Polygon2& b) {
   for (std::size_t i = 0; i < a.size(); ++i) {
     const Eigen::Vector2d& a0 = a[i];
     const Eigen::Vector2d& a1 = a[(i + 1) % a.size()];
+    const Eigen::Vector2d a_lo = a0.cwiseMin(a1);
+    const Eigen::Vector2d a_hi = a0.cwiseMax(a1);
     for (std::size_t j = 0; j < b.size(); ++j) {
       const Eigen::Vector2d& b0 = b[j];
       const Eigen::Vector2d& b1 = b[(j + 1) % b.size()];
+      // Two edges whose boxes lie apart cannot cross, and no point of one is
+      // nearer the other than the boxes' gap: beyond the nearest so far
+      // (with slack for rounding), the pair cannot change the result.
+      const Eigen::Vector2d gap = (b0.cwiseMin(b1) - a_hi).cwiseMax(a_lo - b0.cwiseMax(b1));
+      const double box_gap = gap.cwiseMax(0.0).norm();
+      if (box_gap > d * (1.0 + kBoxGapSlack) + kBoxGapSlackM) continue;
       if (core::SegmentsCross(a0, a1, b0, b1)) return 0.0;
       d = std::min(
           {d, core::PointSegmentDistance(a0, b0, b1), core::PointSegmentDistance(b0, a0, a1)});

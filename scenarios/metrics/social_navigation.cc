@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -11,6 +12,9 @@
 
 namespace pavilion::scenarios {
 namespace {
+
+// Slack on the bounds of a gap against rounding (m).
+constexpr double kGapBoundSlackM = 1e-9;
 
 void CheckStep(double dt_s, const char* who) {
   if (!std::isfinite(dt_s) || dt_s < 0.0) {
@@ -45,6 +49,21 @@ SocialNavigationTracker::SocialNavigationTracker(std::vector<Eigen::Vector2d> fo
                                   std::to_string((i + 1) % n) + ")");
     }
   }
+  // Counter-clockwise: the origin's distance inside each edge's line.
+  inradius_m_ = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Vector2d e = hull[(i + 1) % n] - hull[i];
+    const double inside_m = (e.x() * -hull[i].y() - e.y() * -hull[i].x()) / e.norm();
+    inradius_m_ = std::min(inradius_m_, inside_m);
+  }
+  inradius_m_ = std::max(inradius_m_, 0.0);
+}
+
+// The band of a gap among every threshold the figures use: two gaps in one
+// band give the same zone and the same side of kDiscomfortGapM.
+int SocialNavigationTracker::BandOf(double gap_m) {
+  return (gap_m < kDiscomfortGapM) + (gap_m < kIntimateZoneM) + (gap_m < kPersonalZoneM) +
+         (gap_m < kSocialZoneM);
 }
 
 SocialNavigationTracker::Zone SocialNavigationTracker::ZoneOf(double gap_m) {
@@ -62,7 +81,7 @@ void SocialNavigationTracker::Update(double dt_s, const core::Pose2& world_from_
   const double s = std::sin(world_from_robot.theta_rad);
   const Eigen::Vector2d origin = world_from_robot.translation();
   SocialNavigationFigures& f = figures_;
-  double closest_gap_m = std::numeric_limits<double>::infinity();
+  int closest_band = 0;  // BandOf the smallest gap of this step
   for (std::size_t i = 0; i < people.size(); ++i) {
     const sim::crowd::PersonState& person = people[i];
     Zone& zone = zone_[i];
@@ -81,21 +100,39 @@ void SocialNavigationTracker::Update(double dt_s, const core::Pose2& world_from_
       zone = kOutside;
       continue;
     }
-    const Eigen::Vector2d in_robot(c * d.x() + s * d.y(), -s * d.x() + c * d.y());
-    Eigen::Vector2d normal, closest;
-    const double gap_m =
-        sim::crowd::SignedDistanceToConvex(footprint_in_robot_m_, in_robot, &normal, &closest) -
-        person.shape.radius_m;
-    f.min_visitor_gap_m = std::min(f.min_visitor_gap_m, gap_m);
-    closest_gap_m = std::min(closest_gap_m, gap_m);
-    const Zone now = ZoneOf(gap_m);
+    // The gap lies within [centre − circumradius, centre − inradius] less the
+    // person's radius: when both ends fall in one band and the low end cannot
+    // be a new smallest gap, the band is the exact gap's, measured or not.
+    const double centre_m = std::sqrt(d.squaredNorm());
+    const double low_m = centre_m - circumradius_m_ - person.shape.radius_m - kGapBoundSlackM;
+    const double high_m = centre_m - inradius_m_ - person.shape.radius_m + kGapBoundSlackM;
+    Zone now;
+    if (low_m > f.min_visitor_gap_m && BandOf(low_m) == BandOf(high_m)) {
+      now = ZoneOf(low_m);
+      closest_band = std::max(closest_band, BandOf(low_m));
+    } else {
+      const Eigen::Vector2d in_robot(c * d.x() + s * d.y(), -s * d.x() + c * d.y());
+      Eigen::Vector2d normal, closest;
+      const double gap_m =
+          sim::crowd::SignedDistanceToConvex(footprint_in_robot_m_, in_robot, &normal, &closest) -
+          person.shape.radius_m;
+      f.min_visitor_gap_m = std::min(f.min_visitor_gap_m, gap_m);
+      closest_band = std::max(closest_band, BandOf(gap_m));
+      now = ZoneOf(gap_m);
+    }
     // Crossing inwards counts for every zone edge crossed.
     if (now <= kIntimate && zone > kIntimate) ++f.intimate_intrusions;
     if (now <= kPersonal && zone > kPersonal) ++f.personal_intrusions;
     if (now <= kSocial && zone > kSocial) ++f.social_intrusions;
     zone = now;
   }
-  switch (ZoneOf(closest_gap_m)) {
+  // The closest visitor's band: 4 below kDiscomfortGapM, then intimate,
+  // personal, social, 0 outside every zone (or no visitor).
+  const Zone closest_zone = closest_band >= 3   ? kIntimate
+                            : closest_band == 2 ? kPersonal
+                            : closest_band == 1 ? kSocial
+                                                : kOutside;
+  switch (closest_zone) {
     case kIntimate:
       f.intimate_time_s += dt_s;
       break;
@@ -108,7 +145,7 @@ void SocialNavigationTracker::Update(double dt_s, const core::Pose2& world_from_
     case kOutside:
       break;
   }
-  if (closest_gap_m < kDiscomfortGapM) f.closer_than_0_2_m_time_s += dt_s;
+  if (closest_band == 4) f.closer_than_0_2_m_time_s += dt_s;
 }
 
 void CrowdTracker::Update(double dt_s, const sim::crowd::Crowd& crowd) {

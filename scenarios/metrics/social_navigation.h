@@ -76,9 +76,13 @@ class SocialNavigationTracker {
   // Zones by index, closest first; kOutside: beyond 3.6 m or not on the floor.
   enum Zone : std::uint8_t { kIntimate = 0, kPersonal = 1, kSocial = 2, kOutside = 3 };
   static Zone ZoneOf(double gap_m);
+  static int BandOf(double gap_m);
 
   std::vector<Eigen::Vector2d> footprint_in_robot_m_;  // counter-clockwise
   double circumradius_m_ = 0.0;                        // of the footprint about the base origin
+  // The largest circle about the base origin inside the footprint (0 when the
+  // origin is not inside): with the circumradius it brackets every gap.
+  double inradius_m_ = 0.0;
   std::vector<Zone> zone_;  // by person: where they were at the last tick
   SocialNavigationFigures figures_;
   bool active_ = false;
