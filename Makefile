@@ -10,7 +10,7 @@ SCENARIO   ?= scenarios/expo_day.yaml
 # The demo runs the first minutes of the exhibition day: about a minute of wall
 # time on the 2-core machine kind (docs/benchmarks.md, "The exhibition day"),
 # long enough to hold the day's first staff push (691.7 s, seed 1).
-DEMO_DURATION ?= 750
+DEMO_DURATION ?= 1200
 DEMO_OUT   ?= out/demo
 
 .PHONY: deps deps-test configure build demo test acceptance format format-check asan-test bench clean

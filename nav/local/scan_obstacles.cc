@@ -13,12 +13,12 @@
 namespace pavilion::nav {
 namespace {
 
-// Blind-zone memory: one scan per laser this often (s), points this near (m).
 // Covered()'s cone test decides a point without atan2 only this far from the
 // field of view's edges (rad), where the two cannot disagree; the cone's two
 // cosine thresholds must then lie at least kConeCosineGap apart.
 constexpr double kConeMarginRad = 1e-6;
 constexpr double kConeCosineGap = 1e-9;
+// Blind-zone memory: one scan per laser this often (s), points this near (m).
 constexpr double kMemoryPeriodS = 0.1;
 constexpr double kMemoryReachM = 3.0;
 // Between two scans the robot moved when its odometry pose changed by more

@@ -61,6 +61,8 @@ SocialNavigationTracker::SocialNavigationTracker(std::vector<Eigen::Vector2d> fo
 
 // The band of a gap among every threshold the figures use: two gaps in one
 // band give the same zone and the same side of kDiscomfortGapM.
+static_assert(kDiscomfortGapM < kIntimateZoneM && kIntimateZoneM < kPersonalZoneM &&
+              kPersonalZoneM < kSocialZoneM);
 int SocialNavigationTracker::BandOf(double gap_m) {
   return (gap_m < kDiscomfortGapM) + (gap_m < kIntimateZoneM) + (gap_m < kPersonalZoneM) +
          (gap_m < kSocialZoneM);

@@ -53,7 +53,9 @@ struct SocialNavigationFigures {
 
 // Accumulates one robot's figures, one Update() per physics tick. Cost per
 // tick: a squared distance per present visitor, and the hull distance only for
-// visitors that may be within 3.6 m (or closer than the smallest gap so far).
+// visitors that may be within 3.6 m (or closer than the smallest gap so far)
+// and whose gap's bounds (the footprint's circumradius and inradius about the
+// base origin) leave their zone or the discomfort gap open.
 class SocialNavigationTracker {
  public:
   // `footprint_in_robot_m`: the robot's convex outline in its base frame
