@@ -24,6 +24,11 @@ class LaserHitFinder {
                       double max_range_m, int ignore_group) const = 0;
   // Element ids and laser responses, indexed by RayHit::element.
   virtual const std::vector<core::SectionElement>& elements() const = 0;
+  // True when a ray cast shorter finds exactly the hit, to the bit, that the
+  // full ray finds within the shorter range. Bullet's does not (its hit is a
+  // fraction of the ray's length, and grazing hits depend on that length), so
+  // the scanner shortens its probes only where this holds.
+  virtual bool ShortRaysAgree() const { return false; }
 };
 
 // Bullet ray casting through World::CastRay (thread-safe as that is: between steps).

@@ -46,6 +46,8 @@ class PlanarSlice final : public LaserHitFinder {
   RayHit Cast(const Eigen::Vector3d& origin_m, const Eigen::Vector2d& direction, double max_range_m,
               int ignore_group) const override;
   const std::vector<core::SectionElement>& elements() const override;
+  // The intersections are exact and the walk stops only past the range: yes.
+  bool ShortRaysAgree() const override { return true; }
   // True when no dynamic element that the plane does not cut exactly (a
   // cylinder, box or chassis cut through its top or bottom) lies within
   // radius_m of center_m, the ignored group's aside:

@@ -447,11 +447,13 @@ bool LaserScanner::Explains(const RaySample& surface, const core::Pose2& world_f
 // ray meets the surface's plane: nothing farther matters, so the ray stops
 // there (a bisection's probes that pass an edge into the background no longer
 // walk the whole range). The decision is Explains()'s: a hit it explains lies
-// short of the limit, and one beyond it is not explained, cast or not.
+// short of the limit, and one beyond it is not explained, cast or not. Only
+// with a finder whose short rays agree with its long ones (the planar
+// caster); Bullet's probes keep the full range.
 bool LaserScanner::ExplainsBeam(const LaserHitFinder& finder, const RaySample& surface,
                                 const core::Pose2& world_from_sensor, double bearing_rad,
                                 int ignore_group) const {
-  if (surface.hit) {
+  if (surface.hit && finder.ShortRaysAgree()) {
     const Eigen::Vector3d dir = BeamDirection(world_from_sensor, bearing_rad);
     const double cos_plane = surface.normal.dot(dir);
     if (cos_plane > -kMinPlaneCosine) return false;

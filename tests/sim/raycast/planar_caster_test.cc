@@ -10,6 +10,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "core/random/random_stream.h"
 #include "sim/sensors/laser_scanner.h"
 #include "tests/support/world_robot.h"
 
@@ -234,6 +235,37 @@ TEST(PlanarCasterTest, AMovedRobotLeavesNoTraceInItsOldCells) {
     EXPECT_EQ(back.element, robot);
     EXPECT_NEAR(back.distance_m, 1.8, 1e-9);
   }
+}
+
+// The planar caster's short rays agree with its long ones (ShortRaysAgree:
+// the scanner's mixed-pixel probes stop early on it): a ray cut to any range
+// beyond the full ray's hit finds the same hit to the bit, and one cut short
+// of it finds nothing nearer than the full ray's.
+TEST(PlanarCasterTest, ARayCutShortFindsTheSameHitToTheBit) {
+  World world(Room(), {});
+  pavilion::testing::AddRobot(world, Robot("b", {3.0, 1.0, 0.3}));
+  PlanarCaster caster(&world, {});
+  const PlanarSlice& slice = caster.SliceAt(kBeamM);
+  EXPECT_TRUE(slice.ShortRaysAgree());
+  EXPECT_FALSE(WorldHitFinder(world).ShortRaysAgree());
+  core::RandomStream random(5, 0);
+  int compared = 0;
+  for (int k = 0; k < 5000; ++k) {
+    const Eigen::Vector3d from(random.Uniform(0.2, 5.8), random.Uniform(0.2, 3.8), kBeamM);
+    const Eigen::Vector2d dir = Dir(random.Uniform(-kPi, kPi));
+    const RayHit full = slice.Cast(from, dir, 8.0, -1);
+    if (!full.hit) continue;
+    const double beyond = full.distance_m + random.Uniform(1e-9, 0.3);
+    const RayHit cut = slice.Cast(from, dir, beyond, -1);
+    ASSERT_TRUE(cut.hit) << k;
+    EXPECT_EQ(cut.distance_m, full.distance_m) << k;
+    EXPECT_EQ(cut.point_m, full.point_m) << k;
+    EXPECT_EQ(cut.normal, full.normal) << k;
+    EXPECT_EQ(cut.element, full.element) << k;
+    EXPECT_FALSE(slice.Cast(from, dir, full.distance_m * (1.0 - 1e-9), -1).hit) << k;
+    ++compared;
+  }
+  EXPECT_GT(compared, 4000);
 }
 
 // A box body is cut over [bottom, top) of its faces, as the static section
