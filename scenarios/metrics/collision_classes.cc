@@ -25,6 +25,11 @@ nlohmann::ordered_json CollisionCountsToJson(const CollisionCounts& counts) {
   j["visitor_into_robot"] = counts.visitor_into_robot;
   j["robot_into_robot"] = counts.robot_into_robot;
   j["robot_hit_by_robot"] = counts.robot_hit_by_robot;
+  nlohmann::ordered_json passes;
+  for (std::size_t k = 0; k < kCollisionClasses; ++k) {
+    passes[ToString(static_cast<CollisionClass>(k))] = counts.passes_by_class[k];
+  }
+  j["passes_within_5mm"] = std::move(passes);
   return j;
 }
 

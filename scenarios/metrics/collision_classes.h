@@ -18,8 +18,13 @@ enum class CollisionClass { kVisible, kInvisible, kVisitor, kRobot };
 inline constexpr std::size_t kCollisionClasses = 4;
 const char* ToString(CollisionClass c);
 
+// A collision is a contact episode in which the bodies touched (a contact
+// point at or below zero distance, or an impulse: sim::ContactPhase::kTouch);
+// a pass is one that came within the contact tracker's 5 mm and parted
+// without touching.
 struct CollisionCounts {
   std::array<std::int64_t, kCollisionClasses> by_class{};
+  std::array<std::int64_t, kCollisionClasses> passes_by_class{};  // within 5 mm, no touch
   std::int64_t robot_into_visitor = 0;  // the robot approached faster than the visitor
   std::int64_t visitor_into_robot = 0;
   std::int64_t robot_into_robot = 0;  // this robot approached the other faster
@@ -28,7 +33,10 @@ struct CollisionCounts {
   std::int64_t of(CollisionClass c) const { return by_class[static_cast<std::size_t>(c)]; }
   // Adds another robot's counts (a fleet's sums).
   CollisionCounts& operator+=(const CollisionCounts& other) {
-    for (std::size_t k = 0; k < kCollisionClasses; ++k) by_class[k] += other.by_class[k];
+    for (std::size_t k = 0; k < kCollisionClasses; ++k) {
+      by_class[k] += other.by_class[k];
+      passes_by_class[k] += other.passes_by_class[k];
+    }
     robot_into_visitor += other.robot_into_visitor;
     visitor_into_robot += other.visitor_into_robot;
     robot_into_robot += other.robot_into_robot;

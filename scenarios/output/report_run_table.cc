@@ -216,6 +216,17 @@ void CollisionRows(const RunMetrics& m, const RowBuilder& b, std::vector<RunRow>
          b.PerRobot([cls](const RobotMetrics& r) { return Int(r.collisions_by_class.of(cls)); }),
          {std::string("collisions.") + ToString(cls)}});
   }
+  // Passes closer than the contact tracker's 5 mm that never touched: not
+  // collisions, but how close the robots cut it.
+  const auto passes = [](const CollisionCounts& c) {
+    return Int(c.passes_by_class[static_cast<std::size_t>(CollisionClass::kVisible)]) + " / " +
+           Int(c.passes_by_class[static_cast<std::size_t>(CollisionClass::kRobot)]);
+  };
+  rows->push_back(
+      {"passes within 5 mm without a touch (wall or exhibit the laser sees / robot)",
+       passes(all),
+       b.PerRobot([&passes](const RobotMetrics& r) { return passes(r.collisions_by_class); }),
+       {}});
 }
 
 void HumanRows(const RowBuilder& b, const RunTable& t, std::vector<RunRow>* rows) {

@@ -54,7 +54,7 @@ void ScenarioRun::RecordContacts(double t_after) {
   const auto& elements = world_->elements();
   for (const sim::ContactChange& c : world_->TakeContactChanges()) {
     ClassifyContact(c, t_after);
-    if (!c.began) continue;
+    if (c.phase != sim::ContactPhase::kTouch) continue;
     for (int element : {c.a, c.b}) {
       if (body_of_element_[element] >= 0) ++body_tally_[body_of_element_[element]].collisions;
       if (robot_of_element_[element] >= 0) ++robots_[robot_of_element_[element]].tally.collisions;
@@ -62,10 +62,11 @@ void ScenarioRun::RecordContacts(double t_after) {
     EventFields fields{{"a", elements[c.a].id},
                        {"b", elements[c.b].id},
                        {"impulse_ns", RoundForJson(c.impulse_ns)},
+                       {"distance_m", RoundForJson(c.distance_m, 5)},
                        {"point_m",
                         {RoundForJson(c.point_m.x(), 4), RoundForJson(c.point_m.y(), 4),
                          RoundForJson(c.point_m.z(), 4)}}};
-    // A robot's contact: the robot (the first, for two) and what it touched.
+    // A robot's collision: the robot (the first, for two) and what it touched.
     const int ra = robot_of_element_[c.a];
     const int rb = robot_of_element_[c.b];
     if ((ra >= 0 || rb >= 0) && ra != rb) {
@@ -82,15 +83,26 @@ void ScenarioRun::RecordContacts(double t_after) {
 void ScenarioRun::ClassifyContact(const sim::ContactChange& c, double t_after) {
   const int ra = robot_of_element_[c.a];
   const int rb = robot_of_element_[c.b];
-  // Walkers touching a robot stand for the pause, from the contact's start
-  // and again from its end.
-  for (auto [robot, other] : {std::pair{ra, c.b}, std::pair{rb, c.a}}) {
-    const int body = body_of_element_[other];
-    if (robot >= 0 && body >= 0 && visitor_body_[body]) {
-      walker_paused_until_s_[body] = t_after + kWalkerContactPauseS;
+  // Walkers within contact distance of a robot stand for the pause, from the
+  // contact's start and again from its end.
+  if (c.phase != sim::ContactPhase::kTouch) {
+    for (auto [robot, other] : {std::pair{ra, c.b}, std::pair{rb, c.a}}) {
+      const int body = body_of_element_[other];
+      if (robot >= 0 && body >= 0 && visitor_body_[body]) {
+        walker_paused_until_s_[body] = t_after + kWalkerContactPauseS;
+      }
     }
   }
-  if (!c.began || (ra >= 0 && ra == rb)) return;
+  if (c.phase == sim::ContactPhase::kBegin || (ra >= 0 && ra == rb)) return;
+  if (c.phase == sim::ContactPhase::kEnd) {
+    if (c.touched) return;  // counted at its touch
+    for (auto [robot, other] : {std::pair{ra, c.b}, std::pair{rb, c.a}}) {
+      if (robot < 0) continue;
+      CollisionCounts& counts = robots_[robot].tally.collisions_by_class;
+      ++counts.passes_by_class[static_cast<std::size_t>(collision_classes_->Classify(other))];
+    }
+    return;
+  }
   // Who moved into whom: the larger speed towards the contact point.
   const Eigen::Vector2d at = c.point_m.head<2>();
   const auto approach = [&](int element) {

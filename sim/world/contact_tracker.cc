@@ -8,43 +8,68 @@ namespace pavilion::sim {
 
 void ContactTracker::Update(btCollisionDispatcher& dispatcher,
                             std::vector<ContactChange>* changes) {
-  std::set<std::pair<int, int>> now;
-  std::vector<ContactChange> begins;
+  // The step's pairs within kContactDistanceM: their smallest distance, their
+  // largest impulse and where it acted (the closest point when none did).
+  struct Step {
+    double min_distance_m = kContactDistanceM;
+    double impulse_ns = 0.0;
+    btVector3 point{0, 0, 0};
+    bool any_impulse = false;
+  };
+  std::map<std::pair<int, int>, Step> now;
   const int manifolds = dispatcher.getNumManifolds();
   for (int m = 0; m < manifolds; ++m) {
     const btPersistentManifold* manifold = dispatcher.getManifoldByIndexInternal(m);
     int a = manifold->getBody0()->getUserIndex();
     int b = manifold->getBody1()->getUserIndex();
     if (a == 0 || b == 0) continue;  // the floor
-    double impulse = 0.0;
-    bool touching_now = false;
-    btVector3 point(0, 0, 0);
+    if (a > b) std::swap(a, b);
     for (int p = 0; p < manifold->getNumContacts(); ++p) {
       const btManifoldPoint& cp = manifold->getContactPoint(p);
-      if (cp.getDistance() < kContactDistanceM) {
-        touching_now = true;
-        if (cp.getAppliedImpulse() >= impulse) {
-          impulse = cp.getAppliedImpulse();
-          point = cp.getPositionWorldOnA();
-        }
+      const double distance = cp.getDistance();
+      if (distance >= kContactDistanceM) continue;
+      Step& step = now[{a, b}];
+      const double impulse = cp.getAppliedImpulse();
+      if (impulse > step.impulse_ns || (!step.any_impulse && distance < step.min_distance_m)) {
+        step.point = cp.getPositionWorldOnA();
       }
-    }
-    if (!touching_now) continue;
-    if (a > b) std::swap(a, b);
-    if (!now.insert({a, b}).second) continue;
-    if (!touching_.contains({a, b})) {
-      begins.push_back({true, a, b, {point.x(), point.y(), point.z()}, impulse});
+      step.any_impulse = step.any_impulse || impulse > 0.0;
+      step.impulse_ns = std::max(step.impulse_ns, impulse);
+      step.min_distance_m = std::min(step.min_distance_m, distance);
     }
   }
-  // Deterministic order: ends then begins, each sorted by element pair.
-  for (const auto& pair : touching_) {
-    if (!now.contains(pair)) changes->push_back({false, pair.first, pair.second, {0, 0, 0}, 0.0});
+  // Ends first, sorted by element pair.
+  for (auto it = episodes_.begin(); it != episodes_.end();) {
+    if (now.contains(it->first)) {
+      ++it;
+      continue;
+    }
+    ContactChange end{
+        ContactPhase::kEnd,        it->first.first,   it->first.second, {0, 0, 0}, 0.0,
+        it->second.min_distance_m, it->second.touched};
+    changes->push_back(end);
+    it = episodes_.erase(it);
   }
-  std::sort(begins.begin(), begins.end(), [](const ContactChange& x, const ContactChange& y) {
-    return std::pair(x.a, x.b) < std::pair(y.a, y.b);
-  });
-  changes->insert(changes->end(), begins.begin(), begins.end());
-  touching_ = std::move(now);
+  // Then begins and touches, in pair order (std::map), a begin before its touch.
+  for (const auto& [pair, step] : now) {
+    const ContactChange here{ContactPhase::kBegin,
+                             pair.first,
+                             pair.second,
+                             {step.point.x(), step.point.y(), step.point.z()},
+                             step.impulse_ns,
+                             step.min_distance_m,
+                             false};
+    auto [episode, began] = episodes_.try_emplace(pair, Episode{false, step.min_distance_m});
+    if (began) changes->push_back(here);
+    episode->second.min_distance_m = std::min(episode->second.min_distance_m, step.min_distance_m);
+    if (!episode->second.touched && (step.min_distance_m <= 0.0 || step.any_impulse)) {
+      episode->second.touched = true;
+      ContactChange touch = here;
+      touch.phase = ContactPhase::kTouch;
+      touch.touched = true;
+      changes->push_back(touch);
+    }
+  }
 }
 
 std::vector<Eigen::Vector2d> TouchPoints(const btCollisionDispatcher& dispatcher,

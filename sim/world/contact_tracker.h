@@ -1,7 +1,7 @@
 #pragma once
 
 #include <Eigen/Core>
-#include <set>
+#include <map>
 #include <utility>
 #include <vector>
 
@@ -18,17 +18,25 @@ namespace pavilion::sim {
 // Contact points closer than this count as touching (m).
 inline constexpr double kContactDistanceM = 0.005;
 
-// Which pairs of elements touch, from the contact manifolds of a physics world
-// after each step (element indices are the collision objects' user indices;
-// the floor, element 0, is not tracked).
+// Which pairs of elements are in contact, from the contact manifolds of a
+// physics world after each step (element indices are the collision objects'
+// user indices; the floor, element 0, is not tracked): an episode begins when
+// a pair's manifold holds a point within kContactDistanceM, its touch is the
+// first step with a point at or below zero distance or a normal impulse, and
+// it ends when no point is within kContactDistanceM.
 class ContactTracker {
  public:
-  // Appends the changes since the last call to `changes`: ends, then begins,
-  // each sorted by element pair (a deterministic order).
+  // Appends the changes since the last call to `changes`: ends sorted by
+  // element pair, then begins and touches sorted by pair, a pair's begin
+  // before its touch (a deterministic order).
   void Update(btCollisionDispatcher& dispatcher, std::vector<ContactChange>* changes);
 
  private:
-  std::set<std::pair<int, int>> touching_;
+  struct Episode {
+    bool touched = false;
+    double min_distance_m = 0.0;
+  };
+  std::map<std::pair<int, int>, Episode> episodes_;
 };
 
 // The points (x and y in the frame of `frame_from_world`) where `object`

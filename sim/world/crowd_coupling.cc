@@ -130,15 +130,24 @@ void CrowdCoupling::CastRay(const Eigen::Vector3d& from_m, const Eigen::Vector3d
 
 void CrowdCoupling::UpdateContacts(const std::map<std::pair<int, int>, ContactChange>& touching,
                                    std::vector<ContactChange>* out) {
+  // A person touches a robot by pressing on it: the episode's begin is its touch.
   for (const auto& [key, change] : touching) {
-    if (!touching_.contains(key)) out->push_back(change);
+    if (touching_.contains(key)) continue;
+    ContactChange begin = change;
+    begin.phase = ContactPhase::kBegin;
+    out->push_back(begin);
+    ContactChange touch = change;
+    touch.phase = ContactPhase::kTouch;
+    touch.touched = true;
+    out->push_back(touch);
   }
   for (const auto& key : touching_) {
     if (!touching.contains(key)) {
       ContactChange end;
-      end.began = false;
+      end.phase = ContactPhase::kEnd;
       end.a = key.first;
       end.b = key.second;
+      end.touched = true;
       out->push_back(end);
     }
   }

@@ -44,8 +44,9 @@ class CrowdCoupling {
   // rays), if closer than `best->distance_m` or when best has no hit.
   void CastRay(const Eigen::Vector3d& from_m, const Eigen::Vector3d& to_m, RayHit* best) const;
 
-  // Reports contact begins and ends between people and robots, given the
-  // contacts of this step keyed by their (a, b) element pair, a < b.
+  // Reports contact begins (each with its touch: people touch by pressing)
+  // and ends between people and robots, given the contacts of this step keyed
+  // by their (a, b) element pair, a < b.
   void UpdateContacts(const std::map<std::pair<int, int>, ContactChange>& touching,
                       std::vector<ContactChange>* out);
 

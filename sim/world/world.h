@@ -156,14 +156,24 @@ struct UncutElement {
   double radius_m = 0.0;
 };
 
+// The phases of a contact episode between two elements: they come within
+// 5 mm (kContactDistanceM, contact_tracker.h; kBegin), they touch — a contact point at or below
+// zero distance, or an impulse exchanged (kTouch, at most once per episode: a collision) — and they
+// part again (kEnd). A pass within a few millimetres begins and ends without touching.
+enum class ContactPhase { kBegin, kTouch, kEnd };
+
 // A change of contact between two elements (static elements or bodies); the
 // floor is not reported. `a` < `b` are element indices of PlanarSection order.
 struct ContactChange {
-  bool began = true;
+  ContactPhase phase = ContactPhase::kBegin;
   int a = -1;
   int b = -1;
-  Eigen::Vector3d point_m{0, 0, 0};  // a contact point, for begins
-  double impulse_ns = 0.0;           // largest normal impulse of the step, for begins
+  Eigen::Vector3d point_m{0, 0, 0};  // a contact point, for begins and touches
+  double impulse_ns = 0.0;           // largest normal impulse of the step, for begins and touches
+  // The smallest distance between the pair's contact points (m, negative
+  // inside): of the step for begins and touches, of the whole episode for ends.
+  double distance_m = 0.0;
+  bool touched = false;  // for ends: the episode held a touch
 };
 
 // The Bullet world of a simulation: static geometry from a WorldDescription, the

@@ -251,7 +251,7 @@ struct Fleet {
     world->Step();
     const auto& elements = world->elements();
     for (const sim::ContactChange& c : world->TakeContactChanges()) {
-      if (!c.began) continue;
+      if (c.phase != sim::ContactPhase::kBegin) continue;
       for (const int e : {c.a, c.b}) {
         const int r = elements[e].group;
         if (r < 0 || tick < avoid_until_tick[r]) continue;

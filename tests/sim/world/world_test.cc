@@ -2,12 +2,14 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <numbers>
 
 #include "core/geometry/polygon.h"
+#include "sim/world/contact_tracker.h"
 
 namespace pavilion::sim {
 namespace {
@@ -134,20 +136,65 @@ TEST(WorldTest, WallsStopBodiesAndContactsAreReported) {
   World world(TestRoom(), {});
   const int b = world.AddBody(Visitor("v", {2, 5, 0}, true));
   world.SetPlanarVelocity(b, {1.0, 0.0}, 0.0);
-  int begins = 0;
+  int begins = 0, touches = 0;
   for (int i = 0; i < 2000; ++i) {
     world.Step();
     for (const ContactChange& c : world.TakeContactChanges()) {
-      if (!c.began) continue;
-      ++begins;
+      ASSERT_NE(c.phase, ContactPhase::kEnd);
       EXPECT_EQ(world.elements()[c.a].id, "room");
       EXPECT_EQ(world.elements()[c.b].id, "v");
       EXPECT_NEAR(c.point_m.x(), 9.9, 0.02);
+      if (c.phase == ContactPhase::kBegin) {
+        ++begins;
+        EXPECT_LT(c.distance_m, kContactDistanceM);
+      } else {
+        ++touches;  // a blow: it pressed into the wall or an impulse stopped it
+        EXPECT_TRUE(c.distance_m <= 0.0 || c.impulse_ns > 0.0);
+        EXPECT_TRUE(c.touched);
+      }
     }
   }
   EXPECT_EQ(begins, 1);
+  EXPECT_EQ(touches, 1);
   EXPECT_NEAR(world.body_state(b).pose.x_m, 9.9 - 0.25, 0.02);
   EXPECT_LT(world.body_state(b).tilt_rad, 1e-6);
+}
+
+// A body sliding past a wall 3 mm from it comes within contact distance and
+// leaves without touching: the episode begins and ends, no touch, and its end
+// carries the smallest gap. The same body 3 mm into the wall's path touches.
+TEST(WorldTest, APassWithinContactDistanceIsNoTouch) {
+  for (const double gap_m : {0.003, -0.003}) {
+    World world(TestRoom(), {});
+    // The room's left face is at x = 0.1; the visitor's radius is 0.25.
+    const int b = world.AddBody(Visitor("v", {0.1 + 0.25 + std::max(gap_m, 0.01), 2, 0}, true));
+    int begins = 0, touches = 0, ends = 0;
+    double end_distance = 1.0;
+    bool end_touched = true;
+    for (int i = 0; i < 1200; ++i) {
+      // Drift to the gap, slide along the wall for a second, then leave.
+      const double vx = i < 200 ? -(std::max(gap_m, 0.01) - gap_m) : (i < 600 ? 0.0 : 0.5);
+      world.SetPlanarVelocity(b, {vx, i < 600 ? 1.0 : 0.0}, 0.0);
+      world.Step();
+      for (const ContactChange& c : world.TakeContactChanges()) {
+        begins += c.phase == ContactPhase::kBegin;
+        touches += c.phase == ContactPhase::kTouch;
+        if (c.phase == ContactPhase::kEnd) {
+          ++ends;
+          end_distance = c.distance_m;
+          end_touched = c.touched;
+        }
+      }
+    }
+    SCOPED_TRACE(gap_m);
+    EXPECT_EQ(begins, 1);
+    EXPECT_EQ(ends, 1);
+    EXPECT_EQ(touches, gap_m > 0 ? 0 : 1);
+    EXPECT_EQ(end_touched, gap_m < 0);
+    if (gap_m > 0) {
+      EXPECT_NEAR(end_distance, gap_m, 0.001);
+    }
+  }
 }
 
 // A pushed upright body slides and stops after v²/(2 μ g), friction
@@ -186,7 +233,9 @@ TEST(WorldTest, SteppingIsDeterministic) {
   auto run = [] {
     World world(TestRoom(), {});
     for (int k = 0; k < 6; ++k) {
-      const int b = world.AddBody(Visitor("v" + std::to_string(k), {2.0 + k, 5.0, 0.0}, true));
+      std::string id = "v";
+      id += std::to_string(k);
+      const int b = world.AddBody(Visitor(id, {2.0 + k, 5.0, 0.0}, true));
       world.SetPlanarVelocity(b, {std::cos(k * 1.3), std::sin(k * 1.3)}, 0.0);
     }
     for (int i = 0; i < 3000; ++i) world.Step();
