@@ -16,9 +16,9 @@ namespace pavilion::scenarios {
 // robot, optionally with its motors disengaged from the push until the force
 // ends (or 2 s after an impulse): its wheels then roll freely and its
 // encoders see the rolling (staff at Expo.02 pushed robots switched off, §6.5).
-// A robot's force may be turned, when the push begins, towards the most open
-// floor around it (`toward: open_floor`): staff move a robot out of the way,
-// they do not shove it into a showcase.
+// A robot's force may be turned, when the push begins, towards the more open
+// floor ahead of or behind it (`toward: open_floor`): staff move a robot out
+// of the way along its wheels, they do not shove it into a showcase.
 class PushEvent : public ScenarioEvent {
  public:
   struct Options {
@@ -26,10 +26,11 @@ class PushEvent : public ScenarioEvent {
     Eigen::Vector2d force_n{0, 0};     // N, for duration_s
     double duration_s = 0.0;           // > 0 with a force
     bool motors_disengaged = false;    // robots only
-    // Robots with a force only: the force's magnitude acts along the
-    // direction of kOpenFloorDirections in which the robot's footprint
-    // circle travels furthest clear of every element (up to
-    // kOpenFloorReachM; ties: the direction nearest the given force's).
+    // Robots with a force only: the force acts along the robot's heading,
+    // forwards or backwards, whichever way its footprint circle travels
+    // further clear of every element (up to kOpenFloorReachM; ties: the way
+    // nearer the given force's), its magnitude scaled by that travel over
+    // kOpenFloorReachM (a gentler push where the floor is open less far).
     bool toward_open_floor = false;
   };
   PushEvent(std::string target, const Eigen::Vector2d& impulse_ns)
@@ -45,15 +46,14 @@ class PushEvent : public ScenarioEvent {
 
   // How long motors stay disengaged after an impulse, s.
   static constexpr double kDisengagedAfterImpulseS = 2.0;
-  // `toward: open_floor`: directions tried (evenly spread), how far along
-  // each the footprint circle is checked, and the step of the checks (m).
-  static constexpr int kOpenFloorDirections = 16;
+  // `toward: open_floor`: how far along each way the footprint circle is
+  // checked, and the step of the checks (m).
   static constexpr double kOpenFloorReachM = 3.0;
   static constexpr double kOpenFloorStepM = 0.1;
 
  private:
   void Impulse(const EventContext& c, const Eigen::Vector2d& impulse_ns) const;
-  // The force turned towards the most open floor around robot `index`.
+  // The force turned towards the more open floor ahead of or behind robot `index`.
   Eigen::Vector2d TowardOpenFloor(const EventContext& c, int index) const;
 
   std::string target_;

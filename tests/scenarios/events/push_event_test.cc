@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "scenarios/config/scenario.h"
+#include "scenarios/events/scripted_events.h"
 #include "scenarios/run/scenario_runner.h"
 #include "tests/support/load_errors.h"
 #include "tests/support/test_files.h"
@@ -122,6 +123,47 @@ TEST(PushEventTest, TowardOpenFloorTurnsAPushAwayFromTheWall) {
   EXPECT_NEAR(std::hypot(force[0], force[1]), 150.0, 1e-3);
   EXPECT_GE(force[0], -1e-3);  // not towards the wall at x = -7.9
   EXPECT_FALSE(touched_wall(turned));
+}
+
+// Free-rolling wheels do not slide sideways: a robot facing along the wall
+// (+y) is pushed along its heading, not across it towards the open room
+// (+x), and rolls clear of everything.
+TEST(PushEventTest, TowardOpenFloorPushesAlongTheWheels) {
+  const auto out = TestDir() / "along";
+  const RunMetrics m =
+      RunScenario(LoadScenarioFile(
+                      Write("  - {at_s: 1, type: push, body: r1, force: [-150, 0], duration_s: "
+                            "1.5, motors: disengaged, toward: open_floor}\n",
+                            "[-7.0, 0, 1.5707963]")),
+                  RunOptions{out.string(), false, 1})
+          .metrics;
+  const std::vector<nlohmann::json> pushes = Records(out, "push");
+  ASSERT_EQ(pushes.size(), 2u);
+  const std::vector<double> force = pushes[0].at("force_n").get<std::vector<double>>();
+  EXPECT_NEAR(force[0], 0.0, 1e-3);
+  EXPECT_NEAR(std::abs(force[1]), 150.0, 1e-3);  // open floor for the whole reach both ways
+  // It rolls, brakes when its motors return, and stays within the reach checked.
+  EXPECT_GT(m.robots[0].distance_m, 1.5);
+  EXPECT_LT(m.robots[0].distance_m, PushEvent::kOpenFloorReachM);
+  EXPECT_TRUE(Records(out, "collision").empty());
+}
+
+// Between a wall 1.5 m ahead and a crate 1.3 m behind (what the footprint
+// circle can travel), staff push half as hard (1.5 m of the 3 m reach) towards
+// the wall, and the robot stops short of it.
+TEST(PushEventTest, TowardOpenFloorPushesGentlyWhereTheFloorIsShort) {
+  const auto out = TestDir() / "short";
+  RunScenario(
+      LoadScenarioFile(Write("  - {at_s: 1, type: push, body: r1, force: [0, -150], duration_s: "
+                             "1.5, motors: disengaged, toward: open_floor}\n",
+                             "[4.0, 6.0, 1.5707963]")),
+      RunOptions{out.string(), false, 1});
+  const std::vector<nlohmann::json> pushes = Records(out, "push");
+  ASSERT_EQ(pushes.size(), 2u);
+  const std::vector<double> force = pushes[0].at("force_n").get<std::vector<double>>();
+  EXPECT_NEAR(force[0], 0.0, 1e-3);
+  EXPECT_NEAR(force[1], 75.0, 1e-3);
+  EXPECT_TRUE(Records(out, "collision").empty());
 }
 
 // Motors belong to robots; impulse and force exclude each other.
