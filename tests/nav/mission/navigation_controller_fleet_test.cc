@@ -459,5 +459,28 @@ TEST(NavigationControllerFleet, DrivesAwayFromALostRobotWhoseGrownHullReachesInt
   EXPECT_GT(DistanceDrivenFromUnderALostHull(-0.55), 4.0);  // the hull itself reaches in
 }
 
+// Two localized robots that touched (a belief a few centimetres off, thesis
+// §6.3.5.1: the recessed bodies hide each other's true size from the lasers)
+// stand face to face, the other robot's published hull `published_x` ahead
+// on the way to b, touching this robot's or 1 cm into it. Grown by
+// fleet_hull_margin_m and drawn whole, it held both robots where they stood
+// for 470 s (expo_day seed 3, 4,430 s: robox_01 and robox_08). The growth
+// stops short of this robot's hull, and the points of a hull that itself
+// reaches in are left out within the margin, as for a lost robot: it backs
+// off and goes round. Returns how far along the line it got in 30 s.
+double DistanceDrivenFromATouchingRobot(double published_x) {
+  core::Pose2 end;
+  const double closest_m =
+      ClosestBesideAPublishedRobot({0.69, 0.0, 0.0}, {published_x, 0.0, 0.0}, false, 30.0, &end);
+  EXPECT_GT(closest_m, 0.005) << "it never pressed towards the other robot, published at "
+                              << published_x;
+  return end.x_m;
+}
+
+TEST(NavigationControllerFleet, DrivesAwayFromALocalizedRobotItTouches) {
+  EXPECT_GT(DistanceDrivenFromATouchingRobot(0.68), 4.0);  // the growth ratchets
+  EXPECT_GT(DistanceDrivenFromATouchingRobot(0.67), 4.0);  // the hull itself reaches in
+}
+
 }  // namespace
 }  // namespace pavilion::nav
