@@ -314,6 +314,9 @@ class NavigationController : public Controller {
   double inradius_m_ = 0.0;      // the footprint's nearest side from the robot's origin
   double circumradius_m_ = 0.0;  // its farthest corner
   std::vector<Eigen::Vector2d> margin_outline_;  // the footprint grown by the window's margin
+  // ... and by the ratchet's gap: where a localized robot's hull points
+  // within the margin are moved (ClearMargin; set with the fleet).
+  std::vector<Eigen::Vector2d> ratchet_outline_;
   MissionSequence missions_;
   TopologyGraph graph_;
   ScanObstacles obstacles_;

@@ -177,6 +177,7 @@ void NavigationController::SetFleet(FleetLink link) {
   claimable_.clear();
   if (!fleet_.coordinator) return;
   fleet_.coordinator->Join(fleet_.robot, footprint_);
+  ratchet_outline_ = InflateConvexPolygon(footprint_, options_.dwa.safety_margin_m + kRatchetGapM);
   // The fleet's shared stations, or else those of the own missions.
   const std::vector<std::string>& shared = fleet_.coordinator->stations();
   for (const std::string& id : shared.empty() ? missions_.stations() : shared) {
@@ -371,8 +372,6 @@ void NavigationController::AppendOtherHulls(const core::Pose2& belief,
   // Outline points at most this far apart (the ghost barriers' fill).
   const double spacing_m = options_.ghost_barrier.fill_m;
   const FleetBoard& board = fleet_.coordinator->board();
-  const core::Polygon2 pushed_outline =
-      InflateConvexPolygon(footprint_, options_.dwa.safety_margin_m + kRatchetGapM);
   for (int r = 0; r < board.robots(); ++r) {
     const FleetMessage& m = board.message(r);
     const std::vector<Eigen::Vector2d>& hull = board.footprint(r);
@@ -429,7 +428,7 @@ void NavigationController::AppendOtherHulls(const core::Pose2& belief,
     AppendSweptOutline(grown, BodyTwist{v, w}, ahead_s, kSweepStepM, spacing_m, frame_from_robot,
                        points);
     if (!drop_inside) continue;
-    ClearMargin(margin_outline_, m.lost ? nullptr : &pushed_outline,
+    ClearMargin(margin_outline_, m.lost ? nullptr : &ratchet_outline_,
                 (frame_from_world * belief).Inverse(), first, points);
   }
 }

@@ -9,12 +9,12 @@ namespace pavilion::sim {
 void ContactTracker::Update(btCollisionDispatcher& dispatcher,
                             std::vector<ContactChange>* changes) {
   // The step's pairs within kContactDistanceM: their smallest distance, their
-  // largest impulse and where it acted (the closest point when none did).
+  // largest (normal, non-negative) impulse and where it acted (the closest
+  // point when none did).
   struct Step {
     double min_distance_m = kContactDistanceM;
     double impulse_ns = 0.0;
     btVector3 point{0, 0, 0};
-    bool any_impulse = false;
   };
   std::map<std::pair<int, int>, Step> now;
   const int manifolds = dispatcher.getNumManifolds();
@@ -30,10 +30,9 @@ void ContactTracker::Update(btCollisionDispatcher& dispatcher,
       if (distance >= kContactDistanceM) continue;
       Step& step = now[{a, b}];
       const double impulse = cp.getAppliedImpulse();
-      if (impulse > step.impulse_ns || (!step.any_impulse && distance < step.min_distance_m)) {
+      if (impulse > step.impulse_ns || (step.impulse_ns == 0.0 && distance < step.min_distance_m)) {
         step.point = cp.getPositionWorldOnA();
       }
-      step.any_impulse = step.any_impulse || impulse > 0.0;
       step.impulse_ns = std::max(step.impulse_ns, impulse);
       step.min_distance_m = std::min(step.min_distance_m, distance);
     }
@@ -62,7 +61,7 @@ void ContactTracker::Update(btCollisionDispatcher& dispatcher,
     auto [episode, began] = episodes_.try_emplace(pair, Episode{false, step.min_distance_m});
     if (began) changes->push_back(here);
     episode->second.min_distance_m = std::min(episode->second.min_distance_m, step.min_distance_m);
-    if (!episode->second.touched && (step.min_distance_m <= 0.0 || step.any_impulse)) {
+    if (!episode->second.touched && (step.min_distance_m <= 0.0 || step.impulse_ns > 0.0)) {
       episode->second.touched = true;
       ContactChange touch = here;
       touch.phase = ContactPhase::kTouch;
