@@ -62,7 +62,8 @@ CLI::App* AddRunCommand(CLI::App* app, RunArgs* args) {
                   "Write the scenario's expectations as JUnit XML to this file");
   run->footer(
       "Exit codes: 0 done (every expectation passed), 1 bad input, 2 bad usage, 3 an "
-      "expectation failed, 130/143 interrupted (the files are valid).\n"
+      "expectation failed, 4 the simulated world failed (a robot left the floor; the files "
+      "are valid up to then), 130/143 interrupted (the files are valid).\n"
       "Example:\n  pavilion run scenarios/expo_visitors.yaml --out out/demo --seed 3 "
       "--duration 20 --set physics.rate_hz=100");
   return run;
@@ -98,6 +99,13 @@ int RunRunCommand(const RunArgs& a) {
         "to then",
         s.interrupted_by, s.sim_duration_s);
     return 128 + s.interrupted_by;
+  }
+  if (!s.ended_early.empty()) {
+    if (s.expectations)
+      std::printf("%s", scenarios::FormatExpectationTable(*s.expectations).c_str());
+    spdlog::error("{}: the run ended early: {}; the outputs are complete up to then", a.scenario,
+                  s.ended_early);
+    return kExitWorldFailed;
   }
   if (!s.expectations) return 0;
   std::printf("%s", scenarios::FormatExpectationTable(*s.expectations).c_str());

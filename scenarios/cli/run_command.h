@@ -13,6 +13,9 @@ namespace pavilion::cli {
 // input, 2 bad usage, 3 an expectation of the scenario failed; a run ended
 // by SIGINT or SIGTERM exits 128 + the signal (130, 143) with its files valid.
 using scenarios::kExitExpectationFailed;
+// `pavilion run`: the simulated world ended the run early (a robot left the
+// floor); its files are valid up to then.
+inline constexpr int kExitWorldFailed = 4;
 
 // `pavilion run SCENARIO --out DIR [--seed N] [--duration S] [--set k=v ...]
 // [--threads N] [--junit FILE]`.

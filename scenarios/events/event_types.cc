@@ -6,9 +6,10 @@
 namespace pavilion::scenarios {
 
 std::set<std::string> KnownEventTypes() {
-  std::set<std::string> types{kRunStarted, kRunFinished,    kCollision, kBumper,
-                              kLost,       kHypotheses,     kLocalized, kRelocalized,
-                              kRouteDone,  kScanLogStopped, kNearMiss,  kStationConflict};
+  std::set<std::string> types{kRunStarted,    kRunFinished,    kCollision, kBumper,
+                              kLost,          kHypotheses,     kLocalized, kRelocalized,
+                              kRouteDone,     kScanLogStopped, kNearMiss,  kStationConflict,
+                              kRobotLeftFloor};
   using Type = nav::NavigationEvent::Type;
   for (Type t : {Type::kMissionStarted, Type::kMissionCompleted, Type::kMissionAborted,
                  Type::kBlocked, Type::kReplanned, Type::kDeadlockDetected, Type::kDeadlockResolved,

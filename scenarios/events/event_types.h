@@ -21,6 +21,9 @@ inline constexpr const char* kLocalized = "localized";
 inline constexpr const char* kRelocalized = "relocalized";
 inline constexpr const char* kRouteDone = "route_done";
 inline constexpr const char* kScanLogStopped = "scan_log_stopped";
+// A robot's base left the floor's rectangle: the world has no floor there,
+// and the run ends (RunSummary::ended_early).
+inline constexpr const char* kRobotLeftFloor = "robot_left_floor";
 inline constexpr const char* kNearMiss = "near_miss";  // two robots' hulls < 0.2 m apart
 // Two or more robot centres within 1 m of the same station node.
 inline constexpr const char* kStationConflict = "station_conflict";

@@ -17,6 +17,10 @@ constexpr double kCheckFractions[] = {0.05, 0.5, 0.95};
 // entrance or exit subtends less than two of eight directions from inside).
 constexpr int kEnclosedRays = 8;
 constexpr int kOpenRaysAllowed = 2;
+// The spread either side of a robot's heading over which its straight run on
+// its wheels is checked (chosen: the turn of its last command while it is set
+// down and has not yet noticed).
+constexpr double kWheelRunSpreadRad = 15.0 * std::numbers::pi / 180.0;
 // Cells around the start searched for a free one when the start's own is not
 // (a robot close to a wall), per side.
 constexpr int kStartSearchCells = 3;
@@ -56,6 +60,20 @@ DiscObstacle CheckSection(const core::PlanarSection& s, const Eigen::Vector2d& c
   return {};
 }
 
+// Whether the segment `from_m`-`to_m` meets a segment or circle of the section.
+bool RayMeets(const core::PlanarSection& section, const Eigen::Vector2d& from_m,
+              const Eigen::Vector2d& to_m) {
+  for (const core::SectionSegment& s : section.segments) {
+    if (std::isfinite(core::RaySegmentHit(from_m, to_m, s.a_m, s.b_m))) return true;
+  }
+  for (const core::SectionCircle& c : section.circles) {
+    for (double t : core::LineCircleHits(from_m, to_m, c.center_m, c.radius_m)) {
+      if (t >= 0.0 && t <= 1.0) return true;
+    }
+  }
+  return false;
+}
+
 }  // namespace
 
 DiscObstacle CheckDisc(const std::vector<core::PlanarSection>& sections, const sim::Floor& floor,
@@ -79,20 +97,21 @@ bool Enclosed(const core::PlanarSection& section, const sim::Floor& floor,
   for (int k = 0; k < kEnclosedRays; ++k) {
     const double angle = 2.0 * std::numbers::pi * k / kEnclosedRays;
     const Eigen::Vector2d end = p_m + reach_m * Eigen::Vector2d(std::cos(angle), std::sin(angle));
-    bool hit = false;
-    for (const core::SectionSegment& s : section.segments) {
-      if (std::isfinite(core::RaySegmentHit(p_m, end, s.a_m, s.b_m))) {
-        hit = true;
-        break;
-      }
+    if (!RayMeets(section, p_m, end) && ++open > kOpenRaysAllowed) return false;
+  }
+  return true;
+}
+
+bool WheelsRunInside(const core::PlanarSection& section, const sim::Floor& floor,
+                     const core::Pose2& pose) {
+  const double reach_m = (floor.max_m - floor.min_m).norm();
+  for (double way : {0.0, std::numbers::pi}) {
+    for (double spread : {-kWheelRunSpreadRad, 0.0, kWheelRunSpreadRad}) {
+      const double angle = pose.theta_rad + way + spread;
+      const Eigen::Vector2d end =
+          pose.translation() + reach_m * Eigen::Vector2d(std::cos(angle), std::sin(angle));
+      if (!RayMeets(section, pose.translation(), end)) return false;
     }
-    for (std::size_t c = 0; c < section.circles.size() && !hit; ++c) {
-      for (double t : core::LineCircleHits(p_m, end, section.circles[c].center_m,
-                                           section.circles[c].radius_m)) {
-        hit = hit || (t >= 0.0 && t <= 1.0);
-      }
-    }
-    if (!hit && ++open > kOpenRaysAllowed) return false;
   }
   return true;
 }

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/geometry/planar_section.h"
+#include "core/types/pose2.h"
 #include "sim/world/world_description.h"
 
 namespace pavilion::scenarios {
@@ -58,6 +59,14 @@ class ReachableCells {
 // outside a building's walls is not (issue 18: kidnaps "into free space").
 bool Enclosed(const core::PlanarSection& section, const sim::Floor& floor,
               const Eigen::Vector2d& p_m);
+
+// Whether a robot at `pose`, driving on its wheels forwards or backwards
+// (straight, or turning up to 15 deg off), meets the section's static
+// geometry before it leaves the floor. A kidnapped robot's wheels keep
+// turning at its last command: set down facing an entrance, it drove out of
+// the hall and off the floor (expo_day seed 1, 35,419 s; issue 21).
+bool WheelsRunInside(const core::PlanarSection& section, const sim::Floor& floor,
+                     const core::Pose2& pose);
 
 // The heights (m) at which a chassis spanning [bottom_m, top_m] is checked:
 // near its underside, its middle and near its top.

@@ -132,7 +132,8 @@ std::optional<core::Pose2> KidnapEvent::DrawFreePose(const EventContext& c, int 
       continue;
     }
     if (!reachable.Contains(to.translation())) continue;
-    if (!Enclosed(static_sections[static_sections.size() / 2], floor, to.translation())) continue;
+    const core::PlanarSection& middle = static_sections[static_sections.size() / 2];
+    if (!Enclosed(middle, floor, to.translation()) || !WheelsRunInside(middle, floor, to)) continue;
     if (CheckDisc(sections, floor, to.translation(), radius_m, group).free) return to;
   }
   return std::nullopt;

@@ -383,6 +383,7 @@ nlohmann::ordered_json MetricsToJson(const RunMetrics& m) {
   j["sim_duration_s"] = m.sim_duration_s;
   j["physics"] = {{"rate_hz", m.physics_rate_hz}, {"ticks", m.ticks}};
   if (m.interrupted) j["interrupted"] = true;
+  if (!m.ended_early.empty()) j["ended_early"] = m.ended_early;
   if (!m.bodies.empty()) {
     Json bodies;
     for (const BodyMetrics& b : m.bodies) {

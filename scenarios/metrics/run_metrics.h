@@ -96,6 +96,8 @@ struct RunMetrics {
   std::int64_t ticks = 0;
   // Ended early by SIGINT/SIGTERM: the figures cover sim_duration_s only.
   bool interrupted = false;
+  // Ended early by the simulated world (ScenarioRun: a robot left the floor).
+  std::string ended_early;
   std::vector<BodyMetrics> bodies;   // in world order
   std::vector<RobotMetrics> robots;  // in scenario order
   std::string laser_backend;

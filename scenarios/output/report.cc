@@ -469,6 +469,10 @@ std::string RenderReportHtml(const Scenario& scenario, const RunMetrics& metrics
        << "<style>" << kStyle << "</style></head><body>\n";
   html << "<h1>Pavilion run: " << E(scenario.name) << "</h1>\n";
   if (!scenario.description.empty()) html << "<p>" << E(scenario.description) << "</p>\n";
+  if (!metrics.ended_early.empty()) {
+    html << "<p class=\"verdict fail\">The run ended early: " << E(metrics.ended_early)
+         << ". Everything below covers the run up to then.</p>\n";
+  }
   if (content.expectations && !content.expectations->results.empty()) {
     ExpectationTable(html, *content.expectations);
   }

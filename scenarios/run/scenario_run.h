@@ -138,6 +138,9 @@ class ScenarioRun {
   // outputs.scan_log: auto: closes scans.bin once its robot-minutes are logged.
   void LimitScanLog(double t_after);
   bool RoutesDone() const;
+  // Whether a robot's base left the floor's rectangle after the step ending
+  // at t_after (it falls: the world has no floor there); records it.
+  bool RobotLeftFloor(double t_after);
   void BuildCollisionClasses();
   RunMetrics CollectMetrics(double sim_s) const;
 

@@ -1,6 +1,7 @@
 #include "scenarios/run/scenario_runner.h"
 
 #include <algorithm>
+#include <cstdio>
 
 #include "scenarios/run/scenario_run.h"
 
@@ -283,6 +284,7 @@ void ScenarioRun::Run() {
     }
     if ((tick & 255) == 0) progress.Update(t_after, Seconds(Clock::now() - t_loop));
     ticks_run_ = tick + 1;
+    if (RobotLeftFloor(t_after)) break;
     if (scenario_.end_when_routes_done && RoutesDone()) break;
     if (options_.stop_signal && *options_.stop_signal != 0) {
       summary_.interrupted_by = *options_.stop_signal;
@@ -567,6 +569,28 @@ void ScenarioRun::RecordProximity(double t_after) {
   }
 }
 
+bool ScenarioRun::RobotLeftFloor(double t_after) {
+  const sim::Floor& floor = world_->description().floor;
+  for (const RobotRun& r : robots_) {
+    const core::Pose2& p = snapshot_.robots[r.robot->index()].pose;
+    const Eigen::Vector2d xy = p.translation();
+    if (xy.cwiseMax(floor.min_m) == xy && xy.cwiseMin(floor.max_m) == xy) continue;
+    char text[160];
+    std::snprintf(text, sizeof text, "robot '%s' left the floor at (%.2f, %.2f) at %.1f s",
+                  r.entry->id.c_str(), p.x_m, p.y_m, t_after);
+    summary_.ended_early = text;
+    events_->Emit(t_after, kRobotLeftFloor,
+                  EventFields{{"robot", r.entry->id},
+                              {"pose",
+                               {RoundForJson(p.x_m, 6), RoundForJson(p.y_m, 6),
+                                RoundForJson(p.theta_rad, 6)}},
+                              {"floor_min", {floor.min_m.x(), floor.min_m.y()}},
+                              {"floor_max", {floor.max_m.x(), floor.max_m.y()}}});
+    return true;
+  }
+  return false;
+}
+
 bool ScenarioRun::RoutesDone() const {
   bool any = false;
   for (const RobotRun& r : robots_) {
@@ -581,10 +605,12 @@ bool ScenarioRun::RoutesDone() const {
 
 RunSummary ScenarioRun::Finish() {
   const double sim_s = static_cast<double>(ticks_run_) * world_->step_s();
-  events_->Emit(sim_s, kRunFinished,
-                summary_.interrupted_by != 0
-                    ? EventFields{{"interrupted", true}, {"signal", summary_.interrupted_by}}
-                    : EventFields{});
+  EventFields finished =
+      summary_.interrupted_by != 0
+          ? EventFields{{"interrupted", true}, {"signal", summary_.interrupted_by}}
+          : EventFields{};
+  if (!summary_.ended_early.empty()) finished["ended_early"] = summary_.ended_early;
+  events_->Emit(sim_s, kRunFinished, finished);
   events_->Flush();
   trajectories_->Flush();
   if (scan_log_) scan_log_->Close();
@@ -592,11 +618,22 @@ RunSummary ScenarioRun::Finish() {
   // metrics.json: a function of scenario and seed only (metrics.md, schema 1).
   summary_.metrics = CollectMetrics(sim_s);
   summary_.metrics.interrupted = summary_.interrupted_by != 0;
+  summary_.metrics.ended_early = summary_.ended_early;
   const nlohmann::ordered_json metrics_json = MetricsToJson(summary_.metrics);
   WriteFileAtomically((out_ / "metrics.json").string(), metrics_json.dump(2) + "\n");
   if (expect_monitor_) {
     summary_.expectations =
         EvaluateExpectations(scenario_.expectations, metrics_json, *expect_monitor_);
+    // A run the world ended early did not show what its expectations ask of
+    // the whole run, whatever its figures say.
+    if (!summary_.ended_early.empty()) {
+      summary_.expectations->results.push_back(
+          ExpectationResult{.name = "the run reaches its end",
+                            .status = ExpectationStatus::kFail,
+                            .measured = FormatFigure(sim_s) + " s simulated",
+                            .bound = FormatFigure(scenario_.duration_s) + " s",
+                            .detail = summary_.ended_early});
+    }
     WriteFileAtomically((out_ / "expectations.json").string(),
                         ExpectationsToJson(*summary_.expectations).dump(2) + "\n");
   }

@@ -65,6 +65,9 @@ struct RunSummary {
   // The scenario's `expect:` judged (expectations.json); none without one.
   std::optional<ExpectationResults> expectations;
   int interrupted_by = 0;  // the signal that ended the run early; 0: it ran to its end
+  // Why the simulated world ended the run early (a robot left the floor); the
+  // outputs hold the run up to then and the run fails. Empty: it did not.
+  std::string ended_early;
 };
 
 // Runs a scenario to its end and writes metrics.json, performance.json,

@@ -166,4 +166,52 @@ TEST(ExpectCliTest, SigtermEndsTheRunCleanly) {
   EXPECT_TRUE(fs::exists(out / "expectations.json"));
 }
 
+// A robot that drives off the floor's edge falls: the run ends there with a
+// robot_left_floor event, exit 4, a failed "reaches its end" expectation and
+// every file valid up to then (issue 21: a kidnapped Robox drove out of the
+// hall's entrance and on through the void for the rest of the day).
+TEST(ExpectCliTest, ARobotLeavingTheFloorEndsTheRunWithExitFour) {
+  const fs::path dir = TestDir();
+  // A floor 4 m across with nothing on it; the Robox drives east at 0.5 m/s
+  // from its middle and reaches the edge, 2 m away, after about 4 s.
+  WriteFile(dir, "world.yaml",
+            "kind: world\n"
+            "name: bare_floor\n"
+            "materials:\n"
+            "  concrete: {friction: 0.8}\n"
+            "floor: {min: [-2, -2], max: [2, 2], material: concrete}\n");
+  const std::string file = WriteFile(dir, "scenario.yaml",
+                                     "kind: scenario\n"
+                                     "name: off_the_edge\n"
+                                     "duration_s: 20\n"
+                                     "world: world.yaml\n"
+                                     "robots:\n"
+                                     "  - {id: r1, model: robox, pose: [0, 0, 0],\n"
+                                     "     drive: [{at_s: 0, speed_mps: 0.5, turn_radps: 0.0}]}\n"
+                                     "expect:\n"
+                                     "  - robots.r1.distance_m > 1\n");
+  const fs::path out = dir / "out";
+  const auto r = RunPavilion({"run", file, "--out", out.string()}, dir);
+  EXPECT_EQ(r.exit_code, 4) << r.err;
+  EXPECT_TRUE(Contains(r.err, "the run ended early: robot 'r1' left the floor at (2.")) << r.err;
+  EXPECT_TRUE(Contains(r.out, "fail     the run reaches its end")) << r.out;
+  const auto metrics = nlohmann::json::parse(ReadTextFile(out / "metrics.json"));
+  const double ended_s = metrics.at("sim_duration_s").get<double>();
+  EXPECT_GT(ended_s, 3.5);
+  EXPECT_LT(ended_s, 6.0);
+  EXPECT_TRUE(Contains(metrics.at("ended_early").get<std::string>(), "robot 'r1' left the floor"));
+  const std::vector<std::string> events = SplitLines(ReadTextFile(out / "events.jsonl"));
+  ASSERT_GE(events.size(), 2u);
+  const auto left = nlohmann::json::parse(events[events.size() - 2]);
+  EXPECT_EQ(left.at("type"), "robot_left_floor");
+  EXPECT_EQ(left.at("robot"), "r1");
+  EXPECT_GT(left.at("pose")[0].get<double>(), 2.0);
+  const auto last = nlohmann::json::parse(events.back());
+  EXPECT_EQ(last.at("type"), "run_finished");
+  EXPECT_TRUE(last.contains("ended_early"));
+  const auto expectations = nlohmann::json::parse(ReadTextFile(out / "expectations.json"));
+  EXPECT_EQ(expectations.at("passed"), false);
+  EXPECT_TRUE(Contains(ReadTextFile(out / "report.html"), "The run ended early: robot"));
+}
+
 }  // namespace
