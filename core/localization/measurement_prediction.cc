@@ -194,6 +194,23 @@ void PredictionOptions::Validate() const {
           "in (0, 1)");
 }
 
+LitArcMeasurement LitArc(double radius_m, const Eigen::Vector2d& center_m) {
+  LitArcMeasurement m{center_m, Eigen::Matrix2d::Identity(), Eigen::Matrix2d::Zero()};
+  const double d = center_m.norm();
+  if (radius_m <= 0.0 || d <= radius_m) return m;  // a marker on a face; or inside: no arc
+  // h(p) = p - delta(d) u with u = p / d: dh/dp = I - (delta / d)(I - u u^T) - delta' u u^T.
+  const double delta = radius_m * (kLitArcFarFraction + kLitArcNearFactor * radius_m / d);
+  const double delta_prime = -kLitArcNearFactor * radius_m * radius_m / (d * d);
+  const Eigen::Vector2d u = center_m / d;
+  const Eigen::Matrix2d uu = u * u.transpose();
+  m.z = center_m - delta * u;
+  m.J_z_center = Eigen::Matrix2d::Identity() - (delta / d) * (Eigen::Matrix2d::Identity() - uu) -
+                 delta_prime * uu;
+  const double sigma_m = kLitArcSamplingFraction * radius_m;
+  m.sampling_covariance = sigma_m * sigma_m * uu;
+  return m;
+}
+
 const std::string& FeatureId(const RobotMap& map, MapFeatureRef ref) {
   switch (ref.type) {
     case MapFeatureType::kLine:
@@ -270,10 +287,15 @@ PredictedMeasurement MeasurementPredictor::Predict(
       out.feature_covariance.setZero();
       out.feature_covariance(0, 0) = g * M * g.transpose();
     } else {
-      out.z = ps.p;
-      J_z_sensor = ps.J_p_sensor;
-      out.J_z_map = ps.J_p_point;
-      out.feature_covariance = M;
+      // A foil-wrapped column is seen on its lit arc, short of its centre.
+      const double radius_m =
+          feature.type == MapFeatureType::kBeacon ? map_.beacons.at(feature.index).radius_m : 0.0;
+      const LitArcMeasurement arc = LitArc(radius_m, ps.p);
+      out.z = arc.z;
+      J_z_sensor = arc.J_z_center * ps.J_p_sensor;
+      out.J_z_map = arc.J_z_center * ps.J_p_point;
+      out.feature_covariance =
+          arc.J_z_center * M * arc.J_z_center.transpose() + arc.sampling_covariance;
     }
     out.map_covariance = point.covariance;
   }

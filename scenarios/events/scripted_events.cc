@@ -24,6 +24,39 @@ std::string ReadTarget(MapReader& r, const std::string& key, const std::set<std:
   return target;
 }
 
+// Another robot's footprint circle, where it stands and where its present
+// velocity carries it over the look-ahead.
+struct MovingDisc {
+  Eigen::Vector2d at_m;
+  Eigen::Vector2d velocity_mps;
+  double radius_m;
+};
+
+std::vector<MovingDisc> OtherRobots(const EventContext& c, int index) {
+  std::vector<MovingDisc> others;
+  for (int k = 0; k < c.world->robot_count(); ++k) {
+    if (k == index) continue;
+    const sim::RobotState& r = c.snapshot->robots[k];
+    others.push_back({r.pose.translation(), r.velocity_mps,
+                      nav::Circumradius(c.world->robot_model(k).footprint_m)});
+  }
+  return others;
+}
+
+// Whether a disc of `radius_m` at `p_m` keeps clear of every other robot's
+// circle over the look-ahead.
+bool ClearOfOtherRobots(const std::vector<MovingDisc>& others, const Eigen::Vector2d& p_m,
+                        double radius_m) {
+  for (const MovingDisc& o : others) {
+    for (double t = 0.0; t <= PushEvent::kOtherRobotLookaheadS + 1e-9;
+         t += PushEvent::kOtherRobotSampleS) {
+      const double reach_m = radius_m + o.radius_m;
+      if ((o.at_m + t * o.velocity_mps - p_m).squaredNorm() < reach_m * reach_m) return false;
+    }
+  }
+  return true;
+}
+
 }  // namespace
 
 void PushEvent::Impulse(const EventContext& c, const Eigen::Vector2d& impulse_ns) const {
@@ -50,15 +83,18 @@ Eigen::Vector2d PushEvent::TowardOpenFloor(const EventContext& c, int index) con
   // A robot on free-rolling wheels moves along its heading whichever way it is
   // pushed (its wheels do not slide sideways): staff push it forwards or
   // backwards, whichever way the floor is open further.
+  const std::vector<MovingDisc> others = OtherRobots(c, index);
   double best_travel = -1.0, best_turn = 0.0;
   Eigen::Vector2d best = options_.force_n.normalized();
   for (const double angle : {pose.theta_rad, pose.theta_rad + std::numbers::pi}) {
     const Eigen::Vector2d direction(std::cos(angle), std::sin(angle));
+    const auto clear = [&](double travel_m) {
+      const Eigen::Vector2d p = from + travel_m * direction;
+      return CheckDisc(sections, floor, p, radius_m, group).free &&
+             ClearOfOtherRobots(others, p, radius_m);
+    };
     double travel = 0.0;
-    while (
-        travel + kOpenFloorStepM <= kOpenFloorReachM + 1e-9 &&
-        CheckDisc(sections, floor, from + (travel + kOpenFloorStepM) * direction, radius_m, group)
-            .free) {
+    while (travel + kOpenFloorStepM <= kOpenFloorReachM + 1e-9 && clear(travel + kOpenFloorStepM)) {
       travel += kOpenFloorStepM;
     }
     const double turn = std::abs(core::NormalizeAngle(angle - given_rad));
@@ -81,7 +117,13 @@ EventFields PushEvent::Apply(const EventContext& c) const {
   EventFields fields{{"body", target_}};
   force_n_ = o.force_n;
   if (o.toward_open_floor && c.robot_index->contains(target_)) {
-    force_n_ = TowardOpenFloor(c, c.robot_index->at(target_));
+    // Staff hold the robot still, then push it along its wheels: a robot
+    // turning when pushed curved off the line checked (expo_day seed 2,
+    // 2,264.6 s and 3,589.2 s, into a robot and a showcase).
+    const int index = c.robot_index->at(target_);
+    c.world->HaltRobot(index);
+    c.snapshot->robots[index] = c.world->robot_state(index);
+    force_n_ = TowardOpenFloor(c, index);
   }
   if (o.duration_s > 0.0) {
     fields["force_n"] = {RoundForJson(force_n_.x(), 3), RoundForJson(force_n_.y(), 3)};

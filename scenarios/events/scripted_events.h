@@ -31,6 +31,10 @@ class PushEvent : public ScenarioEvent {
     // further clear of every element (up to kOpenFloorReachM; ties: the way
     // nearer the given force's), its magnitude scaled by that travel over
     // kOpenFloorReachM (a gentler push where the floor is open less far).
+    // Other robots count where they stand and where their velocity takes
+    // them within kOtherRobotLookaheadS: staff do not push a robot into the
+    // path of one driving by. Staff first hold the robot still
+    // (sim::World::HaltRobot): pushed while turning, it curved off the line.
     bool toward_open_floor = false;
   };
   PushEvent(std::string target, const Eigen::Vector2d& impulse_ns)
@@ -50,6 +54,12 @@ class PushEvent : public ScenarioEvent {
   // checked, and the step of the checks (m).
   static constexpr double kOpenFloorReachM = 3.0;
   static constexpr double kOpenFloorStepM = 0.1;
+  // `toward: open_floor`: other robots are also kept out of the checked
+  // travel where their present velocity carries them within this time, s
+  // (chosen: the push's 1.5 s and the braking after it), sampled every
+  // kOtherRobotSampleS.
+  static constexpr double kOtherRobotLookaheadS = 3.0;
+  static constexpr double kOtherRobotSampleS = 0.25;
 
  private:
   void Impulse(const EventContext& c, const Eigen::Vector2d& impulse_ns) const;

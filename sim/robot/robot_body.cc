@@ -582,6 +582,20 @@ void RobotBody::Teleport(const core::Pose2& pose) {
   }
 }
 
+void RobotBody::Halt() {
+  for (Part& part : parts_) {
+    part.rigid->setLinearVelocity(btVector3(0, 0, 0));
+    part.rigid->setAngularVelocity(btVector3(0, 0, 0));
+    part.rigid->clearForces();
+  }
+  if (raycast()) drive_->Reset();
+  for (int side = 0; side < 2; ++side) {
+    command_radps_[side] = 0.0;
+    target_radps_[side] = 0.0;
+  }
+  chassis()->activate(true);
+}
+
 void RobotBody::BeforeStep(double dt) {
   last_step_s_ = dt;
   const RobotDescription& m = model_;

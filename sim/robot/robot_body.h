@@ -75,6 +75,9 @@ class RobotBody {
   bool motors_engaged() const { return motors_engaged_; }
   // Puts the robot at `pose` at rest, its motor commands zeroed.
   void Teleport(const core::Pose2& pose);
+  // Stops the robot where it stands: every part at rest, its wheels' angles
+  // (the encoders) kept, its motor commands zeroed.
+  void Halt();
 
   // Before a physics step of `dt_s`: ramps the motor commands towards their
   // targets and drives the hinge motors, or solves the ray-cast wheel contacts.

@@ -312,6 +312,8 @@ void World::ApplyRobotImpulse(int robot, const Eigen::Vector2d& impulse_ns) {
   impl_->robots.at(robot).ApplyImpulse(impulse_ns);
 }
 
+void World::HaltRobot(int robot) { impl_->robots.at(robot).Halt(); }
+
 void World::TeleportRobot(int robot, const core::Pose2& pose) {
   impl_->robots.at(robot).Teleport(pose);
 }

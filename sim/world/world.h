@@ -232,6 +232,9 @@ class World {
   bool motors_engaged(int robot) const;
   // A horizontal impulse at the chassis' centre of mass (a push or a collision).
   void ApplyRobotImpulse(int robot, const Eigen::Vector2d& impulse_ns);
+  // Stops a robot where it stands, at rest (staff holding it before a push);
+  // its wheel angles, and so its encoders, are kept.
+  void HaltRobot(int robot);
   // Moves a robot to a new pose at rest (a kidnap).
   void TeleportRobot(int robot, const core::Pose2& pose);
 

@@ -34,7 +34,8 @@ const char* const kWorld =
     "boxes:\n"
     "  - {id: crate, pose: [4, 4, 0], size: [0.5, 0.5, 0.5], material: concrete}\n";
 
-std::string Write(const std::string& events, const std::string& robot_pose = "[-4, -4, 0]") {
+std::string Write(const std::string& events, const std::string& robot_pose = "[-4, -4, 0]",
+                  const std::string& more_robots = "") {
   const auto dir = TestDir();
   WriteFile(dir, "world.yaml", kWorld);
   return WriteFile(dir, "scenario.yaml",
@@ -51,9 +52,8 @@ std::string Write(const std::string& events, const std::string& robot_pose = "[-
                    "  - {id: r1, model: robox, pose: " +
                        robot_pose +
                        ",\n"
-                       "     drive: [{at_s: 0, speed_mps: 0.0, turn_radps: 0.0}]}\n"
-                       "events:\n" +
-                       events);
+                       "     drive: [{at_s: 0, speed_mps: 0.0, turn_radps: 0.0}]}\n" +
+                       more_robots + "events:\n" + events);
 }
 
 std::vector<nlohmann::json> Records(const std::filesystem::path& out, const std::string& type) {
@@ -164,6 +164,35 @@ TEST(PushEventTest, TowardOpenFloorPushesGentlyWhereTheFloorIsShort) {
   EXPECT_NEAR(force[0], 0.0, 1e-3);
   EXPECT_NEAR(force[1], 75.0, 1e-3);
   EXPECT_TRUE(Records(out, "collision").empty());
+}
+
+// Ahead of the pushed robot another drives across its path: staff push it
+// the other way, though the floor ahead is as open and the given force
+// points ahead (expo_day seed 3, 2,641.5 s: a robot pushed into the flank of
+// one driving by).
+TEST(PushEventTest, TowardOpenFloorKeepsOutOfAnotherRobotsPath) {
+  const auto run = [](bool other_moves) {
+    const auto out = TestDir() / (other_moves ? "crossing" : "standing");
+    // r2 starts 2 m ahead and 2.5 m to the side of r1; driving, it is 1.5 m
+    // nearer r1's path 3 s after the push and stops there at 4 s.
+    const std::string speed = other_moves ? "0.5" : "0.0";
+    RunScenario(LoadScenarioFile(
+                    Write("  - {at_s: 1, type: push, body: r1, force: [0, 150], duration_s: 1.5,\n"
+                          "     motors: disengaged, toward: open_floor}\n",
+                          "[-7.0, 0, 1.5707963]",
+                          "  - {id: r2, model: robox, pose: [-4.5, 2.0, 3.1415927],\n"
+                          "     drive: [{at_s: 0, speed_mps: " +
+                              speed +
+                              ", turn_radps: 0.0},\n"
+                              "             {at_s: 4, speed_mps: 0.0, turn_radps: 0.0}]}\n")),
+                RunOptions{out.string(), false, 1});
+    const std::vector<nlohmann::json> pushes = Records(out, "push");
+    EXPECT_EQ(pushes.size(), 2u);
+    EXPECT_TRUE(Records(out, "collision").empty());
+    return pushes.empty() ? 0.0 : pushes[0].at("force_n").get<std::vector<double>>()[1];
+  };
+  EXPECT_NEAR(run(false), 150.0, 1e-3);  // ahead, as the force says
+  EXPECT_NEAR(run(true), -150.0, 1e-3);  // behind, 3 m open, out of r2's way
 }
 
 // Motors belong to robots; impulse and force exclude each other.

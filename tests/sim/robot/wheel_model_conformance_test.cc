@@ -359,6 +359,31 @@ TEST(RaycastWheels, TeleportPutsTheRobotDownAtRest) {
   EXPECT_LT(s.tilt_rad, 0.01);
 }
 
+// A halt (staff holding a robot before they push it) stops a turning robot
+// where it stands, for both wheel models: with its motors disengaged it then
+// stays put, and its encoders keep their count.
+TEST(WheelModels, HaltStopsATurningRobotWhereItStands) {
+  for (const WheelModel wheels : {WheelModel::kRaycast, WheelModel::kArticulated}) {
+    Scene scene("robox", wheels);
+    scene.world->SetWheelSpeeds(scene.robot, 6.0, 3.0);
+    scene.Advance(2.0);
+    const RobotState moving = scene.state();
+    ASSERT_GT(moving.velocity_mps.norm(), 0.2);
+    ASSERT_GT(std::abs(moving.yaw_rate_radps), 0.2);
+    scene.world->HaltRobot(scene.robot);
+    scene.world->SetMotorsEngaged(scene.robot, false);
+    const RobotState held = scene.state();
+    EXPECT_EQ(held.velocity_mps.norm(), 0.0);
+    EXPECT_EQ(held.yaw_rate_radps, 0.0);
+    EXPECT_EQ(held.left_wheel_rad, moving.left_wheel_rad);
+    scene.Advance(1.0);
+    const RobotState s = scene.state();
+    EXPECT_LT((s.pose.translation() - moving.pose.translation()).norm(), 0.005);
+    EXPECT_LT(std::abs(core::NormalizeAngle(s.pose.theta_rad - moving.pose.theta_rad)), 0.005);
+    EXPECT_LT(std::abs(s.left_wheel_rad - moving.left_wheel_rad), 0.1);
+  }
+}
+
 // 100 Hz physics drives the same straight line as 200 Hz.
 TEST(RaycastWheels, HundredHertzDrivesAsTwoHundred) {
   const core::Pose2 a = DriveProfile("pygmalion", WheelModel::kRaycast, 0.5, 0.5, 4.0, 200.0);
