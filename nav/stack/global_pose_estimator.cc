@@ -1,5 +1,6 @@
 #include "nav/stack/global_pose_estimator.h"
 
+#include <algorithm>
 #include <stdexcept>
 #include <utility>
 
@@ -33,13 +34,17 @@ std::optional<EstimatorCycle> GlobalPoseEstimator::Update(
   for (const core::EncoderReading& e : encoders) localizer_->AddEncoders(e);
   for (const core::LaserScan* scan : scans) {
     if (paused_) break;
-    if (gate_.Admit(*scan)) localizer_->AddScan(*scan);
+    if (!gate_.Admit(*scan)) continue;
+    const core::LocalizerCounters before = localizer_->tracker().counters();
+    localizer_->AddScan(*scan);
+    NoteTrackerBatches(before);
   }
   estimate_ = localizer_->Estimate();
   if (localizer_->cycles() == last_cycles_) return std::nullopt;
   last_cycles_ = localizer_->cycles();
   reporting_loss_ = false;
   EstimatorCycle c = ReportCycle();
+  tracked_ = EstimatorCycle{};
   // A loss and a new generation within one tick: the cycle reports the loss,
   // so that it is seen (events, metrics); the next one the new hypotheses.
   if (localizer_->counters().losses != last_losses_ && c.mode != LocalizationMode::kLost) {
@@ -52,11 +57,30 @@ std::optional<EstimatorCycle> GlobalPoseEstimator::Update(
   return c;
 }
 
+void GlobalPoseEstimator::NoteTrackerBatches(const core::LocalizerCounters& before) {
+  const core::LocalizerCounters& after = localizer_->tracker().counters();
+  if (after.cycles == before.cycles || mode() != LocalizationMode::kLocalized) return;
+  EstimatorCycle batch = CycleFromReport(localizer_->tracker().last_cycle());
+  if (after.cycles > before.cycles + 1) {
+    // Deferred batches integrated together: their other pairings count as
+    // lines (lasers give lines and beacons; the last batch says how many of each).
+    const long paired =
+        batch.matched_lines + batch.matched_beacons + batch.matched_edges + batch.matched_other;
+    batch.matched_lines += static_cast<int>(std::max(0L, after.matches - before.matches - paired));
+    batch.predictions = static_cast<int>(after.predictions - before.predictions);
+    batch.observations = static_cast<int>(after.observations - before.observations);
+  }
+  tracked_.predictions += batch.predictions;
+  tracked_.observations += batch.observations;
+  tracked_.matched_lines += batch.matched_lines;
+  tracked_.matched_beacons += batch.matched_beacons;
+  tracked_.matched_edges += batch.matched_edges;
+  tracked_.matched_other += batch.matched_other;
+}
+
 EstimatorCycle GlobalPoseEstimator::ReportCycle() const {
   const LocalizationMode now = mode();
-  EstimatorCycle c = now == LocalizationMode::kLocalized
-                         ? CycleFromReport(localizer_->tracker().last_cycle())
-                         : EstimatorCycle{};
+  EstimatorCycle c = now == LocalizationMode::kLocalized ? tracked_ : EstimatorCycle{};
   c.mode = now;
   c.hypotheses = localizer_->hypothesis_count();
   c.lost = c.mode == LocalizationMode::kLost;

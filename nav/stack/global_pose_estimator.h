@@ -47,6 +47,8 @@ class GlobalPoseEstimator : public PoseEstimator {
 
  private:
   EstimatorCycle ReportCycle() const;
+  // Adds what the tracker's batches since `before` paired to tracked_.
+  void NoteTrackerBatches(const core::LocalizerCounters& before);
 
   std::unique_ptr<core::GlobalLocalizer> localizer_;
   GlobalPoseEstimatorOptions options_;
@@ -56,6 +58,10 @@ class GlobalPoseEstimator : public PoseEstimator {
   long last_losses_ = 0;
   bool reporting_loss_ = false;  // the last cycle reports a loss already followed by a generation
   bool paused_ = false;
+  // The tracker's batches since the last reported cycle, summed: a cycle is
+  // one tick's scans of every laser (Table 4.2 counts n_l per cycle), and
+  // reporting the last batch alone dropped the front laser's pairings.
+  EstimatorCycle tracked_;
 };
 
 }  // namespace pavilion::nav
