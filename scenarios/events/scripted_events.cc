@@ -50,7 +50,7 @@ bool ClearOfOtherRobots(const std::vector<MovingDisc>& others, const Eigen::Vect
   for (const MovingDisc& o : others) {
     for (double t = 0.0; t <= PushEvent::kOtherRobotLookaheadS + 1e-9;
          t += PushEvent::kOtherRobotSampleS) {
-      const double reach_m = radius_m + o.radius_m;
+      const double reach_m = radius_m + o.radius_m + PushEvent::kOtherRobotMarginM;
       if ((o.at_m + t * o.velocity_mps - p_m).squaredNorm() < reach_m * reach_m) return false;
     }
   }
