@@ -169,14 +169,20 @@ RaycastDrive::ContactFrame RaycastDrive::ReliefContact(const Eigen::Vector3d& ce
     normal_rows_.push_back(step.MakeRow(frame.normal, arm, target));
     const bool sprung = spec.stiffness_npm > 0.0;
     const double k = sprung ? spec.stiffness_npm : options_.contact_stiffness_npm;
-    if (k > 0.0 && frame.gap <= 0.0) {
+    // A sprung wheel is soft from its first touch: held rigid at a zero gap,
+    // it carried the robot with the rigid wheels as an indeterminate four-point
+    // support, and the solver drifted to the casters alone, the drive wheels
+    // touching without load (expo_day seed 3, 172 s: a Robox glided on).
+    if (k > 0.0 && (frame.gap <= 0.0 || sprung)) {
       // The deflection -gap pushes back as a spring-damper (Catto's soft
-      // step: gamma = 1 / (h (c + h k)), the error reduced by h k / (c + h k)).
+      // step: gamma = 1 / (h (c + h k)), the error reduced by h k / (c + h k));
+      // short of the floor, the wheel may close the gap within the step.
       Row& row = normal_rows_.back();
       const double c = sprung ? spec.damping_nspm : options_.contact_damping_nspm;
       const double denominator = c + dt_s * k;
       row.softness = 1.0 / (dt_s * denominator);
-      row.target_mps = -(dt_s * k / denominator) * frame.gap / dt_s;
+      row.target_mps =
+          frame.gap > 0.0 ? -frame.gap / dt_s : -(dt_s * k / denominator) * frame.gap / dt_s;
       row.soft_effective_mass = 1.0 / (1.0 / row.inverse_effective_mass + row.softness);
     }
     // Friction rows exist for drive wheels only; casters hold empty rows so

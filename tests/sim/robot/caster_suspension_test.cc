@@ -94,6 +94,44 @@ TEST(CasterSuspension, WithBothCastersRigidTheFastModelsDriveWheelsLoseTheirLoad
   EXPECT_LT(rigid.after_n, 0.5 * rigid.rest_n);
 }
 
+// Driving, braking into a turn and setting off again, the sprung Robox's
+// drive wheels are never without load for longer than a pitching bounce:
+// held rigid at a zero gap, the sprung caster once took half the weight with
+// the front caster and left the drive wheels touching with none for seconds,
+// and the robot glided on its casters while its wheels braked and turned
+// (expo_day seed 3, 172 s). A guard: this sequence does not bring the old
+// rigid-at-zero-gap row into that state (25 ms either way); the scenario's
+// count is in docs/benchmarks.md, session 22.
+TEST(CasterSuspension, TheDriveWheelsAreNeverLongWithoutLoad) {
+  WorldDescription d = pavilion::testing::FloorWorld(30, false);
+  RobotConfig config = scenarios::WithWorldMaterials(pavilion::testing::ShippedRobot("robox"), &d);
+  World world(d, WorldOptions{});
+  pavilion::testing::WorldRobot spec{"r", config.description, config.systematic, core::Pose2{}};
+  spec.wheel_model = WheelModel::kRaycast;
+  const int robot = pavilion::testing::AddRobot(world, spec);
+  const double weight_n = world.robot_model(robot).total_mass_kg() * 9.81;
+  double unloaded_s = 0.0, longest_s = 0.0;
+  const auto drive = [&](double left_radps, double right_radps, double seconds) {
+    world.SetWheelSpeeds(robot, left_radps, right_radps);
+    for (int i = 0; i < static_cast<int>(std::lround(seconds / world.step_s())); ++i) {
+      world.Step();
+      const std::array<double, 2> loads = world.DriveWheelLoads(robot);
+      unloaded_s =
+          std::min(loads[0], loads[1]) < 0.1 * weight_n ? unloaded_s + world.step_s() : 0.0;
+      longest_s = std::max(longest_s, unloaded_s);
+    }
+  };
+  drive(0.0, 0.0, 1.0);
+  for (int k = 0; k < 4; ++k) {
+    drive(6.0, 6.0, 2.0);   // 0.54 m/s
+    drive(-3.0, 3.0, 1.0);  // braking into a turn on the spot
+    drive(6.5, 5.5, 1.0);
+    drive(0.0, 0.0, 1.0);
+  }
+  std::printf("longest time with a drive wheel under 10 %% of the weight: %.3f s\n", longest_s);
+  EXPECT_LT(longest_s, 0.05);
+}
+
 // The articulated reference ignores the suspension: the same loads with and
 // without it.
 TEST(CasterSuspension, TheArticulatedReferenceKeepsItsCastersRigid) {
