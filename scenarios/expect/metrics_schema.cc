@@ -60,7 +60,7 @@ const Json& MetricsSchema() {
   static const Json schema = [] {
     RunMetrics m;
     m.interrupted = true;
-    m.ended_early = "*";
+    m.ended_early.assign(1, '*');  // (GCC 12, -Wrestrict: as r.id below)
     m.bodies.push_back(BodyMetrics{"*"});
     RobotMetrics r;
     r.id.assign(1, '*');  // (GCC 12 warns falsely, -Wrestrict, on = "*")
