@@ -70,12 +70,7 @@ void GlobalPoseEstimator::NoteTrackerBatches(const core::LocalizerCounters& befo
     batch.predictions = static_cast<int>(after.predictions - before.predictions);
     batch.observations = static_cast<int>(after.observations - before.observations);
   }
-  tracked_.predictions += batch.predictions;
-  tracked_.observations += batch.observations;
-  tracked_.matched_lines += batch.matched_lines;
-  tracked_.matched_beacons += batch.matched_beacons;
-  tracked_.matched_edges += batch.matched_edges;
-  tracked_.matched_other += batch.matched_other;
+  tracked_.AddCounts(batch);
 }
 
 EstimatorCycle GlobalPoseEstimator::ReportCycle() const {

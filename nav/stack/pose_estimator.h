@@ -44,6 +44,16 @@ struct EstimatorCycle {
   bool lost = false;  // the estimator declares itself lost
   LocalizationMode mode = LocalizationMode::kLocalized;
   int hypotheses = 1;  // n at the end of the cycle
+
+  // Adds another batch's counts (predictions, observations, matches).
+  void AddCounts(const EstimatorCycle& batch) {
+    predictions += batch.predictions;
+    observations += batch.observations;
+    matched_lines += batch.matched_lines;
+    matched_beacons += batch.matched_beacons;
+    matched_edges += batch.matched_edges;
+    matched_other += batch.matched_other;
+  }
 };
 
 class PoseEstimator {

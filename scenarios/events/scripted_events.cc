@@ -48,9 +48,9 @@ std::vector<MovingDisc> OtherRobots(const EventContext& c, int index) {
 bool ClearOfOtherRobots(const std::vector<MovingDisc>& others, const Eigen::Vector2d& p_m,
                         double radius_m) {
   for (const MovingDisc& o : others) {
+    const double reach_m = radius_m + o.radius_m + PushEvent::kOtherRobotMarginM;
     for (double t = 0.0; t <= PushEvent::kOtherRobotLookaheadS + 1e-9;
          t += PushEvent::kOtherRobotSampleS) {
-      const double reach_m = radius_m + o.radius_m + PushEvent::kOtherRobotMarginM;
       if ((o.at_m + t * o.velocity_mps - p_m).squaredNorm() < reach_m * reach_m) return false;
     }
   }
