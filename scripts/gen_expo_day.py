@@ -82,7 +82,7 @@ ROBOT = """\
       tour:{tour}
       dwell_s: 10
       timeout_s: 300
-      start_s: {start_s}
+      start_s: {start_s}{rest_among}
 """
 
 
@@ -94,12 +94,20 @@ def robots(count):
              ", ".join(STATIONS[:half]) + ",\n" + " " * 26 + ", ".join(STATIONS[half:2 * half]) +
              ",\n" + " " * 26 + ", ".join(STATIONS[2 * half:]) + "]")
     rest = " {stations: 15, repeat: true, among: *stations}"
+    # More robots than stations: one that finds every station taken makes way
+    # at a free dock (NavigationControllerOptions::rest_among).
+    docks = [f"dock_{k + 1:02d}" for k in range(len(BAY))]
+    rest_first = ("\n      rest_among: &docks [" + ", ".join(docks[:5]) + ",\n" + " " * 26 +
+                  ", ".join(docks[5:]) + "]")
+    rest_other = "\n      rest_among: *docks"
     out = []
     for k in range(count):
         x, y, theta = poses[k]
+        rest_among = "" if count <= len(STATIONS) else rest_first if k == 0 else rest_other
         out.append(ROBOT.format(id=f"robox_{k + 1:02d}", x=x, y=y, theta=theta,
                                 tour=first if k == 0 else rest,
-                                start_s=6 * k if k < len(BAY) else 3 * (k - len(BAY))))
+                                start_s=6 * k if k < len(BAY) else 3 * (k - len(BAY)),
+                                rest_among=rest_among))
     return "".join(out)
 
 
@@ -118,9 +126,9 @@ def write(path, name, description, duration_s, count, present, max_present, arri
 
 def random_events(push_rate, kidnap_rate):
     return f"""\
-# Staff move a robot by hand with its motors disengaged (§6.5), towards open floor
-# (not into a showcase), and, now and then, someone carries one off: a random
-# robot, at random times drawn from the seed.
+# Staff move a robot by hand with its motors disengaged (§6.5), along its wheels
+# towards open floor (not into a showcase), and, now and then, someone carries
+# one off: a random robot, at random times drawn from the seed.
 events:
   - type: push
     random: {{rate_per_h: {push_rate}}}

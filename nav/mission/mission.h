@@ -53,6 +53,7 @@ struct NavigationEvent {
   // kMissionCompleted/Aborted: since its start; kDeadlockResolved: since detection
   double duration_s = 0.0;
   double path_length_m = 0;  // kMissionCompleted/Aborted: travelled since its start (odometry)
+  bool rest = false;         // mission events: the goal is a rest node (no station was free)
 };
 const char* ToString(NavigationEvent::Type type);
 
@@ -83,6 +84,7 @@ struct NavigationFigures {
   int fleet_replans = 0;
   std::int64_t station_waits = 0;
   int station_revisits = 0;
+  int rest_missions = 0;  // missions to a rest node (NavigationControllerOptions::rest_among)
   // The overlap deadlock of §6.5 (nav/fleet/deadlock_monitor.h).
   int deadlocks_detected = 0;
   int deadlocks_resolved = 0;

@@ -174,6 +174,11 @@ NavigationController::NavigationController(core::RobotMap map,
         MapOutline(map_, kOutlineSpacingM, options_.ghost_barrier.clearance_m));
   }
   for (const core::MapBeacon& b : map_.beacons) map_beacons_.push_back(b.point.position_m);
+  for (const std::string& id : options_.rest_among) {
+    const std::optional<int> n = graph_.FindIndex(id);
+    if (!n) throw std::invalid_argument("rest_among: unknown node '" + id + "' of the map");
+    rest_nodes_.push_back(*n);
+  }
   queue_.SetWalls(walls_, options_.local.band.robot_radius_m);
   local_ = std::make_unique<LocalPlanner>(options_.local, MakeInitialPlanner(options_));
   dwa_period_ticks_ = PeriodTicks(options_.step_s, options_.dwa_rate_hz);
@@ -282,7 +287,7 @@ void NavigationController::Cycle(const ControlTick& tick) {
   if ((tick.odometry.translation() - still_anchor_).norm() > kStillMoveM) {
     still_anchor_ = tick.odometry.translation();
     still_since_s_ = tick.now_s;
-  } else if (state_ == State::kDriving || state_ == State::kWaiting ||
+  } else if (state_ == State::kDriving || (state_ == State::kWaiting && !AtRest()) ||
              state_ == State::kRelocalizing) {
     figures_.still_s = tick.now_s - still_since_s_;
     figures_.longest_still_s = std::max(figures_.longest_still_s, figures_.still_s);
@@ -319,14 +324,20 @@ void NavigationController::StartNextMission(const ControlTick& tick) {
     const FleetBoard& board = fleet_.coordinator->board();
     if (station_wait_since_s_ < 0.0) station_wait_since_s_ = tick.now_s;
     const bool revisit = tick.now_s - station_wait_since_s_ >= options_.station_wait_s;
+    // Not the station it stands at either: a revisit there is no mission.
     const MissionSequence::Proposal p = missions_.NextFree(
         [&](const std::string& id) {
           const std::optional<int> n = graph_.FindIndex(id);
-          return n && board.StationTaken(*n, fleet_.robot);
+          return n && (*n == occupied_node_ || board.StationTaken(*n, fleet_.robot));
         },
         revisit);
     if (p.wait) {  // every remaining station is taken: ask again next cycle
       ++figures_.station_waits;
+      if (!revisit || AtRest()) return;
+      // Waited long enough: make way at a rest node, when one is free.
+      const std::optional<int> rest =
+          FreeRestNode(tick, [&](int n) { return board.StationTaken(n, fleet_.robot); });
+      if (rest) BeginMission(tick, map_.nodes[static_cast<std::size_t>(*rest)].id, true);
       return;
     }
     goal = p.goal;
@@ -343,11 +354,22 @@ void NavigationController::StartNextMission(const ControlTick& tick) {
     status_.done_at_s = tick.now_s;
     return;
   }
+  BeginMission(tick, *goal, false);
+}
+
+void NavigationController::BeginMission(const ControlTick& tick, const std::string& goal,
+                                        bool rest) {
+  mission_waited_since_s_ = station_wait_since_s_ >= 0.0 ? station_wait_since_s_ : tick.now_s;
   station_wait_since_s_ = -1.0;
   ++mission_index_;
-  const int node = graph_.FindIndex(*goal).value_or(kNoNode);
-  current_ = Mission{*goal, node == kNoNode ? core::Pose2{} : map_.nodes[node].pose,
-                     options_.dwell_s, options_.timeout_s};
+  const int node = graph_.FindIndex(goal).value_or(kNoNode);
+  current_ = Mission{goal, node == kNoNode ? core::Pose2{} : map_.nodes[node].pose,
+                     rest ? 0.0 : options_.dwell_s, options_.timeout_s};
+  rest_trip_ = rest;
+  if (rest) {
+    revisit_ = false;
+    ++figures_.rest_missions;
+  }
   mission_start_s_ = tick.now_s;
   mission_start_odometer_m_ = odometer_m_;
   reserved_node_ = node;
@@ -599,6 +621,8 @@ void NavigationController::EndMission(const ControlTick& tick, bool completed, A
   e.reason = reason;
   e.duration_s = tick.now_s - mission_start_s_;
   e.path_length_m = odometer_m_ - mission_start_odometer_m_;
+  e.rest = rest_trip_;
+  rest_trip_ = false;
   reserved_node_ = kNoNode;
   escape_until_s_.reset();
   if (completed) {
@@ -699,6 +723,7 @@ void NavigationController::Emit(NavigationEvent::Type type, double at_s) {
   e.at_s = at_s;
   e.mission = mission_index_;
   e.goal = current_.goal;
+  e.rest = rest_trip_;
   events_.push_back(std::move(e));
 }
 

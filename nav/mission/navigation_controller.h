@@ -153,6 +153,18 @@ struct NavigationControllerOptions {
   // s, [0, 3600]. Chosen: a dwell — robots standing each at the station
   // another still has to visit otherwise wait for good.
   double station_wait_s = 10.0;
+  // Where the robot waits out of the way (ours; the fleet's charging docks,
+  // thesis Fig. 6.6): node ids of the map. With the coordination on, a robot
+  // that finds no station free after station_wait_s (no revisit either) and
+  // is not resting already drives to the nearest free one of these and waits
+  // there, its station free for another robot — a mission like any other
+  // (NavigationEvent::rest, NavigationFigures::rest_missions), with no dwell.
+  // A robot starting within FleetOptions::release_distance_m of one rests
+  // there. Without them, a fleet with more robots than stations stands still
+  // for good once every station is held (expo_rush: 20 Robox, 15 stations,
+  // all standing from the 280th second). Waiting at rest is not standing
+  // still with a mission. Empty: a robot waits where it stands.
+  std::vector<std::string> rest_among;
   // With the coordination off, goal coordination from the robot's own
   // sensing (the fall-back of §6.5): a robot this close to its goal station
   // that sees another robot (a marker's implied centre, §6.3.5.1) within
@@ -234,6 +246,15 @@ class NavigationController : public Controller {
   enum class State { kWaiting, kDriving, kDwelling, kRelocalizing, kLost, kDone };
   void Cycle(const ControlTick& tick);
   void StartNextMission(const ControlTick& tick);
+  // Starts the mission to `goal` (a node id; rest: a trip to a rest node).
+  void BeginMission(const ControlTick& tick, const std::string& goal, bool rest);
+  // The robot stands at (occupies) one of its rest nodes.
+  bool AtRest() const;
+  // The free rest node nearest the robot's belief, none when all are taken.
+  std::optional<int> FreeRestNode(const ControlTick& tick,
+                                  const std::function<bool(int)>& taken) const;
+  // Publish's first cycle: a robot standing at a rest node occupies it.
+  void OccupyRestAtStart(const ControlTick& tick);
   // kRelocalizing: true once localized again and replanned (driving on).
   bool Relocalize(const ControlTick& tick);
   bool PlanGlobal(const ControlTick& tick, int avoid_node);
@@ -355,12 +376,16 @@ class NavigationController : public Controller {
   MissionStatus status_;
   FleetLink fleet_;
   std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> walls_;  // the map's, for sight
-  int reserved_node_ = -1;              // the station this robot heads for
-  int occupied_node_ = -1;              // the station it stands at or is leaving
-  double station_wait_since_s_ = -1.0;  // every remaining station taken since; < 0: not waiting
-  bool revisit_ = false;                // the current goal is a revisit (not of the round)
-  std::vector<int> claimable_;          // node indices of the stations it may claim, ascending
-  std::vector<int> claims_;             // the stations it holds for passage, ascending
+  int reserved_node_ = -1;               // the station this robot heads for
+  int occupied_node_ = -1;               // the station it stands at or is leaving
+  double station_wait_since_s_ = -1.0;   // every remaining station taken since; < 0: not waiting
+  double mission_waited_since_s_ = 0.0;  // the current mission's robot waited since (or began)
+  bool revisit_ = false;                 // the current goal is a revisit (not of the round)
+  bool rest_trip_ = false;               // the current goal is a rest node
+  bool rest_checked_ = false;            // OccupyRestAtStart has run
+  std::vector<int> rest_nodes_;          // options_.rest_among as node indices
+  std::vector<int> claimable_;           // node indices of the stations it may claim, ascending
+  std::vector<int> claims_;              // the stations it holds for passage, ascending
   double next_fleet_check_s_ = 0.0;
   // Markers seen (odometry frame), the laser and when.
   struct SeenMarker {

@@ -102,22 +102,35 @@ void ClearMargin(const core::Polygon2& margin_outline, const core::Polygon2* pus
 void NavigationController::SwitchGoal(const ControlTick& tick,
                                       const std::function<bool(int)>& taken, const char* cause) {
   // The station goes back to the round and the robot proposes another, the
-  // same mission driving on to a new goal (or waiting when none is free).
-  if (!revisit_) missions_.GiveBack(current_.goal);
-  revisit_ = false;
-  const MissionSequence::Proposal p = missions_.NextFree([&](const std::string& id) {
-    const std::optional<int> n = graph_.FindIndex(id);
-    return n && (taken(*n) || *n == reserved_node_);
-  });
+  // same mission driving on to a new goal (or waiting when none is free). A
+  // rest trip drives on to another free rest node.
+  const auto taken_or_left = [&](int n) { return taken(n) || n == reserved_node_; };
+  MissionSequence::Proposal p;
+  if (rest_trip_) {
+    if (const std::optional<int> rest = FreeRestNode(tick, taken_or_left)) {
+      p.goal = map_.nodes[static_cast<std::size_t>(*rest)].id;
+    }
+  } else {
+    if (!revisit_) missions_.GiveBack(current_.goal);
+    revisit_ = false;
+    p = missions_.NextFree([&](const std::string& id) {
+      const std::optional<int> n = graph_.FindIndex(id);
+      return n && taken_or_left(*n);
+    });
+  }
   const int node = p.goal ? graph_.FindIndex(*p.goal).value_or(kNoNode) : kNoNode;
   if (node == kNoNode) {  // nothing else free: stand until the board changes
-    if (p.goal) missions_.GiveBack(*p.goal);
-    station_wait_since_s_ = tick.now_s;
+    if (p.goal && !rest_trip_) missions_.GiveBack(*p.goal);
+    // Still waiting since before this mission: a robot that loses every
+    // race for a freed station still gets to revisit or rest.
+    station_wait_since_s_ = mission_waited_since_s_;
     reserved_node_ = kNoNode;
     queue_.Clear();
     command_ = {};
     state_ = State::kWaiting;
     --figures_.missions_started;  // started again when a station is free
+    if (rest_trip_) --figures_.rest_missions;
+    rest_trip_ = false;
     --mission_index_;
     return;
   }
@@ -172,6 +185,37 @@ MissionSequence::Proposal NavigationController::NextGoalBySight(const ControlTic
   return p;
 }
 
+bool NavigationController::AtRest() const {
+  return occupied_node_ != kNoNode &&
+         std::find(rest_nodes_.begin(), rest_nodes_.end(), occupied_node_) != rest_nodes_.end();
+}
+
+std::optional<int> NavigationController::FreeRestNode(const ControlTick& tick,
+                                                      const std::function<bool(int)>& taken) const {
+  std::optional<int> best;
+  double best_m = std::numeric_limits<double>::infinity();
+  for (int n : rest_nodes_) {  // the nearest; ties to the first listed
+    const double d_m = (graph_.position(n) - tick.belief.translation()).norm();
+    if (!taken(n) && d_m < best_m) {
+      best = n;
+      best_m = d_m;
+    }
+  }
+  return best;
+}
+
+void NavigationController::OccupyRestAtStart(const ControlTick& tick) {
+  rest_checked_ = true;
+  const FleetBoard& board = fleet_.coordinator->board();
+  const std::optional<int> rest =
+      FreeRestNode(tick, [&](int n) { return board.StationTaken(n, fleet_.robot); });
+  if (occupied_node_ == kNoNode && rest &&
+      (graph_.position(*rest) - tick.belief.translation()).norm() <=
+          fleet_.coordinator->options().release_distance_m) {
+    occupied_node_ = *rest;
+  }
+}
+
 void NavigationController::SetFleet(FleetLink link) {
   fleet_ = link;
   claimable_.clear();
@@ -199,6 +243,7 @@ std::vector<double> NavigationController::NodeCosts(int avoid_node) const {
 
 void NavigationController::Publish(const ControlTick& tick) {
   const FleetOptions& o = fleet_.coordinator->options();
+  if (!rest_checked_ && !tick.localization_lost) OccupyRestAtStart(tick);
   // The station it stood at is free once the robot is well away from it.
   if (occupied_node_ != kNoNode && !tick.localization_lost &&
       (tick.belief.translation() - graph_.position(occupied_node_)).norm() > o.release_distance_m) {
@@ -301,8 +346,10 @@ void NavigationController::UpdateClaims(const Eigen::Vector2d& at) {
   }
   std::sort(wanted.begin(), wanted.end());
   wanted.erase(std::unique(wanted.begin(), wanted.end()), wanted.end());
-  claims_ =
-      fleet_.coordinator->board().ResolveClaims(fleet_.robot, wanted, claims_, occupied_node_);
+  // A rest node is not a station of the tours: no claim, no ring (the docks
+  // stand 0.95 m apart, within each other's rings).
+  claims_ = fleet_.coordinator->board().ResolveClaims(
+      fleet_.robot, wanted, claims_, claimable(occupied_node_) ? occupied_node_ : kNoNode);
 }
 
 double NavigationController::RemainingPathCost(const Eigen::Vector2d& position,
@@ -446,7 +493,7 @@ void NavigationController::AppendStationRings(const core::Pose2& belief,
   };
   const Eigen::Vector2d self = belief.translation();
   std::vector<int> own = claims_;
-  if (reserved_node_ != kNoNode) own.push_back(reserved_node_);
+  if (reserved_node_ != kNoNode && !rest_trip_) own.push_back(reserved_node_);
   std::vector<int> rings, ratchets;
   for (int r = 0; r < board.robots(); ++r) {
     const FleetMessage& m = board.message(r);

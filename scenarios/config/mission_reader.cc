@@ -149,6 +149,14 @@ void ReadMission(YamlDocument* doc, MapReader& r, const Scenario& scenario, Robo
   } else {
     ReadTour(doc, m, map, scenario, *robot, &mission);
   }
+  if (m.Has("rest_among")) {  // station nodes off the tour: the docks
+    std::optional<std::set<std::string>> stations;
+    if (map) stations = StationIds(*map);
+    mission.navigation.rest_among = ReadStationList(doc, m, "rest_among", stations);
+    if (map) {
+      CheckReachable(doc, m, "rest_among", mission.navigation.rest_among, *map, scenario, *robot);
+    }
+  }
   const std::string planner =
       m.Choice("initial_planner", {"nf1", "ompl_rrt_connect", "ompl_rrt_star"}, "nf1");
   mission.navigation.initial_planner = planner == "nf1" ? nav::InitialPlanner::kNf1

@@ -9,6 +9,7 @@
 //     dwell_s: 10            # wait at each goal, s
 //     timeout_s: 300         # abort a mission not completed by then, s
 //     start_s: 0
+//     rest_among: [dock_01, ...]  # where to make way when no station is free
 //     initial_planner: nf1 | ompl_rrt_connect | ompl_rrt_star
 //     dwa_rate_hz: 10, band_rate_hz: 5, ...  (docs/scenario_format.md)
 //

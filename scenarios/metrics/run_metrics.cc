@@ -134,6 +134,7 @@ Json NavigationJson(const nav::NavigationFigures& f, const CollisionCounts& coll
     j["fleet_replans"] = f.fleet_replans;
     j["station_wait_cycles"] = f.station_waits;
     j["station_revisits"] = f.station_revisits;
+    j["rest_missions"] = f.rest_missions;
     j["deadlocks_detected"] = f.deadlocks_detected;
     j["deadlocks_resolved"] = f.deadlocks_resolved;
     j["deadlocks_unresolved"] = f.deadlocks_unresolved;
@@ -189,7 +190,7 @@ Json FleetCoordinationJson(const RunMetrics& m) {
   constexpr double kStuckS = 120.0;
   const FleetRunFigures& f = *m.fleet;
   int completed = 0, robots = 0, detected = 0, resolved = 0, unresolved = 0, stuck = 0;
-  int fleet_replans = 0, revisits = 0, escapes = 0;
+  int fleet_replans = 0, revisits = 0, rests = 0, escapes = 0;
   double longest_deadlock_s = 0.0, blocked_s = 0.0, longest_blocked_s = 0.0, distance_m = 0.0;
   double longest_still_s = 0.0;
   std::int64_t up = 0, down = 0;
@@ -203,6 +204,7 @@ Json FleetCoordinationJson(const RunMetrics& m) {
     unresolved += n.deadlocks_unresolved;
     fleet_replans += n.fleet_replans;
     revisits += n.station_revisits;
+    rests += n.rest_missions;
     escapes += n.escapes;
     longest_deadlock_s = std::max(longest_deadlock_s, n.longest_deadlock_s);
     blocked_s += n.time_blocked_s;
@@ -234,6 +236,7 @@ Json FleetCoordinationJson(const RunMetrics& m) {
            {"escapes", escapes},
            {"fleet_replans", fleet_replans},
            {"station_revisits", revisits},
+           {"rest_missions", rests},
            {"bytes_up", up},
            {"bytes_down", down},
            {"bytes_per_robot_tick",

@@ -27,6 +27,7 @@ void ScenarioRun::EmitNavigationEvents(RobotRun& r) {
       fields["path_length_m"] = RoundForJson(e.path_length_m, 3);
     }
     if (e.type == nav::NavigationEvent::Type::kReplanned) fields["cause"] = e.cause;
+    if (e.rest) fields["rest"] = true;
     if (e.type == nav::NavigationEvent::Type::kDeadlockResolved) {
       fields["duration_s"] = RoundForJson(e.duration_s, 3);
     }
