@@ -1,0 +1,62 @@
+// A robot's mission: block as the scenario reader sees it (mission_reader.h).
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include "scenarios/config/input_error.h"
+#include "scenarios/config/scenario.h"
+#include "tests/support/test_files.h"
+
+namespace pavilion::scenarios {
+namespace {
+
+using pavilion::testing::TestDir;
+using pavilion::testing::WriteFile;
+
+bool Contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+std::vector<Diagnostic> LoadErrors(const std::string& path) {
+  try {
+    LoadScenarioFile(path);
+  } catch (const InputError& e) {
+    return e.diagnostics();
+  }
+  ADD_FAILURE() << "LoadScenarioFile accepted " << path;
+  return {};
+}
+
+// The rush's rest nodes (mission.rest_among) load, and a name the map does
+// not have is a file:line:key error.
+TEST(ScenarioLoaderTest, ReadsRestNodesAndReportsAnUnknownOne) {
+  const std::string source = std::string(PAVILION_SOURCE_DIR) + "/scenarios/expo_rush.yaml";
+  const Scenario rush = LoadScenarioFile(source);
+  ASSERT_TRUE(rush.robots[3].mission.has_value());
+  const std::vector<std::string>& rest = rush.robots[3].mission->navigation.rest_among;
+  ASSERT_EQ(rest.size(), 10u);
+  EXPECT_EQ(rest.front(), "dock_01");
+  std::ifstream in(source);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string docks = "rest_among: &docks [dock_01,";
+  const std::size_t at = text.find(docks);
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, docks.size(), "rest_among: &docks [dock_11,");
+  text.replace(text.find("world: expo_hall"), 16,
+               "world: " + std::string(PAVILION_SOURCE_DIR) + "/worlds/expo_hall/world.yaml");
+  const std::string path = WriteFile(TestDir(), "rush.yaml", text);
+  const std::vector<Diagnostic> all = LoadErrors(path);
+  // Once per robot, each at the anchor's line (the others alias its list).
+  ASSERT_EQ(all.size(), rush.robots.size());
+  EXPECT_EQ(all[0].key_path, "robots[0].mission.rest_among[0]");
+  EXPECT_EQ(all[19].key_path, "robots[19].mission.rest_among[0]");
+  EXPECT_GT(all[0].line, 0);
+  EXPECT_EQ(all[19].line, all[0].line);
+  EXPECT_TRUE(Contains(all[0].message, "unknown station 'dock_11'")) << all[0].message;
+}
+
+}  // namespace
+}  // namespace pavilion::scenarios
