@@ -40,12 +40,43 @@ void RobotContourOptions::Validate() const {
           "RobotContourOptions.point_spacing_m must be in [0.005, 1] m");
   Require(InRange(max_range_m, 0.0, 100.0) && max_range_m > 0.0,
           "RobotContourOptions.max_range_m must be in (0, 100] m");
+  Require(InRange(pair_tolerance_m, 0.0, 0.5),
+          "RobotContourOptions.pair_tolerance_m must be in [0, 0.5] m");
   try {
     beacons.Validate();
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(std::string("RobotContourOptions.beacons.") + e.what());
   }
 }
+
+namespace {
+
+// One robot's two markers (RobotContourOptions::pair_tolerance_m): each the
+// other's only partner at twice the marker offset; both then imply the
+// pair's midpoint.
+void PairMarkers(const RobotContourOptions& options, std::vector<SeenRobot>* seen) {
+  if (options.pair_tolerance_m <= 0.0) return;
+  const std::size_t n = seen->size();
+  std::vector<int> partner(n, -1), partners(n, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t j = i + 1; j < n; ++j) {
+      const double apart_m = ((*seen)[i].marker_in_robot - (*seen)[j].marker_in_robot).norm();
+      if (std::abs(apart_m - 2.0 * options.marker_offset_m) > options.pair_tolerance_m) continue;
+      partner[i] = static_cast<int>(j);
+      partner[j] = static_cast<int>(i);
+      ++partners[i];
+      ++partners[j];
+    }
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    const int j = partner[i];
+    if (partners[i] != 1 || partners[static_cast<std::size_t>(j)] != 1) continue;
+    (*seen)[i].centre_in_robot =
+        0.5 * ((*seen)[i].marker_in_robot + (*seen)[static_cast<std::size_t>(j)].marker_in_robot);
+  }
+}
+
+}  // namespace
 
 std::vector<SeenRobot> SeeRobots(const core::LaserScan& scan, const RobotContourOptions& options) {
   options.Validate();
@@ -60,6 +91,7 @@ std::vector<SeenRobot> SeeRobots(const core::LaserScan& scan, const RobotContour
     robot.centre_in_robot = robot.marker_in_robot + options.marker_offset_m * sight;
     seen.push_back(robot);
   }
+  PairMarkers(options, &seen);
   return seen;
 }
 

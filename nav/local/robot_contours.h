@@ -38,6 +38,15 @@ struct RobotContourOptions {
   // Markers farther than this from the laser are ignored, m, (0, 100]. Chosen:
   // a contour that far cannot stop the dynamic window before the next scan.
   double max_range_m = 6.0;
+  // Two markers of one scan this close to 2 * marker_offset_m apart, each the
+  // other's only such partner, are one robot's pair: its centre is their
+  // midpoint, not behind either (ours; the line-of-sight centre holds for a
+  // robot showing one flank). Seen head-on, a Robox shows both markers, and
+  // the centres behind them lay 0.35–0.5 m beside the robot's body, whose
+  // recessed profile alone let another drive into it (expo_rush seed 1,
+  // 371.9 s). m, [0, 0.5]; 0: no pairing. Chosen: the markers' 2.5 cm radius
+  // on either side and the lit arc's few centimetres (core::LitArc).
+  double pair_tolerance_m = 0.1;
   // How markers are cut out of the scan by their reflector flag (§3.3).
   core::BeaconExtractionOptions beacons;
 
@@ -49,7 +58,8 @@ struct RobotContourOptions {
 struct SeenRobot {
   Eigen::Vector2d marker_in_robot = Eigen::Vector2d::Zero();
   // The marker pushed marker_offset_m farther along the line of sight from
-  // the observing laser: the other robot lies behind the marker it shows.
+  // the observing laser: the other robot lies behind the marker it shows;
+  // or, for a marker of a pair (pair_tolerance_m), the pair's midpoint.
   Eigen::Vector2d centre_in_robot = Eigen::Vector2d::Zero();
 };
 

@@ -83,6 +83,56 @@ TEST(RobotContoursTest, SeesEveryMarkerWithinRange) {
   EXPECT_TRUE(SeeRobots(Scan(core::Pose2{}), RobotContourOptions{}).empty());
 }
 
+// A robot seen head-on shows both markers, 0.68 m apart: its centre is
+// their midpoint (where the robot is), not 0.34 m behind either. A third
+// marker nowhere near them keeps its centre behind it; with pairing off,
+// every centre is behind its marker.
+TEST(RobotContoursTest, APairOfMarkersPlacesTheRobotBetweenThem) {
+  const core::Pose2 mount{0.0, 0.0, 0.0};
+  core::LaserScan scan = Scan(mount);
+  // The other robot 2 m ahead, facing this one: markers at (2, +-0.34).
+  const double half_rad = std::atan2(0.34, 2.0);
+  const double range_m = std::hypot(2.0, 0.34);
+  const int left = 180 + static_cast<int>(std::lround(half_rad / kResolutionRad));
+  const int right = 180 - static_cast<int>(std::lround(half_rad / kResolutionRad));
+  AddMarker(&scan, left, 1, range_m);
+  AddMarker(&scan, right, 1, range_m);
+  AddMarker(&scan, 30, 1, 2.5);  // another robot's single marker, far to the right
+  RobotContourOptions options;
+  const std::vector<SeenRobot> seen = SeeRobots(scan, options);
+  ASSERT_EQ(seen.size(), 3u);
+  // In scan order: the far one, then the pair (right, left).
+  const Eigen::Vector2d between = 0.5 * (seen[1].marker_in_robot + seen[2].marker_in_robot);
+  EXPECT_NEAR(between.x(), 2.0, 0.01);
+  EXPECT_NEAR(between.y(), 0.0, 0.01);
+  EXPECT_NEAR((seen[1].centre_in_robot - between).norm(), 0.0, kExact);
+  EXPECT_NEAR((seen[2].centre_in_robot - between).norm(), 0.0, kExact);
+  EXPECT_NEAR((seen[0].centre_in_robot - seen[0].marker_in_robot).norm(), 0.34, kExact);
+  EXPECT_GT(seen[0].centre_in_robot.norm(), seen[0].marker_in_robot.norm());
+  options.pair_tolerance_m = 0.0;
+  for (const SeenRobot& r : SeeRobots(scan, options)) {
+    EXPECT_NEAR((r.centre_in_robot - r.marker_in_robot).norm(), 0.34, kExact);
+  }
+}
+
+// Three markers each 0.68 m from another are no unambiguous pair: the
+// centres stay behind their markers.
+TEST(RobotContoursTest, AmbiguousPairsKeepTheCentresBehindTheMarkers) {
+  core::LaserScan scan = Scan(core::Pose2{});
+  // Markers at (2, -0.68), (2, 0) and (2, 0.68) (bearing, range).
+  for (double y : {-0.68, 0.0, 0.68}) {
+    const int at = 180 + static_cast<int>(std::lround(std::atan2(y, 2.0) / kResolutionRad));
+    AddMarker(&scan, at, 1, std::hypot(2.0, y));
+  }
+  const std::vector<SeenRobot> seen = SeeRobots(scan, RobotContourOptions{});
+  ASSERT_EQ(seen.size(), 3u);
+  // The middle one has two partners; the outer ones one each, but their
+  // partner has two: none is paired.
+  for (const SeenRobot& r : seen) {
+    EXPECT_NEAR((r.centre_in_robot - r.marker_in_robot).norm(), 0.34, kExact);
+  }
+}
+
 // The contour is a circle of the given radius, neighbours (including the
 // last and the first) at most the spacing apart, appended in the same order
 // on every call.
