@@ -172,5 +172,62 @@ TEST(NavigationControllerRest, ARobotStartingAtADockOccupiesItUntilItLeaves) {
   EXPECT_EQ(Tour({}, -1, 1e9, 1.0, at_dock_1).published_occupied, -1);
 }
 
+// A robot that waited for a station and then lost the freed one to another
+// robot in the same cycle (robot order) waits on from when it began: it
+// makes way station_wait_s after the wait began, not after the lost race.
+TEST(NavigationControllerRest, ALostRaceKeepsTheTimeTheWaitBegan) {
+  constexpr double kFreedS = 10.0;
+  NavigationControllerOptions options;
+  options.step_s = kStepS;
+  options.rest_among = kDocks;
+  options.station_wait_s = 15.0;  // every station taken from 0 s; the race at 10 s
+  FleetCoordinator coordinator(3, FleetOptions{});
+  coordinator.SetStations({"a", "b"});
+  NavigationController controller(
+      Floor(), Square(), MissionSequence::Tour({"a", "b"}, 2, true, core::RandomStream(5, 1)),
+      options);
+  controller.SetFleet({&coordinator, 1});  // robot 0 wins a same-cycle race
+  coordinator.Join(0, Square());
+  coordinator.Join(2, Square());
+  core::Pose2 pose;
+  WheelSpeeds held;
+  std::vector<NavigationEvent> events, started;
+  for (std::int64_t tick = 0; tick * kStepS < kFreedS + 10.0; ++tick) {
+    const double now_s = tick * kStepS;
+    // Robot 0 stands at a until kFreedS, when it leaves and, a cycle later,
+    // reserves a again; robot 2 stands at b throughout.
+    FleetMessage zero, two;
+    zero.pose = core::Pose2{-50.0, -50.0, 0.0};
+    if (now_s < kFreedS) zero.occupied_station = kA;
+    if (now_s >= kFreedS + 0.1) zero.reserved_station = kA;
+    two.pose = core::Pose2{-50.0, 50.0, 0.0};
+    two.occupied_station = kB;
+    coordinator.Send(0, zero);
+    coordinator.Send(2, two);
+    coordinator.Merge();
+    if (const std::optional<WheelSpeeds> w =
+            controller.OnTick(ControlTick{tick, now_s, pose, pose, false})) {
+      held = *w;
+    }
+    const core::WheelTravel travel{
+        held.left_radps * options.odometry.left_wheel_radius_m * kStepS,
+        held.right_radps * options.odometry.right_wheel_radius_m * kStepS};
+    pose = core::DiffDriveStep(pose, travel, options.odometry.wheelbase_m);
+    controller.TakeEvents(&events);
+    for (const NavigationEvent& e : events) {
+      if (e.type == NavigationEvent::Type::kMissionStarted) started.push_back(e);
+    }
+    events.clear();
+  }
+  // The race for a (started, then taken back), then the rest trip at 15 s.
+  ASSERT_EQ(started.size(), 2u);
+  EXPECT_EQ(started[0].goal, "a");
+  EXPECT_NEAR(started[0].at_s, kFreedS, 0.11);
+  EXPECT_TRUE(started[1].rest);
+  EXPECT_NEAR(started[1].at_s, options.station_wait_s, 0.11);
+  EXPECT_EQ(controller.navigation()->rest_missions, 1);
+  EXPECT_EQ(controller.navigation()->missions_started, 1);  // the lost race is not counted
+}
+
 }  // namespace
 }  // namespace pavilion::nav
