@@ -35,6 +35,12 @@ constexpr double kStandingSpeedMps = 0.2;
 constexpr double kStuckSpeedMps = 0.15;
 constexpr double kStuckS = 2.0;
 constexpr double kStuckNearGoalM = 4.0;
+// ... and one that slow for this long (s) anywhere gives way: it stands and
+// looks from where it is. Walking against a queue of leaving visitors in a
+// 2 m corridor, one walker held 35 people for over ten minutes (expo_day seed
+// 2, 1,680 s: the social force alone does not resolve a counter-flow jam).
+// Chosen: five times kStuckS, longer than a crossing's wait.
+constexpr double kStuckFarS = 10.0;
 // Visitors who behave towards robots pick, with this chance, the watch spot
 // nearest a robot as their next stop: they came to see the robots (§6.5).
 constexpr double kSeekRobotChance = 0.5;
@@ -529,8 +535,10 @@ struct Crowd::Impl {
           // while), a visitor looks from where they are instead of pressing on.
           const bool slow = people[i].velocity_mps.norm() < kStuckSpeedMps;
           if (!slow) v.moving_since_s = now;
-          const bool stuck_near = v.activity == Activity::kWalking && distance < kStuckNearGoalM &&
-                                  now - v.moving_since_s > kStuckS;
+          const bool stuck_near =
+              v.activity == Activity::kWalking &&
+              ((distance < kStuckNearGoalM && now - v.moving_since_s > kStuckS) ||
+               now - v.moving_since_s > kStuckFarS);
           if ((e.squaredNorm() == 0.0 || stuck_near) && v.activity == Activity::kWalking) {
             // Arrived (inside the goal), as close as the crowd lets them, or
             // cut off: stand there for a while.

@@ -91,5 +91,45 @@ TEST(CrowdTest, ArrivalsAndVisitsKeepTheHallAtLittlesLaw) {
   EXPECT_LE(worst_overlap, 0.05);
 }
 
+// A walker whose way is shut far from its goal (two robots standing in the
+// only gap of a wall across the room, the goal 7 m beyond) does not press on for
+// good: after kStuckFarS of no way it stands and looks from where it is, as a
+// walker held in a counter-flow queue gives way (expo_day seed 2, 1,680 s).
+TEST(CrowdTest, AWalkerHeldFarFromItsGoalGivesWay) {
+  CrowdSite site = EmptyRoom();
+  site.walls.push_back({{10.0, 0.0}, {10.0, 4.2}, 4});
+  site.walls.push_back({{10.0, 5.8}, {10.0, 10.0}, 5});
+  site.attractions = {{"goal", core::Pose2{17.0, 5.0, 0.0}, 1.0}};
+  CrowdOptions options;
+  options.pool_size = 1;
+  options.max_present = 1;
+  options.visit.min_exhibits = options.visit.max_exhibits = 1;
+  options.visit.group_fraction = 0.0;
+  options.watch_spots = 0;
+  Crowd crowd(site, options, 7);
+  ASSERT_EQ(crowd.SpawnGroup({3.0, 5.0}, 1), 1);
+  std::vector<CrowdRobot> robots(2);  // side by side, filling the 1.6 m gap
+  robots[0].pose = {10.0, 4.6, 0.0};
+  robots[1].pose = {10.0, 5.4, 0.0};
+  for (CrowdRobot& r : robots) r.footprint_in_robot_m = Octagon();
+  double stood_at_s = -1.0;
+  bool walked = false;  // it starts by deciding (a moment's dwell), then walks
+  for (int step = 0; step < static_cast<int>(60.0 / kDt); ++step) {
+    crowd.Step(kDt, robots, nullptr);
+    walked = walked || crowd.activity(0) == Activity::kWalking;
+    if (walked && crowd.activity(0) != Activity::kWalking) {
+      stood_at_s = step * kDt;
+      break;
+    }
+  }
+  ASSERT_GT(stood_at_s, 0.0) << "still walking into the shut gap after 60 s";
+  EXPECT_EQ(crowd.activity(0), Activity::kDwelling);
+  // It reached the gap (about 7 m at 1.3 m/s) and stood some 10 s later.
+  EXPECT_GT(stood_at_s, 10.0);
+  EXPECT_LT(stood_at_s, 30.0);
+  EXPECT_LT(crowd.person(0).position_m.x(), 10.0);  // on its side of the wall
+  EXPECT_GT(crowd.person(0).position_m.x(), 8.0);   // at the gap, not back at the start
+}
+
 }  // namespace
 }  // namespace pavilion::sim::crowd
