@@ -41,6 +41,28 @@ std::vector<Eigen::Vector2d> Square() {
   return {{-0.3, -0.3}, {0.3, -0.3}, {0.3, 0.3}, {-0.3, 0.3}};
 }
 
+// One control tick of an ideal robot (its belief the truth): the controller
+// commands, the wheels drive `pose` on; started and completed missions are
+// appended to `started` and `completed` (either may be null).
+void DriveTick(NavigationController& controller, const NavigationControllerOptions& options,
+               std::int64_t tick, core::Pose2* pose, WheelSpeeds* held,
+               std::vector<NavigationEvent>* started, std::vector<NavigationEvent>* completed) {
+  if (const std::optional<WheelSpeeds> w =
+          controller.OnTick(ControlTick{tick, tick * kStepS, *pose, *pose, false})) {
+    *held = *w;
+  }
+  const core::WheelTravel travel{
+      held->left_radps * options.odometry.left_wheel_radius_m * kStepS,
+      held->right_radps * options.odometry.right_wheel_radius_m * kStepS};
+  *pose = core::DiffDriveStep(*pose, travel, options.odometry.wheelbase_m);
+  std::vector<NavigationEvent> events;
+  controller.TakeEvents(&events);
+  for (const NavigationEvent& e : events) {
+    if (e.type == NavigationEvent::Type::kMissionStarted && started) started->push_back(e);
+    if (e.type == NavigationEvent::Type::kMissionCompleted && completed) completed->push_back(e);
+  }
+}
+
 struct RestRun {
   std::vector<NavigationEvent> started, completed;
   NavigationFigures figures;
@@ -67,7 +89,6 @@ RestRun Tour(const std::vector<std::string>& rest_among, int dock_taken, double 
   RestRun run;
   run.pose = start;
   WheelSpeeds held;
-  std::vector<NavigationEvent> events;
   for (std::int64_t tick = 0; tick * kStepS < duration_s; ++tick) {
     const double now_s = tick * kStepS;
     FleetMessage one, two;
@@ -78,20 +99,7 @@ RestRun Tour(const std::vector<std::string>& rest_among, int dock_taken, double 
     coordinator.Send(1, one);
     coordinator.Send(2, two);
     coordinator.Merge();
-    if (const std::optional<WheelSpeeds> w =
-            controller.OnTick(ControlTick{tick, now_s, run.pose, run.pose, false})) {
-      held = *w;
-    }
-    const core::WheelTravel travel{
-        held.left_radps * options.odometry.left_wheel_radius_m * kStepS,
-        held.right_radps * options.odometry.right_wheel_radius_m * kStepS};
-    run.pose = core::DiffDriveStep(run.pose, travel, options.odometry.wheelbase_m);
-    controller.TakeEvents(&events);
-    for (const NavigationEvent& e : events) {
-      if (e.type == NavigationEvent::Type::kMissionStarted) run.started.push_back(e);
-      if (e.type == NavigationEvent::Type::kMissionCompleted) run.completed.push_back(e);
-    }
-    events.clear();
+    DriveTick(controller, options, tick, &run.pose, &held, &run.started, &run.completed);
   }
   run.figures = *controller.navigation();
   run.published_occupied = coordinator.board().message(0).occupied_station;
@@ -191,7 +199,7 @@ TEST(NavigationControllerRest, ALostRaceKeepsTheTimeTheWaitBegan) {
   coordinator.Join(2, Square());
   core::Pose2 pose;
   WheelSpeeds held;
-  std::vector<NavigationEvent> events, started;
+  std::vector<NavigationEvent> started;
   for (std::int64_t tick = 0; tick * kStepS < kFreedS + 10.0; ++tick) {
     const double now_s = tick * kStepS;
     // Robot 0 stands at a until kFreedS, when it leaves and, a cycle later,
@@ -205,19 +213,7 @@ TEST(NavigationControllerRest, ALostRaceKeepsTheTimeTheWaitBegan) {
     coordinator.Send(0, zero);
     coordinator.Send(2, two);
     coordinator.Merge();
-    if (const std::optional<WheelSpeeds> w =
-            controller.OnTick(ControlTick{tick, now_s, pose, pose, false})) {
-      held = *w;
-    }
-    const core::WheelTravel travel{
-        held.left_radps * options.odometry.left_wheel_radius_m * kStepS,
-        held.right_radps * options.odometry.right_wheel_radius_m * kStepS};
-    pose = core::DiffDriveStep(pose, travel, options.odometry.wheelbase_m);
-    controller.TakeEvents(&events);
-    for (const NavigationEvent& e : events) {
-      if (e.type == NavigationEvent::Type::kMissionStarted) started.push_back(e);
-    }
-    events.clear();
+    DriveTick(controller, options, tick, &pose, &held, &started, nullptr);
   }
   // The race for a (started, then taken back), then the rest trip at 15 s.
   ASSERT_EQ(started.size(), 2u);
