@@ -301,15 +301,22 @@ void ScanObstacles::SetCone(LaserPoints* l) {
             l->cos_surely_inside - l->cos_surely_outside > kConeCosineGap;
 }
 
+// True when along / range > c, for range > 0, without the square root and
+// the division (squares compared; the cone's margin absorbs their rounding).
+static bool CosineAbove(double along, double range_sq, double c) {
+  if (c >= 0.0) return along > 0.0 && along * along > c * c * range_sq;
+  return along >= 0.0 || along * along < c * c * range_sq;
+}
+
 bool ScanObstacles::Covered(const Eigen::Vector2d& point_in_robot) const {
   for (const LaserPoints& l : lasers_) {
     const Eigen::Vector2d q = l.sensor_from_robot_points.Apply(point_in_robot);
-    const double range_m = q.norm();
-    if (!(range_m < l.max_range_m)) continue;
-    if (l.cone && range_m > 0.0) {
-      const double cos_off_axis = l.cone_axis.dot(q) / range_m;
-      if (cos_off_axis > l.cos_surely_inside) return true;
-      if (cos_off_axis < l.cos_surely_outside) continue;
+    const double range_sq = q.squaredNorm();
+    if (!(range_sq < l.max_range_m * l.max_range_m)) continue;
+    if (l.cone && range_sq > 0.0) {
+      const double along = l.cone_axis.dot(q);
+      if (CosineAbove(along, range_sq, l.cos_surely_inside)) return true;
+      if (!CosineAbove(along, range_sq, l.cos_surely_outside)) continue;
     }
     const double bearing = std::atan2(q.y(), q.x());
     if (bearing >= l.min_bearing_rad && bearing <= l.max_bearing_rad) return true;

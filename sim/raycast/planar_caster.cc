@@ -207,6 +207,17 @@ void PlanarSlice::Fill(const std::vector<Segment>& segments, const std::vector<C
     for_circle_cells(circle,
                      [&](int c) { buckets->circles[buckets->cells[c].circle_end++] = circle; });
   }
+  // Each segment learns where the run of its group's segments in its cell
+  // ends, so that a ray skips its own robot's outline in one step.
+  for (const int c : buckets->touched) {
+    const CellSpans& span = buckets->cells[c];
+    for (int k = span.segment_end - 1; k >= span.segment_begin; --k) {
+      Segment& segment = buckets->segments[k];
+      const bool run_goes_on =
+          k + 1 < span.segment_end && buckets->segments[k + 1].group == segment.group;
+      segment.group_run_end = run_goes_on ? buckets->segments[k + 1].group_run_end : k + 1;
+    }
+  }
 }
 
 void PlanarSlice::UpdateStatic() {
@@ -260,6 +271,9 @@ struct PlanarSlice::Best {
   const Circle* circle = nullptr;
 
   void Test(const Segment& s) {
+    // The casting robot's own outline lies in the cells round every ray's
+    // origin: rejected before any arithmetic.
+    if (s.group >= 0 && s.group == ignore_group) return;
     // o + t·d = a + u·e: t = (ao × e)/(d × e), u = (ao × d)/(d × e). d × e is
     // d·n for the outward normal n = e rotated by −90°: < 0 entering the solid.
     double den = d.x() * s.edge_m.y() - d.y() * s.edge_m.x();
@@ -274,13 +288,13 @@ struct PlanarSlice::Best {
       return;  // parallel, or leaving a solid
     }
     if (!(tn > 0.0) || !(tn < t * den) || un < 0.0 || un > den) return;
-    if (s.group >= 0 && s.group == ignore_group) return;
     t = tn / den;
     segment = &s;
     circle = nullptr;
   }
 
   void Test(const Circle& c) {
+    if (c.group >= 0 && c.group == ignore_group) return;
     if (c.squash != 1.0) return TestEllipse(c);
     const Eigen::Vector2d oc = o - c.center_m;
     const double b = oc.dot(d);
@@ -311,7 +325,6 @@ struct PlanarSlice::Best {
   // The circle's or ellipse's hit at hit_t, if ahead and closer than the best.
   void Take(const Circle& c, double hit_t) {
     if (!(hit_t > 0.0 && hit_t < t)) return;
-    if (c.group >= 0 && c.group == ignore_group) return;
     t = hit_t;
     circle = &c;
     segment = nullptr;
@@ -391,8 +404,14 @@ RayHit PlanarSlice::Cast(const Eigen::Vector3d& origin_m, const Eigen::Vector2d&
       const CellSpans& moving = dynamic_.cells[cell];
       for (int k = fixed.segment_begin; k < fixed.segment_end; ++k) best.Test(static_.segments[k]);
       for (int k = fixed.circle_begin; k < fixed.circle_end; ++k) best.Test(static_.circles[k]);
-      for (int k = moving.segment_begin; k < moving.segment_end; ++k) {
-        best.Test(dynamic_.segments[k]);
+      for (int k = moving.segment_begin; k < moving.segment_end;) {
+        const Segment& segment = dynamic_.segments[k];
+        if (segment.group >= 0 && segment.group == ignore_group) {
+          k = segment.group_run_end;  // the casting robot's own outline
+          continue;
+        }
+        best.Test(segment);
+        ++k;
       }
       for (int k = moving.circle_begin; k < moving.circle_end; ++k) best.Test(dynamic_.circles[k]);
       // Every hit closer than the best lies in a cell visited by now once the

@@ -66,6 +66,9 @@ class PlanarSlice final : public LaserHitFinder {
     int element = -1;
     int group = -1;
     bool two_sided = false;
+    // In a cell's span: one past the last of the consecutive segments of
+    // this one's group (Fill), for rays to skip their own robot's outline.
+    int group_run_end = 0;
   };
   struct Circle {
     Eigen::Vector2d center_m;
