@@ -78,6 +78,8 @@ void LocalizerOptions::Validate() const {
   }
   Require(std::isfinite(lost_no_match_timeout_s) && lost_no_match_timeout_s > 0.0,
           "lost_no_match_timeout_s", "a finite value > 0");
+  Require(std::isfinite(lost_no_match_travel_m) && lost_no_match_travel_m >= 0.0,
+          "lost_no_match_travel_m", "a finite value >= 0");
   Require(lost_failed_cycles >= 1, "lost_failed_cycles", "an integer >= 1");
   Require(max_short_ratio_for_failure >= 0.0 && max_short_ratio_for_failure <= 1.0,
           "max_short_ratio_for_failure", "in [0, 1]");
@@ -159,6 +161,7 @@ void Localizer::AddEncoders(const EncoderReading& reading) {
   const WheelTravel travel = WheelTravelFromEncoders(*last_encoders_, reading, options_.odometry);
   last_encoders_ = reading;
   dead_reckoning_ = DiffDriveStep(dead_reckoning_, travel, options_.odometry.wheelbase_m);
+  status_.travel_since_match_m += 0.5 * (std::abs(travel.left_m) + std::abs(travel.right_m));
   if (buffer_.empty()) {
     buffer_.Reset(reading.stamp_s, PoseWithCovariance{dead_reckoning_, Eigen::Matrix3d::Zero()},
                   dead_reckoning_);
@@ -339,6 +342,7 @@ ObservationStatus Localizer::Integrate(const ObservationBatch& batch, const Lase
   if (status_.state == LocalizationState::kTracking) {
     if (!last_cycle_.matches.empty()) {
       status_.last_match_s = std::max(status_.last_match_s, batch.stamp_s);
+      status_.travel_since_match_m = 0.0;
       status_.consecutive_failed_cycles = 0;
     } else if (last_cycle_.observations >= options_.min_observations_for_failure &&
                last_cycle_.predictions >= options_.min_observations_for_failure) {
@@ -363,6 +367,7 @@ bool Localizer::FailureShown(const LaserScan* scan, const PoseWithCovariance& st
 void Localizer::SuspendLostDetection(bool suspended, double now_s) {
   if (lost_detection_suspended_ && !suspended && status_.state == LocalizationState::kTracking) {
     status_.last_match_s = std::max(status_.last_match_s, now_s);
+    status_.travel_since_match_m = 0.0;
     status_.consecutive_failed_cycles = 0;
   }
   lost_detection_suspended_ = suspended;
@@ -379,7 +384,8 @@ void Localizer::CheckLost(double now_s) {
   if (lost_detection_suspended_) return;
   if (status_.consecutive_failed_cycles >= options_.lost_failed_cycles) {
     DeclareLost(LostReason::kRepeatedGateFailures, now_s);
-  } else if (now_s - status_.last_match_s > options_.lost_no_match_timeout_s) {
+  } else if (now_s - status_.last_match_s > options_.lost_no_match_timeout_s &&
+             status_.travel_since_match_m >= options_.lost_no_match_travel_m) {
     DeclareLost(LostReason::kNoMatchTimeout, now_s);
   } else if (MaxPositionSigma(buffer_.latest().state.covariance) > options_.lost_position_sigma_m) {
     DeclareLost(LostReason::kUncertaintyTooLarge, now_s);

@@ -77,6 +77,16 @@ struct LocalizerOptions {
   // from which the robot recovered by itself (§4.5.3.1): the timeout lies
   // above those. Lost is sticky until the next Initialize().
   double lost_no_match_timeout_s = 20.0;  // no match for this long, s; > 0
+  // ... and over this much wheel travel (the mean of the two wheels' rolled
+  // distances) since the match, m; >= 0. Odometry's error grows with the
+  // distance the wheels roll (eq. 2.9), not with time: a robot standing or
+  // inching among visitors who hide its walls stays where it believes. In
+  // expo_rush, Robox that had crept 0.6-2.3 m in 20 s without a match were
+  // declared lost 2-4 mm from the truth (σ 4-15 mm), and a lost robot finds
+  // no hypothesis in such a crowd for minutes. 5 m: the thesis' robots
+  // recovered from 5-10 s without a match (§4.5.3.1) at up to 0.5 m/s. 0:
+  // the time alone decides.
+  double lost_no_match_travel_m = 5.0;
   // Consecutive failed cycles: at least `min_observations_for_failure`
   // observations and as many visible predictions, but no pairing in any
   // validation gate (the signature of a kidnapped robot); >= 1.
@@ -106,8 +116,9 @@ enum class LostReason { kNone, kNoMatchTimeout, kRepeatedGateFailures, kUncertai
 struct LocalizerStatus {
   LocalizationState state = LocalizationState::kUninitialized;
   LostReason reason = LostReason::kNone;
-  double lost_since_s = 0.0;  // when kLost: the time it was detected
-  double last_match_s = 0.0;  // stamp of the latest cycle with a match (or of Initialize)
+  double lost_since_s = 0.0;          // when kLost: the time it was detected
+  double last_match_s = 0.0;          // stamp of the latest cycle with a match (or of Initialize)
+  double travel_since_match_m = 0.0;  // wheel travel since then (lost_no_match_travel_m)
   int consecutive_failed_cycles = 0;
 };
 

@@ -236,6 +236,12 @@ void NavigationController::OnBumper(const core::BumperReading& reading,
     }
   }
   bumper_until_s_ = context.now_s + options_.bumper_hold_s;
+  ForgetTouchesBefore(context.now_s - options_.explore.contact_memory_s);
+  if (options_.explore.contact_memory_s > 0.0) {
+    for (const Eigen::Vector2d& p : bumper_points_) {
+      touched_in_odometry_.emplace_back(context.now_s, context.odometry * p);
+    }
+  }
 }
 
 // The speed controller below the dynamic window (§6.3.4: the window at
@@ -558,6 +564,10 @@ DwaResult NavigationController::Steer(const ControlTick& tick, const DwaGoal& go
   return result;
 }
 
+void NavigationController::ForgetTouchesBefore(double s) {
+  std::erase_if(touched_in_odometry_, [&](const auto& touched) { return touched.first < s; });
+}
+
 void NavigationController::Explore(const ControlTick& tick) {
   const bool stalled = ExploreStep(tick);
   // A robot relocalizing holds its mission: a deadlock it is in still counts.
@@ -597,8 +607,15 @@ bool NavigationController::ExploreStep(const ControlTick& tick) {
   if (explore_heading_) {
     current = core::NormalizeAngle(*explore_heading_ - tick.odometry.theta_rad);
   }
+  // What the bumpers met lately, for the bearing alone (ExploreOptions::contact_memory_s).
+  ForgetTouchesBefore(tick.now_s - options_.explore.contact_memory_s);
+  explore_points_ = points_;
+  const core::PointTransform robot_from_odometry(tick.odometry.Inverse());
+  for (const auto& [at_s, p] : touched_in_odometry_) {
+    explore_points_.push_back(robot_from_odometry.Apply(p));
+  }
   const std::optional<double> bearing = ExploreBearing(
-      points_, current, circumradius_m_ + options_.dwa.safety_margin_m, options_.explore);
+      explore_points_, current, circumradius_m_ + options_.dwa.safety_margin_m, options_.explore);
   arc_in_world_.clear();
   if (!bearing) {  // nowhere open: stand until the others or the crowd move
     explore_heading_.reset();

@@ -263,6 +263,8 @@ class NavigationController : public Controller {
   void Drive(const ControlTick& tick);
   // Not localized: drives towards open space (explore_when_lost).
   void Explore(const ControlTick& tick);
+  // Drops the bumper contacts the explorer remembers from before `s`.
+  void ForgetTouchesBefore(double s);
   // Explore's drive; true when the robot stands (settling, nowhere open, or
   // no admissible command).
   bool ExploreStep(const ControlTick& tick);
@@ -370,6 +372,9 @@ class NavigationController : public Controller {
   // Virtual points of pressed bumper zones (robot frame) and when they lapse.
   std::vector<Eigen::Vector2d> bumper_points_;
   double bumper_until_s_ = -1.0;
+  // Pressed bumper points (odometry frame) and when, for explore.contact_memory_s.
+  std::vector<std::pair<double, Eigen::Vector2d>> touched_in_odometry_;
+  std::vector<Eigen::Vector2d> explore_points_;  // scratch: points_ and the touched
   std::vector<Eigen::Vector2d> arc_in_world_;
   std::vector<NavigationEvent> events_;
   mutable NavigationFigures figures_;  // blocked figures filled in on reading

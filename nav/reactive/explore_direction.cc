@@ -27,6 +27,8 @@ void ExploreOptions::Validate() const {
           "in [min_free_m, reach_m]");
   Require(speed_mps > 0.0 && speed_mps <= 2.0, "speed_mps", "in (0, 2] m/s");
   Require(settle_s >= 0.0 && settle_s <= 600.0, "settle_s", "in [0, 600] s");
+  Require(contact_memory_s >= 0.0 && contact_memory_s <= 600.0, "contact_memory_s",
+          "in [0, 600] s");
 }
 
 double FreeTravel(std::span<const Eigen::Vector2d> points_in_robot, double bearing_rad,

@@ -39,6 +39,14 @@ struct ExploreOptions {
   // most losses in a crowd are a few cycles without a match, and a robot
   // standing still relocalizes within a second (docs/benchmarks.md).
   double settle_s = 3.0;
+  // Where the bumpers touched stays in the bearing's choice this long (held
+  // in the odometry frame), s, [0, 600]. The lasers do not see what the
+  // bumpers met (a bench, a glass panel, a plinth below the beam plane), so
+  // the freest bearing led straight back into it: in expo_rush (seed 1, from
+  // 1,626 s) a lost Robox explored into bench_1 451 times in 13 minutes. The
+  // dynamic window does not get these points: a bumper memory there held
+  // robots in place in the rush (docs/benchmarks.md, "Session 19").
+  double contact_memory_s = 30.0;
 
   void Validate() const;  // throws std::invalid_argument naming the field
 };

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <numbers>
 #include <stdexcept>
 #include <string>
@@ -517,25 +518,49 @@ TEST(LocalizerTest, LaterBatchesWaitBehindAWaitingScan) {
   EXPECT_EQ(localizer.last_cycle().matches.size(), 4u);
 }
 
-// Lost detection: no match for longer than the timeout; a kidnapped robot
-// whose observations fall in no gate for lost_failed_cycles cycles; an
-// uncertainty beyond lost_position_sigma_m. Lost is sticky until Initialize.
+// Lost detection: no match for longer than the timeout over more than the
+// wheel travel bound; a kidnapped robot whose observations fall in no gate
+// for lost_failed_cycles cycles; an uncertainty beyond lost_position_sigma_m.
+// Lost is sticky until Initialize.
 TEST(LocalizerTest, DetectsLostSituations) {
   const RobotMap map = testing::RectangularRoom(-4, -3, 4, 3);
   const Eigen::Matrix3d P0 = 1e-4 * Eigen::Matrix3d::Identity();
-  {  // no observations at all
-    Localizer localizer(map, BaseOptions());
+  // No observations at all, the wheels turning `ticks` per period (66: 0.3 m/s).
+  const auto blind = [&](const LocalizerOptions& options, std::int64_t ticks, double until_s) {
+    auto localizer = std::make_unique<Localizer>(map, options);
     TrueRobot robot({0, 0, 0});
-    localizer.AddEncoders(robot.Start());
-    localizer.Initialize(robot.pose, P0);
-    while (robot.stamp_s < 19.9) localizer.AddEncoders(robot.Step(0, 0));
-    EXPECT_EQ(localizer.status().state, LocalizationState::kTracking);
-    while (robot.stamp_s < 20.1) localizer.AddEncoders(robot.Step(0, 0));
-    EXPECT_EQ(localizer.status().state, LocalizationState::kLost);
-    EXPECT_EQ(localizer.status().reason, LostReason::kNoMatchTimeout);
-    EXPECT_NEAR(localizer.status().lost_since_s, 20.0, 0.006);
-    localizer.Initialize(robot.pose, P0);
-    EXPECT_EQ(localizer.status().state, LocalizationState::kTracking);
+    localizer->AddEncoders(robot.Start());
+    localizer->Initialize(robot.pose, P0);
+    while (robot.stamp_s < until_s - 1e-9) localizer->AddEncoders(robot.Step(ticks, ticks));
+    return localizer;
+  };
+  {  // driving at 0.3 m/s: 6 m by the timeout, lost at 20 s
+    EXPECT_EQ(blind(BaseOptions(), kCruiseTicks, 19.9)->status().state,
+              LocalizationState::kTracking);
+    const auto lost = blind(BaseOptions(), kCruiseTicks, 20.1);
+    EXPECT_EQ(lost->status().state, LocalizationState::kLost);
+    EXPECT_EQ(lost->status().reason, LostReason::kNoMatchTimeout);
+    EXPECT_NEAR(lost->status().lost_since_s, 20.0, 0.006);
+    lost->Initialize({0, 0, 0}, P0);
+    EXPECT_EQ(lost->status().state, LocalizationState::kTracking);
+  }
+  {  // creeping at 0.1 m/s: lost when the wheels have rolled 5 m, at 50 s
+    const std::int64_t creep = kCruiseTicks / 3;  // 22 ticks: 0.0995 m/s
+    const double five_metres_s =
+        5.0 / (creep * 2.0 * kPi * kWheelRadiusM / kTicksPerRevolution) * kOdometryPeriodS;
+    EXPECT_EQ(blind(BaseOptions(), creep, 20.1)->status().state, LocalizationState::kTracking);
+    EXPECT_EQ(blind(BaseOptions(), creep, five_metres_s - 0.05)->status().state,
+              LocalizationState::kTracking);
+    const auto lost = blind(BaseOptions(), creep, five_metres_s + 0.05);
+    EXPECT_EQ(lost->status().reason, LostReason::kNoMatchTimeout);
+    EXPECT_NEAR(lost->status().lost_since_s, five_metres_s, 0.006);
+  }
+  {  // standing: never lost by the timeout; with no travel bound, lost at 20 s
+    EXPECT_EQ(blind(BaseOptions(), 0, 120.0)->status().state, LocalizationState::kTracking);
+    LocalizerOptions time_alone = BaseOptions();
+    time_alone.lost_no_match_travel_m = 0.0;
+    EXPECT_EQ(blind(time_alone, 0, 19.9)->status().state, LocalizationState::kTracking);
+    EXPECT_EQ(blind(time_alone, 0, 20.1)->status().reason, LostReason::kNoMatchTimeout);
   }
   {  // kidnapped: the truth jumps 1.5 m, the estimate does not
     Localizer localizer(map, BaseOptions());
@@ -706,6 +731,9 @@ TEST(LocalizerTest, ValidatesOptions) {
   o = BaseOptions();
   o.lost_no_match_timeout_s = std::numeric_limits<double>::infinity();
   expect_field(o, "lost_no_match_timeout_s");
+  o = BaseOptions();
+  o.lost_no_match_travel_m = -1.0;
+  expect_field(o, "lost_no_match_travel_m");
   o = BaseOptions();
   o.lost_failed_cycles = 0;
   expect_field(o, "lost_failed_cycles");

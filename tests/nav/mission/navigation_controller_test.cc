@@ -423,6 +423,85 @@ TEST(NavigationController, ExploresTowardsOpenSpaceWhileLost) {
   EXPECT_GT(run.min_clearance_m, 0.01);
 }
 
+// Lost in a corridor 1.6 m wide, closed 0.6 m before the robot's front and
+// open 6 m behind it, across which a bench its lasers do not see stands 2 m
+// behind it: where the robot's outline would cross the bench, the robot stays
+// put and the bumper zone facing it (front, left, rear, right quarters) is
+// pressed. Returns the presses.
+int PressesExploringTowardsABench(double contact_memory_s, double duration_s) {
+  NavigationControllerOptions options;
+  options.step_s = kStepS;
+  options.explore_when_lost = true;
+  options.explore.contact_memory_s = contact_memory_s;
+  const double q = 0.25 * M_PI;
+  options.bumper_zones_rad = {{-q, q}, {q, 3 * q}, {3 * q, -3 * q}, {-3 * q, -q}};
+  NavigationController controller(TwoStations(), Square(), MissionSequence::List({"b"}), options);
+  const Eigen::Vector2d a(-6.0, -0.8), b(0.9, -0.8), c(0.9, 0.8), d(-6.0, 0.8);
+  const std::vector<Wall> walls{{a, b}, {b, c}, {c, d}, {d, a}};
+  const Wall bench{{-2.0, -0.8}, {-2.0, 0.8}};
+  const auto meets_bench = [&](const core::Pose2& pose) {
+    const std::vector<Eigen::Vector2d> square = Square();
+    for (std::size_t i = 0; i < square.size(); ++i) {
+      const double t = core::RaySegmentHit(pose * square[i], pose * square[(i + 1) % square.size()],
+                                           bench.first, bench.second);
+      if (std::isfinite(t)) return true;
+    }
+    return false;
+  };
+  core::Pose2 pose;
+  WheelSpeeds held;
+  std::uint32_t pressed = 0;
+  int presses = 0;
+  for (std::int64_t tick = 0; tick * kStepS < duration_s; ++tick) {
+    const double now_s = tick * kStepS;
+    if (tick % 20 == 0) {
+      for (const bool front : {true, false}) {
+        controller.OnScan(RoomScan(pose, walls, front, now_s),
+                          ScanContext{now_s, core::Pose2{}, pose});
+      }
+    }
+    if (pressed != 0)
+      controller.OnBumper({now_s, pressed}, ScanContext{now_s, core::Pose2{}, pose});
+    if (const std::optional<WheelSpeeds> w =
+            controller.OnTick(ControlTick{tick, now_s, core::Pose2{}, pose, true})) {
+      held = *w;
+    }
+    const core::WheelTravel travel{
+        held.left_radps * options.odometry.left_wheel_radius_m * kStepS,
+        held.right_radps * options.odometry.right_wheel_radius_m * kStepS};
+    const core::Pose2 next = core::DiffDriveStep(pose, travel, options.odometry.wheelbase_m);
+    const std::uint32_t was = pressed;
+    pressed = 0;
+    if (meets_bench(next)) {
+      const Eigen::Vector2d at = pose.Inverse() * Eigen::Vector2d(bench.first.x(), pose.y_m);
+      const double bearing = std::atan2(at.y(), at.x());
+      const int zone = std::abs(bearing) < q       ? 0
+                       : std::abs(bearing) > 3 * q ? 2
+                       : bearing > 0               ? 1
+                                                   : 3;
+      pressed = 1u << zone;
+    } else {
+      pose = next;
+    }
+    if (pressed != 0 && was == 0) ++presses;
+  }
+  return presses;
+}
+
+// The lasers show the way through the bench free: without the memory of its
+// touches the explorer drives into it again and again (23 presses in a
+// minute), with it it stands once it has touched and tries again when the
+// memory lapses (3).
+TEST(NavigationController, AnExplorerDoesNotReturnToWhatItsBumpersTouched) {
+  const int remembered = PressesExploringTowardsABench(30.0, 60.0);
+  const int forgotten = PressesExploringTowardsABench(0.0, 60.0);
+  RecordProperty("presses_remembered", remembered);
+  RecordProperty("presses_forgotten", forgotten);
+  EXPECT_GE(remembered, 1);
+  EXPECT_LE(remembered, 4);
+  EXPECT_GE(forgotten, 15);
+}
+
 // A robot that dithers 5 cm back and forth at 0.1 m/s (its odometry says so,
 // whatever it is commanded) is not blocked — it moves — but makes no
 // progress: the still figure counts net displacement, not the odometer.
