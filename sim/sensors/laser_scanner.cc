@@ -405,8 +405,15 @@ LaserScanner::RaySample LaserScanner::CastBeam(const LaserHitFinder& finder,
                                                const core::Pose2& world_from_sensor,
                                                double bearing_rad, int ignore_group,
                                                double max_range_m) const {
+  return CastAlong(finder, world_from_sensor, BeamDirection(world_from_sensor, bearing_rad),
+                   ignore_group, max_range_m);
+}
+
+LaserScanner::RaySample LaserScanner::CastAlong(const LaserHitFinder& finder,
+                                                const core::Pose2& world_from_sensor,
+                                                const Eigen::Vector3d& dir, int ignore_group,
+                                                double max_range_m) const {
   const Eigen::Vector3d from = RayOrigin(world_from_sensor);
-  const Eigen::Vector3d dir = BeamDirection(world_from_sensor, bearing_rad);
   // Transparent elements are skipped by the finder itself.
   ++rays_cast_;
   const RayHit hit = finder.Cast(
@@ -463,7 +470,7 @@ bool LaserScanner::ExplainsBeam(const LaserHitFinder& finder, const RaySample& s
     if (!(reach_m > 0.0)) return false;
     if (reach_m < options_.max_range_m) {
       return Explains(surface, world_from_sensor,
-                      CastBeam(finder, world_from_sensor, bearing_rad, ignore_group, reach_m));
+                      CastAlong(finder, world_from_sensor, dir, ignore_group, reach_m));
     }
   }
   return Explains(surface, world_from_sensor,

@@ -246,6 +246,10 @@ class LaserScanner {
   // A ray of at most max_range_m (the scanner's range when negative).
   RaySample CastBeam(const LaserHitFinder& finder, const core::Pose2& world_from_sensor,
                      double bearing_rad, int ignore_group, double max_range_m = -1.0) const;
+  // CastBeam along a direction already computed (BeamDirection).
+  RaySample CastAlong(const LaserHitFinder& finder, const core::Pose2& world_from_sensor,
+                      const Eigen::Vector3d& direction, int ignore_group,
+                      double max_range_m = -1.0) const;
   Eigen::Vector3d RayOrigin(const core::Pose2& world_from_sensor) const;
   bool Explains(const RaySample& surface, const core::Pose2& world_from_sensor,
                 const RaySample& sample) const;
