@@ -6,7 +6,9 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <map>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <string>
 
 #include "tests/support/run_pavilion.h"
@@ -70,18 +72,40 @@ TEST(Fleet, SameBytesForOneTwoAndEightThreads) {
 // minute: robox_05 against the end of a glass panel, two more robots in a
 // chain behind it (seed 5 did until the wheels' set-points were ramped,
 // 2026-12-05). The overlap deadlock is detected, resolved, and pictured at
-// the moment of its detection.
+// the moment of its detection. Every deadlock detected at least the
+// resolution bound (30 s) before the run's end is resolved; one detected
+// later may still be under way when the run ends (seed 4: a second one at
+// 68.3 s, resolved at 72.5 s in a longer run).
 TEST(Fleet, WithTheCoordinationOffNothingIsExchangedAndTheFirstDeadlockIsPictured) {
   const fs::path base = pavilion::testing::TestDir();
-  const json m = RunFleet(base, "expo_tours_fallback", "fallback", 70.0, 2, 4);
+  constexpr double kDurationS = 70.0;
+  constexpr double kResolutionBoundS = 30.0;
+  const json m = RunFleet(base, "expo_tours_fallback", "fallback", kDurationS, 2, 4);
   const json& c = m.at("fleet").at("coordination");
   EXPECT_FALSE(c.at("coordination").get<bool>());
   EXPECT_EQ(c.at("bytes_up").get<int>(), 0);
   EXPECT_EQ(c.at("bytes_down").get<int>(), 0);
   EXPECT_EQ(c.at("fleet_replans").get<int>(), 0);
   EXPECT_GE(c.at("deadlocks_detected").get<int>(), 1);
-  EXPECT_EQ(c.at("deadlocks_resolved").get<int>(), c.at("deadlocks_detected").get<int>());
-  EXPECT_LE(c.at("longest_deadlock_s").get<double>(), 30.0);
+  EXPECT_LE(c.at("longest_deadlock_s").get<double>(), kResolutionBoundS);
+  std::map<std::string, double> open_since;  // robot: detected at, not yet resolved
+  int judged = 0;
+  std::istringstream events(pavilion::testing::ReadTextFile(base / "fallback" / "events.jsonl"));
+  for (std::string line; std::getline(events, line);) {
+    const json e = json::parse(line);
+    const std::string type = e.at("type").get<std::string>();
+    const double t = e.at("time_s").get<double>();
+    if (type == "deadlock_detected") {
+      open_since[e.at("robot").get<std::string>()] = t;
+      if (t <= kDurationS - kResolutionBoundS) ++judged;
+    } else if (type == "deadlock_resolved") {
+      open_since.erase(e.at("robot").get<std::string>());
+    }
+  }
+  EXPECT_GE(judged, 1);
+  for (const auto& [robot, since_s] : open_since) {
+    EXPECT_GT(since_s, kDurationS - kResolutionBoundS) << robot << " unresolved since " << since_s;
+  }
   const std::string png =
       pavilion::testing::ReadTextFile(base / "fallback" / "snapshots" / "deadlock_first.png");
   ASSERT_GT(png.size(), 8u);
