@@ -203,6 +203,30 @@ TEST(PlanarCasterTest, IgnoresTheCastingRobotsGroup) {
   EXPECT_NEAR(other.distance_m, 0.3, 1e-9);
 }
 
+// Two robots whose outlines share grid cells (0.05 m apart): a ray skips the
+// run of its own robot's segments in a cell and still tests the other's,
+// whichever of the two runs comes first.
+TEST(PlanarCasterTest, RobotsSharingACellEachSeeTheOther) {
+  World world(Room(), {});
+  const int a = pavilion::testing::AddRobot(world, Robot("a", {1.0, 1.0, 0.0}));
+  const int b = pavilion::testing::AddRobot(world, Robot("b", {1.45, 1.0, 0.0}));
+  PlanarCaster caster(&world, {});
+  const PlanarSlice& slice = caster.SliceAt(kBeamM);
+  const RayHit from_a = slice.Cast({1.0, 1.0, kBeamM}, Dir(0.0), 8.0, world.robot_group(a));
+  ASSERT_TRUE(from_a.hit);
+  EXPECT_EQ(from_a.element, ElementIndex(world, "b"));
+  EXPECT_NEAR(from_a.distance_m, 0.25, 1e-9);
+  const RayHit from_b = slice.Cast({1.45, 1.0, kBeamM}, Dir(kPi), 8.0, world.robot_group(b));
+  ASSERT_TRUE(from_b.hit);
+  EXPECT_EQ(from_b.element, ElementIndex(world, "a"));
+  EXPECT_NEAR(from_b.distance_m, 0.25, 1e-9);
+  // Beside the other robot, out of its own: the closed door 2.48 m on.
+  const RayHit along = slice.Cast({1.0, 1.0, kBeamM}, Dir(kPi / 2), 8.0, world.robot_group(a));
+  ASSERT_TRUE(along.hit);
+  EXPECT_EQ(along.element, ElementIndex(world, "door"));
+  EXPECT_NEAR(along.distance_m, 2.48, 1e-9);
+}
+
 // The moving bodies' grid is refilled every tick, clearing only the cells the
 // last fill used: a robot that moved away leaves nothing in its old cells,
 // and is found in its new ones, again after it comes back.
