@@ -607,15 +607,17 @@ bool NavigationController::ExploreStep(const ControlTick& tick) {
   if (explore_heading_) {
     current = core::NormalizeAngle(*explore_heading_ - tick.odometry.theta_rad);
   }
-  // What the bumpers met lately, for the bearing alone (ExploreOptions::contact_memory_s).
+  // What the bumpers met lately, for the bearing alone (ExploreOptions::contact_memory_s):
+  // appended for the choice, then dropped again before the dynamic window.
   ForgetTouchesBefore(tick.now_s - options_.explore.contact_memory_s);
-  explore_points_ = points_;
+  const std::size_t seen = points_.size();
   const core::PointTransform robot_from_odometry(tick.odometry.Inverse());
   for (const auto& [at_s, p] : touched_in_odometry_) {
-    explore_points_.push_back(robot_from_odometry.Apply(p));
+    points_.push_back(robot_from_odometry.Apply(p));
   }
   const std::optional<double> bearing = ExploreBearing(
-      explore_points_, current, circumradius_m_ + options_.dwa.safety_margin_m, options_.explore);
+      points_, current, circumradius_m_ + options_.dwa.safety_margin_m, options_.explore);
+  points_.resize(seen);
   arc_in_world_.clear();
   if (!bearing) {  // nowhere open: stand until the others or the crowd move
     explore_heading_.reset();

@@ -374,7 +374,6 @@ class NavigationController : public Controller {
   double bumper_until_s_ = -1.0;
   // Pressed bumper points (odometry frame) and when, for explore.contact_memory_s.
   std::vector<std::pair<double, Eigen::Vector2d>> touched_in_odometry_;
-  std::vector<Eigen::Vector2d> explore_points_;  // scratch: points_ and the touched
   std::vector<Eigen::Vector2d> arc_in_world_;
   std::vector<NavigationEvent> events_;
   mutable NavigationFigures figures_;  // blocked figures filled in on reading

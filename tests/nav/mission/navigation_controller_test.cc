@@ -439,8 +439,8 @@ int PressesExploringTowardsABench(double contact_memory_s, double duration_s) {
   const Eigen::Vector2d a(-6.0, -0.8), b(0.9, -0.8), c(0.9, 0.8), d(-6.0, 0.8);
   const std::vector<Wall> walls{{a, b}, {b, c}, {c, d}, {d, a}};
   const Wall bench{{-2.0, -0.8}, {-2.0, 0.8}};
+  const std::vector<Eigen::Vector2d> square = Square();
   const auto meets_bench = [&](const core::Pose2& pose) {
-    const std::vector<Eigen::Vector2d> square = Square();
     for (std::size_t i = 0; i < square.size(); ++i) {
       const double t = core::RaySegmentHit(pose * square[i], pose * square[(i + 1) % square.size()],
                                            bench.first, bench.second);

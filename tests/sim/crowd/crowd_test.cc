@@ -15,6 +15,17 @@ constexpr double kDt = 0.005;
 using testing::EmptyRoom;
 using testing::Octagon;
 
+// One visitor at a time, alone, visiting one exhibit, never stopping to watch.
+CrowdOptions OneVisitorToOneExhibit() {
+  CrowdOptions options;
+  options.pool_size = 1;
+  options.max_present = 1;
+  options.visit.min_exhibits = options.visit.max_exhibits = 1;
+  options.visit.group_fraction = 0.0;
+  options.watch_spots = 0;
+  return options;
+}
+
 // A visitor walks around a standing robot in its way without touching it in
 // at least 99 % of seeded trials (issue acceptance), and gets past it.
 TEST(CrowdTest, WalksAroundAStandingRobot) {
@@ -23,13 +34,7 @@ TEST(CrowdTest, WalksAroundAStandingRobot) {
   for (int seed = 1; seed <= kTrials; ++seed) {
     CrowdSite site = EmptyRoom();
     site.attractions = {{"goal", core::Pose2{17.0, 5.0, 0.0}, 1.0}};
-    CrowdOptions options;
-    options.pool_size = 1;
-    options.max_present = 1;
-    options.visit.min_exhibits = options.visit.max_exhibits = 1;
-    options.visit.group_fraction = 0.0;
-    options.watch_spots = 0;
-    Crowd crowd(site, options, seed);
+    Crowd crowd(site, OneVisitorToOneExhibit(), seed);
     // Somewhere on a line through the robot, within a body width of it.
     core::RandomStream offset(seed, 99);
     ASSERT_EQ(crowd.SpawnGroup({3.0, 5.0 + offset.Uniform(-0.3, 0.3)}, 1), 1);
@@ -100,13 +105,7 @@ TEST(CrowdTest, AWalkerHeldFarFromItsGoalGivesWay) {
   site.walls.push_back({{10.0, 0.0}, {10.0, 4.2}, 4});
   site.walls.push_back({{10.0, 5.8}, {10.0, 10.0}, 5});
   site.attractions = {{"goal", core::Pose2{17.0, 5.0, 0.0}, 1.0}};
-  CrowdOptions options;
-  options.pool_size = 1;
-  options.max_present = 1;
-  options.visit.min_exhibits = options.visit.max_exhibits = 1;
-  options.visit.group_fraction = 0.0;
-  options.watch_spots = 0;
-  Crowd crowd(site, options, 7);
+  Crowd crowd(site, OneVisitorToOneExhibit(), 7);
   ASSERT_EQ(crowd.SpawnGroup({3.0, 5.0}, 1), 1);
   std::vector<CrowdRobot> robots(2);  // side by side, filling the 1.6 m gap
   robots[0].pose = {10.0, 4.6, 0.0};
