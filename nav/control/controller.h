@@ -30,6 +30,10 @@ struct ControlTick {
   core::Pose2 belief;              // the robot's own estimate (EKF, or odometry without one)
   core::Pose2 odometry;            // its dead reckoning (smooth, drifting)
   bool localization_lost = false;  // its estimator declares itself lost
+  // The belief's 1 sigma: the largest of its position (the covariance's
+  // major half-axis) and its heading; 0 without an estimator.
+  double position_sigma_m = 0.0;
+  double heading_sigma_rad = 0.0;
 };
 
 // Where the robot is when a scan arrives (after the tick's odometry update).

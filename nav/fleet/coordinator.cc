@@ -19,7 +19,7 @@ constexpr std::int64_t kCountBytes = 2;
 constexpr std::int64_t kNodeBytes = 2;
 constexpr std::int64_t kWeightBytes = 4;
 constexpr std::int64_t kPoseFlagBytes = 1;
-constexpr std::int64_t kPoseBytes = 5 * 4;  // x, y, theta, speed, turn rate
+constexpr std::int64_t kPoseBytes = 6 * 4;  // x, y, theta, speed, turn rate, sigma
 constexpr std::int64_t kStationBytes = 2;
 constexpr std::int64_t kVertexBytes = 2 * 4;
 

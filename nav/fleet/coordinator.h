@@ -95,11 +95,14 @@ struct FleetMessage {
   std::vector<int> claims;          // the stations it holds for passage, ascending
   bool lost = false;                // it declared itself lost: `pose` may be wrong
   double turn_rate_radps = 0.0;     // its commanded turn rate (with the pose)
+  // 1 sigma of where its outline is (with the pose): its position's plus its
+  // circumradius times its heading's, m.
+  double outline_sigma_m = 0.0;
 };
 
 // Bytes of the compact encoding of a message (a 2-byte robot index; per path
 // element a 2-byte node index and a 4-byte float weight, plus a 2-byte count;
-// the pose, speed and turn rate as five 4-byte floats, a 1-byte flag that also holds
+// the pose, speed, turn rate and outline sigma as six 4-byte floats, a 1-byte flag that also holds
 // `lost`; two 2-byte stations;
 // the claims as a 2-byte count and 2 bytes each).
 std::int64_t EncodedBytes(const FleetMessage& message);

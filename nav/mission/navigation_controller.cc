@@ -140,6 +140,7 @@ void NavigationControllerOptions::Validate() const {
           "in [0, 5] m");
   Require(fleet_claim_margin_m >= 0.0 && fleet_claim_margin_m <= 2.0, "fleet_claim_margin_m",
           "in [0, 2] m");
+  Require(fleet_hull_sigmas >= 0.0 && fleet_hull_sigmas <= 5.0, "fleet_hull_sigmas", "in [0, 5]");
   Require(fleet_hull_margin_m >= 0.0 && fleet_hull_margin_m <= 0.5, "fleet_hull_margin_m",
           "in [0, 0.5] m");
   ghost_barrier.Validate();
@@ -408,7 +409,7 @@ bool NavigationController::PlanGlobal(const ControlTick& tick, int avoid_node) {
 void NavigationController::PlanLocal(const ControlTick& tick, bool replan, const char* cause) {
   if (queue_.empty()) return;
   obstacles_.InWorld(tick.odometry, tick.belief, GridReachM(), &points_);
-  AppendOtherRobots(tick.belief, core::Pose2{}, GridReachM(), &points_);
+  AppendOtherRobots(tick, core::Pose2{}, GridReachM(), &points_);
   AppendPockets(tick.now_s, &points_);
   local_target_ = queue_.current().id;
   local_->Plan(tick.belief.translation(), queue_.current().position_m, points_,
@@ -431,7 +432,7 @@ void NavigationController::UpdateBand(const ControlTick& tick) {
     return;
   }
   obstacles_.InWorld(tick.odometry, tick.belief, GridReachM(), &points_);
-  AppendOtherRobots(tick.belief, core::Pose2{}, GridReachM(), &points_);
+  AppendOtherRobots(tick, core::Pose2{}, GridReachM(), &points_);
   AppendPockets(tick.now_s, &points_);
   ++figures_.band_updates;
   switch (local_->Update(tick.belief.translation(), points_)) {
@@ -535,7 +536,7 @@ void NavigationController::GatherDrivePoints(const ControlTick& tick) {
   // plinth and the remembered flank of a robot gone 2 s after detection.
   if (clip_contours_) obstacles_.ForgetBefore(tick.now_s - kDeadlockMemoryS);
   obstacles_.InRobot(tick.odometry, tick.belief, options_.dwa_reach_m, &points_);
-  AppendOtherRobots(tick.belief, tick.belief.Inverse(), options_.dwa_reach_m, &points_);
+  AppendOtherRobots(tick, tick.belief.Inverse(), options_.dwa_reach_m, &points_);
   AppendContours(tick, clip_contours_, &points_);
 }
 
@@ -584,8 +585,8 @@ bool NavigationController::ExploreStep(const ControlTick& tick) {
   obstacles_.InRobot(tick.odometry, tick.belief, options_.dwa_reach_m, &points_,
                      /*map_outline=*/false);
   const std::size_t sensed = points_.size();
-  AppendOtherHulls(tick.belief, tick.belief.Inverse(), options_.dwa_reach_m,
-                   options_.lost_hull_margin_m, &points_);
+  AppendOtherHulls(tick, tick.belief.Inverse(), options_.dwa_reach_m, options_.lost_hull_margin_m,
+                   &points_);
   // The stations the others hold, placed by the belief as their hulls are: a
   // robot falsely lost that explored into one came within 1 m of the node as
   // another arrived (expo_tours seed 1, 120.6 s, station_09; its belief was

@@ -134,6 +134,18 @@ struct NavigationControllerOptions {
   // The others' hulls, placed at their published poses, are drawn this much
   // larger: the estimates' errors and the 0.1 s a pose is old at most, m, [0, 0.5].
   double fleet_hull_margin_m = 0.03;
+  // ... or, when larger, this many sigmas of the two beliefs' combined
+  // uncertainty where the hull is drawn (this robot's position sigma plus its
+  // heading sigma times the distance, and the other's published outline
+  // sigma, FleetMessage::outline_sigma_m), at most lost_hull_margin_m; [0, 5].
+  // Tracking, a Robox's sigma is millimetres and the margin rules; a
+  // collision grows it for a few cycles (CollisionNoiseOptions), and a robot
+  // a visitor's bump left 8-13 cm off along its way, without a wall across
+  // it to fix that, drove twice into a hull drawn by that belief with 3 cm
+  // (expo_day seed 1, 24,689.5 s: robox_03, its sigma 9-15 cm). Chosen:
+  // 2 sigmas hold a 2D error 86 % of the time; the ratchet (the growth stops
+  // short of this robot's own hull) keeps the growth from trapping it.
+  double fleet_hull_sigmas = 2.0;
   // A station another robot claims (FleetBoard::ResolveClaims: passing,
   // arriving or standing there) is kept clear: this robot's centre stays this
   // far from the node (a ring of virtual points its hull must not cross), m,
@@ -309,10 +321,11 @@ class NavigationController : public Controller {
   MissionSequence::Proposal NextGoalBySight(const ControlTick& tick);
   void FleetReplan(const ControlTick& tick);
   double RemainingPathCost(const Eigen::Vector2d& position, const std::vector<double>& costs) const;
-  void AppendOtherRobots(const core::Pose2& belief, const core::Pose2& frame_from_world,
+  void AppendOtherRobots(const ControlTick& tick, const core::Pose2& frame_from_world,
                          double reach_m, std::vector<Eigen::Vector2d>* points) const;
-  // The others' hulls alone, grown by `margin_m` (and swept by their speeds).
-  void AppendOtherHulls(const core::Pose2& belief, const core::Pose2& frame_from_world,
+  // The others' hulls alone, placed by the tick's belief, grown by `margin_m`
+  // or the beliefs' uncertainty (fleet_hull_sigmas) and swept by their speeds.
+  void AppendOtherHulls(const ControlTick& tick, const core::Pose2& frame_from_world,
                         double reach_m, double margin_m,
                         std::vector<Eigen::Vector2d>* points) const;
   // Rings of virtual points that keep this robot out of the stations the

@@ -264,6 +264,7 @@ void NavigationController::Publish(const ControlTick& tick) {
   m.lost = tick.localization_lost;
   m.speed_mps = 0.5 * (command_.left_mps + command_.right_mps);
   m.turn_rate_radps = (command_.right_mps - command_.left_mps) / options_.dwa.wheelbase_m;
+  m.outline_sigma_m = tick.position_sigma_m + circumradius_m_ * tick.heading_sigma_rad;
   if (state_ == State::kDriving && !queue_.empty()) {
     std::vector<int> nodes;
     std::vector<Eigen::Vector2d> positions;
@@ -403,19 +404,20 @@ void NavigationController::FleetReplan(const ControlTick& tick) {
   PlanLocal(tick, true, "fleet");
 }
 
-void NavigationController::AppendOtherRobots(const core::Pose2& belief,
+void NavigationController::AppendOtherRobots(const ControlTick& tick,
                                              const core::Pose2& frame_from_world, double reach_m,
                                              std::vector<Eigen::Vector2d>* points) const {
   if (!fleet_.coordinator) return;
-  AppendStationRings(belief, frame_from_world, reach_m, points);
-  AppendOtherHulls(belief, frame_from_world, reach_m, options_.fleet_hull_margin_m, points);
+  AppendStationRings(tick.belief, frame_from_world, reach_m, points);
+  AppendOtherHulls(tick, frame_from_world, reach_m, options_.fleet_hull_margin_m, points);
 }
 
-void NavigationController::AppendOtherHulls(const core::Pose2& belief,
+void NavigationController::AppendOtherHulls(const ControlTick& tick,
                                             const core::Pose2& frame_from_world, double reach_m,
                                             double margin_m,
                                             std::vector<Eigen::Vector2d>* points) const {
   if (!fleet_.coordinator) return;
+  const core::Pose2& belief = tick.belief;
   // Outline points at most this far apart (the ghost barriers' fill).
   const double spacing_m = options_.ghost_barrier.fill_m;
   const FleetBoard& board = fleet_.coordinator->board();
@@ -425,9 +427,18 @@ void NavigationController::AppendOtherHulls(const core::Pose2& belief,
     if (r == fleet_.robot || !m.pose || hull.empty()) continue;
     // A robot that declared itself lost publishes a belief that may be as far
     // off as the one a lost robot has of the others (lost_hull_margin_m).
-    const double uncertain_m = m.lost ? std::max(margin_m, options_.lost_hull_margin_m) : margin_m;
+    // Otherwise both beliefs' sigmas say how far off the hull may be drawn
+    // (fleet_hull_sigmas): this robot's heading error swings it about this
+    // robot by the distance between them.
+    const double distance_m = (m.pose->translation() - belief.translation()).norm();
+    const double sigma_m =
+        std::hypot(tick.position_sigma_m + distance_m * tick.heading_sigma_rad, m.outline_sigma_m);
+    const double uncertain_m =
+        m.lost ? std::max(margin_m, options_.lost_hull_margin_m)
+               : std::max(margin_m, std::min(options_.fleet_hull_sigmas * sigma_m,
+                                             options_.lost_hull_margin_m));
     const double radius_m = Circumradius(hull) + uncertain_m;
-    if ((m.pose->translation() - belief.translation()).norm() > reach_m + radius_m) continue;
+    if (distance_m > reach_m + radius_m) continue;
     const core::Pose2 frame_from_robot = frame_from_world * *m.pose;
     // The growth for uncertainty never covers this robot: it stops
     // kRatchetGapM short of its hull, a ratchet that lets it move away but
@@ -447,8 +458,7 @@ void NavigationController::AppendOtherHulls(const core::Pose2& belief,
     // face to face for 470 s (expo_day seed 3, 4,430 s: robox_01 and robox_08).
     bool drop_inside = false;
     core::Polygon2 grown = InflateConvexPolygon(hull, uncertain_m);
-    const bool near = (m.pose->translation() - belief.translation()).norm() <
-                      Circumradius(grown) + circumradius_m_ + kRatchetGapM;
+    const bool near = distance_m < Circumradius(grown) + circumradius_m_ + kRatchetGapM;
     if (near) {
       const double certain_m = m.lost ? margin_m : 0.0;
       const double grow_m = RatchetedGrowth(hull, belief.Inverse() * *m.pose, footprint_, certain_m,

@@ -8,9 +8,7 @@ namespace pavilion::nav {
 
 void EkfPoseEstimatorOptions::Validate() const {
   if (!(rate_hz > 0.0)) throw std::invalid_argument("EkfPoseEstimatorOptions.rate_hz must be > 0");
-  if (!(collision_sigma_m >= 0.0) || !(collision_sigma_rad >= 0.0)) {
-    throw std::invalid_argument("EkfPoseEstimatorOptions.collision_sigma_m must be >= 0");
-  }
+  collision.Validate("EkfPoseEstimatorOptions");
   if (!(hold_s >= 0.0 && hold_s <= 1.0)) {
     throw std::invalid_argument("EkfPoseEstimatorOptions.hold_s must be in [0, 1] s");
   }
@@ -172,10 +170,6 @@ EstimatorCycle CycleFromReport(const core::CycleReport& report) {
   return c;
 }
 
-Eigen::Matrix3d CollisionCovariance(double sigma_m, double sigma_rad) {
-  return Eigen::Vector3d(sigma_m * sigma_m, sigma_m * sigma_m, sigma_rad * sigma_rad).asDiagonal();
-}
-
 EstimatorCycle EkfPoseEstimator::ReportCycle() {
   EstimatorCycle c = CycleFromReport(scan_report_);
   // Batches before the last one of this tick: their matches count as lines
@@ -191,9 +185,8 @@ EstimatorCycle EkfPoseEstimator::ReportCycle() {
   return c;
 }
 
-void EkfPoseEstimator::OnCollision() {
-  localizer_->AddPoseUncertainty(
-      CollisionCovariance(options_.collision_sigma_m, options_.collision_sigma_rad));
+void EkfPoseEstimator::OnContact(const BumperContact& contact) {
+  localizer_->AddPoseUncertainty(options_.collision.Covariance(contact));
 }
 
 void EkfPoseEstimator::SetPaused(bool paused, double now_s) {

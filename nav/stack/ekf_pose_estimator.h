@@ -26,12 +26,8 @@ struct EkfPoseEstimatorOptions {
   std::vector<std::string> lasers;  // lasers whose scans are used, in the robot's order
   core::Pose2 initial_pose;         // the estimate at time 0
   Eigen::Matrix3d initial_covariance = Eigen::Matrix3d::Identity() * 1e-4;
-  // Added to the pose covariance at each bumper contact (a collision's pose
-  // jump, 1 sigma), m and rad; >= 0. Chosen: walkers' bumps turned the
-  // simulated Robox by up to about 10 degrees and shoved it by up to 10 cm
-  // (issue 14, expo_tour).
-  double collision_sigma_m = 0.10;
-  double collision_sigma_rad = 0.15;
+  // Added to the pose covariance for what the bumpers feel.
+  CollisionNoiseOptions collision;
   // > 0: scans and camera images wait this long after their stamps and are
   // then integrated in time-stamp order (the localizer integrates in order,
   // §4.4.3, and an image arrives the grabber's delay after its exposure: set
@@ -50,9 +46,6 @@ EstimatorCycle CycleFromReport(const core::CycleReport& report);
 // "none", "no_match_timeout", "repeated_gate_failures", "uncertainty_too_large".
 const char* LostReasonName(core::LostReason reason);
 
-// The covariance a felt collision adds (x, y, theta independent, 1 sigma each).
-Eigen::Matrix3d CollisionCovariance(double sigma_m, double sigma_rad);
-
 class EkfPoseEstimator : public PoseEstimator {
  public:
   EkfPoseEstimator(core::RobotMap map, const EkfPoseEstimatorOptions& options);
@@ -62,7 +55,7 @@ class EkfPoseEstimator : public PoseEstimator {
   const core::PoseWithCovariance& estimate() const override { return localizer_->estimate(); }
   std::string lost_reason() const override;
   void SetPaused(bool paused, double now_s) override;
-  void OnCollision() override;
+  void OnContact(const BumperContact& contact) override;
   bool paused() const { return paused_; }
   const core::Localizer& localizer() const { return *localizer_; }
 

@@ -11,9 +11,7 @@ namespace pavilion::nav {
 void GlobalPoseEstimatorOptions::Validate() const {
   if (!(rate_hz > 0.0))
     throw std::invalid_argument("GlobalPoseEstimatorOptions.rate_hz must be > 0");
-  if (!(collision_sigma_m >= 0.0) || !(collision_sigma_rad >= 0.0)) {
-    throw std::invalid_argument("GlobalPoseEstimatorOptions.collision_sigma_m must be >= 0");
-  }
+  collision.Validate("GlobalPoseEstimatorOptions");
   localizer.Validate();
 }
 
@@ -121,9 +119,8 @@ void GlobalPoseEstimator::SetPaused(bool paused, double now_s) {
   paused_ = paused;
 }
 
-void GlobalPoseEstimator::OnCollision() {
-  localizer_->AddPoseUncertainty(
-      CollisionCovariance(options_.collision_sigma_m, options_.collision_sigma_rad));
+void GlobalPoseEstimator::OnContact(const BumperContact& contact) {
+  localizer_->AddPoseUncertainty(options_.collision.Covariance(contact));
 }
 
 std::vector<std::pair<std::string, std::int64_t>> GlobalPoseEstimator::counters() const {

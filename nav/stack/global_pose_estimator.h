@@ -24,9 +24,8 @@ struct GlobalPoseEstimatorOptions {
   // The start: a known pose with its covariance, or none (`initial: unknown`:
   // lost until the first generation).
   std::optional<core::PoseWithCovariance> initial;
-  // Added at each bumper contact, as EkfPoseEstimatorOptions; m and rad, >= 0.
-  double collision_sigma_m = 0.10;
-  double collision_sigma_rad = 0.15;
+  // Added to the pose covariance for what the bumpers feel.
+  CollisionNoiseOptions collision;
 
   void Validate() const;  // throws std::invalid_argument naming the field
 };
@@ -41,7 +40,7 @@ class GlobalPoseEstimator : public PoseEstimator {
   LocalizationMode mode() const override;
   std::vector<LocationHypothesis> hypotheses() const override;
   void SetPaused(bool paused, double now_s) override;
-  void OnCollision() override;
+  void OnContact(const BumperContact& contact) override;
   std::vector<std::pair<std::string, std::int64_t>> counters() const override;
   const core::GlobalLocalizer& localizer() const { return *localizer_; }
 

@@ -1,5 +1,8 @@
 #include "nav/stack/navigator.h"
 
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <utility>
 
@@ -18,7 +21,17 @@ Navigator::Navigator(const NavigatorOptions& options, std::unique_ptr<PoseEstima
 
 std::optional<WheelSpeeds> Navigator::Control(std::int64_t tick, double now_s) {
   if (!controller_) return std::nullopt;
-  const ControlTick control{tick, now_s, belief(), odometry_.pose(), not_localized()};
+  ControlTick control{tick, now_s, belief(), odometry_.pose(), not_localized()};
+  if (estimator_) {
+    const Eigen::Matrix3d& p = estimator_->estimate().covariance;
+    const Eigen::Matrix2d position = p.topLeftCorner<2, 2>();
+    const double major_m2 =
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(position, Eigen::EigenvaluesOnly)
+            .eigenvalues()
+            .maxCoeff();
+    control.position_sigma_m = std::sqrt(std::max(0.0, major_m2));
+    control.heading_sigma_rad = std::sqrt(std::max(0.0, p(2, 2)));
+  }
   std::optional<WheelSpeeds> command = controller_->OnTick(control);
   if (estimator_) estimator_->SetPaused(controller_->localization_paused(), now_s);
   return command;
@@ -27,19 +40,8 @@ std::optional<WheelSpeeds> Navigator::Control(std::int64_t tick, double now_s) {
 SenseResult Navigator::Sense(const SensorFrame& frame) {
   SenseResult result;
   for (const core::EncoderReading& reading : frame.encoders) odometry_.Update(reading);
-  // A zone pressed anew, and the release after a press: a collision moves the
-  // robot in ways its odometry does not see, for as long as it lasts. One
-  // collision's noise per refractory period, however often the zones flicker.
-  for (const core::BumperReading& b : frame.bumpers) {
-    const bool pressed_anew = (b.zones_in_contact & ~bumper_zones_) != 0;
-    const bool released = b.zones_in_contact == 0 && bumper_zones_ != 0;
-    if ((pressed_anew || released) && estimator_ &&
-        b.stamp_s - last_collision_noise_s_ >= collision_refractory_s_) {
-      estimator_->OnCollision();
-      last_collision_noise_s_ = b.stamp_s;
-    }
-    bumper_zones_ = b.zones_in_contact;
-  }
+  const BumperContact contact = FeelBumpers(frame);
+  if (estimator_ && (contact.press || contact.held_s > 0.0)) estimator_->OnContact(contact);
   if (controller_ && !frame.bumpers.empty()) {
     const ScanContext context{frame.now_s, belief(), odometry_.pose()};
     for (const core::BumperReading& b : frame.bumpers) controller_->OnBumper(b, context);
@@ -56,6 +58,29 @@ SenseResult Navigator::Sense(const SensorFrame& frame) {
     }
   }
   return result;
+}
+
+BumperContact Navigator::FeelBumpers(const SensorFrame& frame) {
+  BumperContact contact;
+  const auto hold_until = [&](double t) {
+    if (bumper_zones_ != 0) contact.held_s += std::max(0.0, t - held_until_s_);
+    held_until_s_ = std::max(held_until_s_, t);
+  };
+  for (const core::BumperReading& b : frame.bumpers) {
+    hold_until(b.stamp_s);
+    // A zone pressed anew: a collision, unless one counted within the
+    // refractory period (the same bump flickering).
+    if ((b.zones_in_contact & ~bumper_zones_) != 0 &&
+        b.stamp_s - last_press_s_ >= collision_refractory_s_) {
+      contact.press = true;
+      last_press_s_ = b.stamp_s;
+    }
+    bumper_zones_ = b.zones_in_contact;
+  }
+  // Readings come only on a change: zones still pressed stay pressed to the
+  // end of the tick.
+  hold_until(frame.now_s);
+  return contact;
 }
 
 core::Pose2 Navigator::belief() const {

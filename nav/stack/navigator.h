@@ -26,10 +26,11 @@ namespace pavilion::nav {
 struct NavigatorOptions {
   core::EncoderOdometryOptions odometry;  // the robot's calibrated odometry model
   core::Pose2 start_pose;                 // where its dead reckoning starts
-  // A collision's pose noise (PoseEstimator::OnCollision) is added at most once
-  // in this long, s >= 0: a visitor's bump flickers the bumper zones on and off
+  // A new bumper press counts as one (BumperContact::press) at most once in
+  // this long, s >= 0: a visitor's bump flickers the bumper zones on and off
   // several times in a second, and each flicker is not another collision
   // (stacked, eight additions of a 0.15 rad sigma left an EKF 40 deg off).
+  // The time the zones stay pressed counts in full (BumperContact::held_s).
   double collision_refractory_s = 1.0;
 };
 
@@ -85,9 +86,13 @@ class Navigator {
   std::unique_ptr<PoseEstimator> estimator_;
   std::unique_ptr<Controller> controller_;
   std::unique_ptr<PoseEstimator> shadow_;
+  // What the bumpers felt this frame, from their readings (in order).
+  BumperContact FeelBumpers(const SensorFrame& frame);
+
   std::uint32_t bumper_zones_ = 0;  // pressed at the last bumper reading
   double collision_refractory_s_ = 1.0;
-  double last_collision_noise_s_ = -1e300;  // when OnCollision was last called
+  double last_press_s_ = -1e300;  // the last press that counted
+  double held_until_s_ = 0.0;     // pressed time is counted up to here
 };
 
 }  // namespace pavilion::nav

@@ -5,6 +5,7 @@
 // thesis §4.4 (EkfPoseEstimator), or global localization with the framework of
 // chapter 5, Fig. 5.17 (GlobalPoseEstimator).
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -56,6 +57,38 @@ struct EstimatorCycle {
   }
 };
 
+// What a robot's bumpers felt since the stack last told its estimator: a new
+// press (at most one per NavigatorOptions::collision_refractory_s) and how long
+// the zones stayed pressed, s.
+struct BumperContact {
+  bool press = false;
+  double held_s = 0.0;
+};
+
+// How much a felt collision may have moved the robot beyond what its odometry
+// model allows (thesis §4.5.3: the Computer 2000 robot went lost after its
+// collisions): a jump at each new press, plus a random walk while pressed, so
+// that the added sigma grows with the square root of the time held. x, y and
+// theta independent, 1 sigma each. Chosen from the shoves measured in
+// expo_day and expo_rush (true motion against odometry across each contact,
+// docs/navigation.md): half of all contacts move a Robox by 2 mm or less;
+// contacts under 0.15 s move it by at most 4 cm and 7 degrees at the 90th
+// percentile, contacts held 0.6 s or more by 5-20 cm and 9-24 degrees. A
+// fixed 10 cm and 0.15 rad at every press opened the gates for a brush, and
+// the next cycle paired wrongly: 20 of the rush's 41 losses after a brush were
+// of robots the brush had moved by 3 mm or less.
+struct CollisionNoiseOptions {
+  double press_sigma_m = 0.02;    // m, >= 0
+  double press_sigma_rad = 0.05;  // rad, >= 0
+  double hold_sigma_m = 0.10;     // m per square-root second held, >= 0
+  double hold_sigma_rad = 0.15;   // rad per square-root second held, >= 0
+
+  // Throws std::invalid_argument naming `owner` and the field.
+  void Validate(const char* owner) const;
+  // The covariance `contact` adds to the pose (x, y, theta).
+  Eigen::Matrix3d Covariance(const BumperContact& contact) const;
+};
+
 class PoseEstimator {
  public:
   virtual ~PoseEstimator() = default;
@@ -86,9 +119,9 @@ class PoseEstimator {
   // odometry still moves the estimate. Resuming at `now_s` restarts its lost
   // detection there.
   virtual void SetPaused(bool /*paused*/, double /*now_s*/) {}
-  // The bumpers felt a collision: the pose may have jumped by more than the
-  // odometry model allows.
-  virtual void OnCollision() {}
+  // The bumpers felt a collision: the pose may have moved by more than the
+  // odometry model allows (CollisionNoiseOptions).
+  virtual void OnContact(const BumperContact& /*contact*/) {}
   // The estimator's own cumulative counts (search sizes, limit hits,
   // falsifications), by name, for the run's metrics; empty when it keeps none.
   virtual std::vector<std::pair<std::string, std::int64_t>> counters() const { return {}; }

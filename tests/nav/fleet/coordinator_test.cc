@@ -264,9 +264,9 @@ TEST(StationClaims, AStationIsOneRobotsAtATime) {
 
 TEST(FleetCoordinator, CountsTheBytesOfTheCompactEncoding) {
   FleetMessage m{{{1, 2.0}, {2, 1.0}}, core::Pose2{1, 2, 0.5}, 0.2, 3, -1, {3, 7}};
-  // 2 robot + 2 count + 2 x (2 + 4) + 1 flag + 20 pose, speed and turn rate
-  // + 2 x 2 stations + 2 count + 2 x 2 claims.
-  EXPECT_EQ(EncodedBytes(m), 2 + 2 + 12 + 1 + 20 + 4 + 2 + 4);
+  // 2 robot + 2 count + 2 x (2 + 4) + 1 flag + 24 pose, speed, turn rate and
+  // outline sigma + 2 x 2 stations + 2 count + 2 x 2 claims.
+  EXPECT_EQ(EncodedBytes(m), 2 + 2 + 12 + 1 + 24 + 4 + 2 + 4);
   FleetCoordinator c(3, {});
   c.Send(0, m);
   c.Merge();

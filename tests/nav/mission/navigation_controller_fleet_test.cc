@@ -291,13 +291,16 @@ TEST(NavigationControllerFleet, RevisitsAVisitedStationAfterWaitingForTakenOnes)
   EXPECT_EQ(controller.navigation()->station_revisits, 1);
 }
 
-// Runs `controller` (a Robox octagon, its belief the truth, starting at the
-// origin) for duration_s, `publish` called before every tick; returns the
-// closest its hull came to the hull of a robot standing at `other`.
+// Runs `controller` (a Robox octagon starting at the origin, its belief the
+// truth shifted by `belief_offset` in the world frame, with `position_sigma_m`)
+// for duration_s, `publish` called before every tick; returns the closest its
+// hull came to the hull of a robot standing at `other`.
 double ClosestApproach(NavigationController& controller, const NavigationControllerOptions& options,
                        const core::Pose2& other, bool lost, double duration_s,
                        const std::function<void()>& publish, core::Pose2* end = nullptr,
-                       std::vector<core::Pose2>* trail = nullptr) {
+                       std::vector<core::Pose2>* trail = nullptr,
+                       const Eigen::Vector2d& belief_offset = Eigen::Vector2d::Zero(),
+                       double position_sigma_m = 0.0) {
   std::vector<Eigen::Vector2d> other_hull;
   for (const Eigen::Vector2d& c : RoboxOctagon()) other_hull.push_back(other * c);
   core::Pose2 pose;
@@ -305,10 +308,11 @@ double ClosestApproach(NavigationController& controller, const NavigationControl
   double closest_m = std::numeric_limits<double>::infinity();
   for (std::int64_t tick = 0; tick * kStepS < duration_s; ++tick) {
     publish();
-    if (const std::optional<WheelSpeeds> w =
-            controller.OnTick(ControlTick{tick, tick * kStepS, pose, pose, lost})) {
-      held = *w;
-    }
+    ControlTick control{tick, tick * kStepS, pose, pose, lost};
+    control.belief =
+        core::Pose2{pose.x_m + belief_offset.x(), pose.y_m + belief_offset.y(), pose.theta_rad};
+    control.position_sigma_m = position_sigma_m;
+    if (const std::optional<WheelSpeeds> w = controller.OnTick(control)) held = *w;
     const core::WheelTravel travel{
         held.left_radps * options.odometry.left_wheel_radius_m * kStepS,
         held.right_radps * options.odometry.right_wheel_radius_m * kStepS};
@@ -480,6 +484,47 @@ double DistanceDrivenFromATouchingRobot(double published_x) {
 TEST(NavigationControllerFleet, DrivesAwayFromALocalizedRobotItTouches) {
   EXPECT_GT(DistanceDrivenFromATouchingRobot(0.68), 4.0);  // the growth ratchets
   EXPECT_GT(DistanceDrivenFromATouchingRobot(0.67), 4.0);  // the hull itself reaches in
+}
+
+// A localized robot drives to its goal b, 0.8 m short of which another robot
+// stands (its station ring off, so that nothing but its hull stops this one
+// short). A visitor's bump left this robot 12 cm ahead of its belief
+// (expo_day seed 1, 24,689.5 s: robox_03, 8-13 cm off along its way with no
+// wall across it to fix that; it drove into robox_04). Placed by that belief
+// and grown by fleet_hull_margin_m alone, the other's hull lets it stop at
+// its goal, 4 cm into the other; grown by two sigmas of its belief (7 cm, as
+// its covariance says after the bump) it stops short, clear of the other. The
+// other's published sigma counts alike (here its belief is the truth).
+// Returns the closest the two hulls came.
+double ClosestAtAGoalWithAnUncertainBelief(double position_sigma_m, double other_sigma_m = 0.003) {
+  NavigationControllerOptions options;
+  options.step_s = kStepS;
+  options.fleet_station_clear_m = 0.0;
+  FleetCoordinator coordinator(2, FleetOptions{});
+  coordinator.SetStations({"a", "s", "b"});
+  NavigationController controller(Line(), RoboxOctagon(), MissionSequence::List({"b"}), options);
+  controller.SetFleet({&coordinator, 0});
+  coordinator.Join(1, RoboxOctagon());
+  const core::Pose2 other{8.8, 0.0, 0.0};
+  core::Pose2 end;
+  const double closest_m = ClosestApproach(
+      controller, options, other, false, 30.0,
+      [&] {
+        FleetMessage m;
+        m.pose = other;
+        m.outline_sigma_m = other_sigma_m;
+        coordinator.Send(1, m);
+        coordinator.Merge();
+      },
+      &end, nullptr, Eigen::Vector2d(-0.12, 0.0), position_sigma_m);
+  EXPECT_GT(end.x_m, 7.5) << "it drove to its goal";
+  return closest_m;
+}
+
+TEST(NavigationControllerFleet, KeepsClearOfAnotherRobotByItsOwnBeliefsUncertainty) {
+  EXPECT_GT(ClosestAtAGoalWithAnUncertainBelief(0.07), 0.03);
+  EXPECT_GT(ClosestAtAGoalWithAnUncertainBelief(0.002, 0.07), 0.03);
+  EXPECT_LT(ClosestAtAGoalWithAnUncertainBelief(0.002), 0.001);
 }
 
 }  // namespace

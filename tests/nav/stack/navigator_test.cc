@@ -7,6 +7,8 @@
 
 #include <cmath>
 #include <numbers>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "nav/control/drive_profile.h"
@@ -41,9 +43,15 @@ class FakeEstimator : public PoseEstimator {
   const core::PoseWithCovariance& estimate() const override { return estimate_; }
   std::string lost_reason() const override { return "none"; }
   LocalizationMode mode() const override { return mode_; }
-  void OnCollision() override { ++collisions; }
+  void OnContact(const BumperContact& contact) override {
+    collisions += contact.press ? 1 : 0;
+    held_s += contact.held_s;
+    ++contacts;
+  }
 
-  int collisions = 0;
+  int collisions = 0;  // presses
+  double held_s = 0.0;
+  int contacts = 0;  // calls
   int encoders_seen = 0;
   int scans_seen = 0;
   core::PoseWithCovariance estimate_{core::Pose2{5.0, -1.0, 0.5}, Eigen::Matrix3d::Identity()};
@@ -56,6 +64,8 @@ class RecordingController : public Controller {
   std::optional<WheelSpeeds> OnTick(const ControlTick& tick) override {
     last_belief = tick.belief;
     last_lost = tick.localization_lost;
+    last_position_sigma_m = tick.position_sigma_m;
+    last_heading_sigma_rad = tick.heading_sigma_rad;
     return WheelSpeeds{1.0, 2.0};
   }
   std::optional<WheelSpeeds> OnScan(const core::LaserScan& scan,
@@ -64,6 +74,8 @@ class RecordingController : public Controller {
   }
   core::Pose2 last_belief;
   bool last_lost = false;
+  double last_position_sigma_m = -1.0;
+  double last_heading_sigma_rad = -1.0;
 };
 
 NavigatorOptions Options() {
@@ -87,6 +99,16 @@ TEST(NavigatorTest, DeadReckonsFromEncoderCounts) {
   EXPECT_NEAR(navigator.belief().x_m, navigator.odometry_pose().x_m, 1e-12);
 }
 
+// Without an estimator the controller is told no uncertainty.
+TEST(NavigatorTest, WithoutAnEstimatorTheBeliefHasNoSigma) {
+  auto controller = std::make_unique<RecordingController>();
+  RecordingController* c = controller.get();
+  Navigator navigator(Options(), nullptr, std::move(controller));
+  navigator.Control(0, 0.0);
+  EXPECT_EQ(c->last_position_sigma_m, 0.0);
+  EXPECT_EQ(c->last_heading_sigma_rad, 0.0);
+}
+
 // With an estimator the controller steers from the estimate, not odometry;
 // the estimator sees every reading and the controller every scan.
 TEST(NavigatorTest, SteersFromTheEstimateAndPassesScansOn) {
@@ -100,6 +122,12 @@ TEST(NavigatorTest, SteersFromTheEstimateAndPassesScansOn) {
   EXPECT_DOUBLE_EQ(command->right_radps, 2.0);
   EXPECT_DOUBLE_EQ(c->last_belief.x_m, 5.0);
   EXPECT_DOUBLE_EQ(c->last_belief.theta_rad, 0.5);
+  // ... and is told the estimate's sigmas: its position covariance's major
+  // half-axis (eigenvalues 0.04 and 0.02 m^2) and its heading's.
+  e->estimate_.covariance << 0.03, 0.01, 0.0, 0.01, 0.03, 0.0, 0.0, 0.0, 0.0025;
+  navigator.Control(1, 0.005);
+  EXPECT_NEAR(c->last_position_sigma_m, 0.2, 1e-12);
+  EXPECT_NEAR(c->last_heading_sigma_rad, 0.05, 1e-12);
 
   core::LaserScan a, b;
   a.stamp_s = 0.1;
@@ -140,37 +168,46 @@ TEST(NavigatorTest, WithoutAControllerCommandsNothing) {
   EXPECT_FALSE(navigator.Control(0, 0.0));
 }
 
-// A bumper press and its release add a collision's pose noise to the
-// estimator, once per refractory period: a visitor's bump flickers the zones
-// on and off, and each flicker is not another collision.
-TEST(NavigatorTest, AddsCollisionNoiseOncePerRefractoryPeriod) {
+// A bumper press adds a collision's jump to the estimator once per refractory
+// period (a visitor's bump flickers the zones on and off, and each flicker is
+// not another collision), and the time the zones stay pressed counts in full,
+// to the end of each tick: bumper readings come only on a change.
+TEST(NavigatorTest, FeelsEachCollisionOnceAndTheTimeItIsHeld) {
   auto estimator = std::make_unique<FakeEstimator>();
   FakeEstimator* e = estimator.get();
   NavigatorOptions options = Options();
   options.collision_refractory_s = 1.0;
   Navigator navigator(options, std::move(estimator), nullptr);
-  const auto bump = [&](double t, std::uint32_t zones) {
-    const std::vector<core::BumperReading> readings{{t, zones}};
-    navigator.Sense(SensorFrame{t, {}, {}, readings, {}});
+  const auto tick = [&](double now_s, std::optional<double> stamp_s = std::nullopt,
+                        std::uint32_t zones = 0) {
+    std::vector<core::BumperReading> readings;
+    if (stamp_s) readings.push_back({*stamp_s, zones});
+    navigator.Sense(SensorFrame{now_s, {}, {}, readings, {}});
   };
-  bump(10.00, 0b01);  // pressed: a collision
+  tick(10.00, 9.99, 0b01);  // pressed 10 ms before the tick's end: a collision
   EXPECT_EQ(e->collisions, 1);
-  bump(10.08, 0);  // flickers within the second: the same collision
-  bump(10.20, 0b01);
-  bump(10.28, 0);
-  bump(10.40, 0b11);
+  EXPECT_NEAR(e->held_s, 0.01, 1e-9);
+  tick(10.02);  // no reading: still pressed
+  EXPECT_NEAR(e->held_s, 0.03, 1e-9);
+  tick(10.08, 10.07, 0);  // released: held 80 ms in all
+  EXPECT_NEAR(e->held_s, 0.08, 1e-9);
+  const int calls = e->contacts;
+  tick(10.10);  // nothing pressed, nothing felt
+  EXPECT_EQ(e->contacts, calls);
+  tick(10.20, 10.19, 0b01);  // the bump flickers within the second: held, no new press
+  tick(10.40, 10.39, 0b11);
+  tick(10.50, 10.49, 0);
   EXPECT_EQ(e->collisions, 1);
-  bump(11.10, 0);  // released more than a second after the first: counted
+  EXPECT_NEAR(e->held_s, 0.38, 1e-9);
+  tick(11.50, 11.49, 0b10);  // a second and more after the first: counted
   EXPECT_EQ(e->collisions, 2);
-  bump(11.50, 0b10);  // pressed again within a second of that: not
-  EXPECT_EQ(e->collisions, 2);
-  bump(13.00, 0b10);  // no change: no reading would be sent, nothing added
-  EXPECT_EQ(e->collisions, 2);
-  bump(13.20, 0);  // the release, long after
-  EXPECT_EQ(e->collisions, 3);
+  tick(14.00);  // held 2.5 s
+  tick(14.02, 14.01, 0);
+  EXPECT_EQ(e->collisions, 2);  // a release is no collision
+  EXPECT_NEAR(e->held_s, 0.38 + 2.52, 1e-9);
 
   NavigatorOptions zero = Options();
-  zero.collision_refractory_s = 0.0;  // every press and release
+  zero.collision_refractory_s = 0.0;  // every press counts
   auto counted = std::make_unique<FakeEstimator>();
   FakeEstimator* c = counted.get();
   Navigator every(zero, std::move(counted), nullptr);
@@ -178,11 +215,42 @@ TEST(NavigatorTest, AddsCollisionNoiseOncePerRefractoryPeriod) {
     const std::vector<core::BumperReading> readings{{t, t == 1.0 || t == 1.2 ? 1u : 0u}};
     every.Sense(SensorFrame{t, {}, {}, readings, {}});
   }
-  EXPECT_EQ(c->collisions, 4);
+  EXPECT_EQ(c->collisions, 2);
+  EXPECT_NEAR(c->held_s, 0.2, 1e-9);
 
   NavigatorOptions bad = Options();
   bad.collision_refractory_s = -1.0;
   EXPECT_THROW(Navigator(bad, nullptr, nullptr), std::invalid_argument);
+}
+
+// A collision's noise: the press's jump, plus a random walk while held (the
+// added variance grows linearly with the time held, its sigma with the root).
+TEST(CollisionNoiseTest, AJumpAtThePressAndARandomWalkWhileHeld) {
+  CollisionNoiseOptions o;
+  o.press_sigma_m = 0.02;
+  o.press_sigma_rad = 0.05;
+  o.hold_sigma_m = 0.10;
+  o.hold_sigma_rad = 0.15;
+  const Eigen::Matrix3d press = o.Covariance({true, 0.0});
+  EXPECT_NEAR(std::sqrt(press(0, 0)), 0.02, 1e-12);
+  EXPECT_NEAR(std::sqrt(press(1, 1)), 0.02, 1e-12);
+  EXPECT_NEAR(std::sqrt(press(2, 2)), 0.05, 1e-12);
+  EXPECT_EQ(press(0, 1), 0.0);
+  const Eigen::Matrix3d held = o.Covariance({false, 4.0});  // 4 s: twice the 1 s sigma
+  EXPECT_NEAR(std::sqrt(held(0, 0)), 0.20, 1e-12);
+  EXPECT_NEAR(std::sqrt(held(2, 2)), 0.30, 1e-12);
+  const Eigen::Matrix3d both = o.Covariance({true, 0.25});
+  EXPECT_NEAR(both(0, 0), 0.02 * 0.02 + 0.25 * 0.01, 1e-12);
+  EXPECT_TRUE(o.Covariance({false, 0.0}).isZero());
+  EXPECT_NO_THROW(o.Validate("Test"));
+  o.hold_sigma_rad = -0.1;
+  try {
+    o.Validate("EkfPoseEstimatorOptions");
+    FAIL() << "a negative sigma passed";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_NE(std::string(error.what()).find("EkfPoseEstimatorOptions.collision.hold_sigma_rad"),
+              std::string::npos);
+  }
 }
 
 }  // namespace
