@@ -357,12 +357,20 @@ TEST(NavigationControllerFleet, ALostRobotKeepsOffTheOthersPublishedHulls) {
   EXPECT_LT(ClosestWhileExploring(false), 0.01);
 }
 
-// A robot (the controller) drives from the origin to b, another Robox
-// standing at `other` and publishing `published`, declared lost or not.
-// Returns the closest the two hulls came; `end`: where the driver ended.
-double ClosestBesideAPublishedRobot(const core::Pose2& other, const core::Pose2& published,
-                                    bool lost, double duration_s, core::Pose2* end) {
-  NavigationControllerOptions options;
+// What the driver's belief is off by (world frame) and how sure it is.
+struct DriverBelief {
+  Eigen::Vector2d offset = Eigen::Vector2d::Zero();
+  double position_sigma_m = 0.0;
+};
+
+// A robot (the controller, with `options`) drives from the origin to b,
+// another Robox standing at `other` and publishing `published` (its pose,
+// declared lost or not, its sigma). Returns the closest the two hulls came;
+// `end`: where the driver ended.
+double ClosestBesideAPublishedRobot(const core::Pose2& other, const FleetMessage& published,
+                                    double duration_s, core::Pose2* end,
+                                    NavigationControllerOptions options = {},
+                                    const DriverBelief& belief = {}) {
   options.step_s = kStepS;
   FleetCoordinator coordinator(2, FleetOptions{});
   coordinator.SetStations({"a", "s", "b"});
@@ -372,13 +380,18 @@ double ClosestBesideAPublishedRobot(const core::Pose2& other, const core::Pose2&
   return ClosestApproach(
       controller, options, other, false, duration_s,
       [&] {
-        FleetMessage m;
-        m.pose = published;
-        m.lost = lost;
-        coordinator.Send(1, m);
+        coordinator.Send(1, published);
         coordinator.Merge();
       },
-      end);
+      end, nullptr, belief.offset, belief.position_sigma_m);
+}
+
+// The message of a robot that publishes `pose`, declared lost or not.
+FleetMessage Published(const core::Pose2& pose, bool lost) {
+  FleetMessage m;
+  m.pose = pose;
+  m.lost = lost;
+  return m;
 }
 
 // A robot drives from a to b past another that declared itself lost: it
@@ -388,8 +401,8 @@ double ClosestBesideAPublishedRobot(const core::Pose2& other, const core::Pose2&
 // its word (not lost), the passer brushes past where the other truly stands.
 double ClosestPassingALostRobot(bool declared_lost) {
   core::Pose2 end;
-  const double closest_m =
-      ClosestBesideAPublishedRobot({2.0, 0.45, 0.0}, {2.0, 0.75, 0.0}, declared_lost, 12.0, &end);
+  const double closest_m = ClosestBesideAPublishedRobot(
+      {2.0, 0.45, 0.0}, Published({2.0, 0.75, 0.0}, declared_lost), 12.0, &end);
   EXPECT_GT(end.x_m, 4.0) << "the passer got past";
   return closest_m;
 }
@@ -452,8 +465,8 @@ TEST(NavigationControllerFleet, ALostRobotKeepsOutOfAStationAnotherRobotHolds) {
 // how far it got along the line in 15 s.
 double DistanceDrivenFromUnderALostHull(double published_x) {
   core::Pose2 end;
-  const double closest_m =
-      ClosestBesideAPublishedRobot({-0.75, 0.0, 0.0}, {published_x, 0.0, 0.0}, true, 15.0, &end);
+  const double closest_m = ClosestBesideAPublishedRobot(
+      {-0.75, 0.0, 0.0}, Published({published_x, 0.0, 0.0}, true), 15.0, &end);
   EXPECT_GT(closest_m, 0.065) << "it never backed towards the lost robot";
   return end.x_m;
 }
@@ -474,8 +487,8 @@ TEST(NavigationControllerFleet, DrivesAwayFromALostRobotWhoseGrownHullReachesInt
 // off and goes round. Returns how far along the line it got in 30 s.
 double DistanceDrivenFromATouchingRobot(double published_x) {
   core::Pose2 end;
-  const double closest_m =
-      ClosestBesideAPublishedRobot({0.69, 0.0, 0.0}, {published_x, 0.0, 0.0}, false, 30.0, &end);
+  const double closest_m = ClosestBesideAPublishedRobot(
+      {0.69, 0.0, 0.0}, Published({published_x, 0.0, 0.0}, false), 30.0, &end);
   EXPECT_GT(closest_m, 0.005) << "it never pressed towards the other robot, published at "
                               << published_x;
   return end.x_m;
@@ -498,25 +511,12 @@ TEST(NavigationControllerFleet, DrivesAwayFromALocalizedRobotItTouches) {
 // Returns the closest the two hulls came.
 double ClosestAtAGoalWithAnUncertainBelief(double position_sigma_m, double other_sigma_m = 0.003) {
   NavigationControllerOptions options;
-  options.step_s = kStepS;
   options.fleet_station_clear_m = 0.0;
-  FleetCoordinator coordinator(2, FleetOptions{});
-  coordinator.SetStations({"a", "s", "b"});
-  NavigationController controller(Line(), RoboxOctagon(), MissionSequence::List({"b"}), options);
-  controller.SetFleet({&coordinator, 0});
-  coordinator.Join(1, RoboxOctagon());
-  const core::Pose2 other{8.8, 0.0, 0.0};
+  FleetMessage other = Published({8.8, 0.0, 0.0}, false);
+  other.outline_sigma_m = other_sigma_m;
   core::Pose2 end;
-  const double closest_m = ClosestApproach(
-      controller, options, other, false, 30.0,
-      [&] {
-        FleetMessage m;
-        m.pose = other;
-        m.outline_sigma_m = other_sigma_m;
-        coordinator.Send(1, m);
-        coordinator.Merge();
-      },
-      &end, nullptr, Eigen::Vector2d(-0.12, 0.0), position_sigma_m);
+  const double closest_m = ClosestBesideAPublishedRobot(
+      *other.pose, other, 30.0, &end, options, {Eigen::Vector2d(-0.12, 0.0), position_sigma_m});
   EXPECT_GT(end.x_m, 7.5) << "it drove to its goal";
   return closest_m;
 }
