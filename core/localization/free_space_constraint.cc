@@ -20,6 +20,38 @@ double LargestSigma(const Eigen::Matrix3d& p) {
   return std::sqrt(std::max(0.0, 0.5 * (a + c) + std::hypot(half_difference, b)));
 }
 
+// The runs of consecutive beams that each end at one mapped element (a wall
+// or a column), for FreeSpaceCheck::wall_run_m: the longest stretch of an
+// element that a run of at least `min_beams` reached.
+class WallRuns {
+ public:
+  explicit WallRuns(int min_beams) : min_beams_(min_beams) {}
+  // A beam that ended at `element`, meeting it at `hit`.
+  void Reached(std::size_t element, const Vec2& hit) {
+    if (beams_ > 0 && element != element_) Break();
+    if (beams_ == 0) {
+      element_ = element;
+      first_ = hit;
+    }
+    last_ = hit;
+    ++beams_;
+  }
+  // A beam that did not (short of the map, beyond it, or no return).
+  void Break() {
+    if (beams_ >= min_beams_) longest_m_ = std::max(longest_m_, (last_ - first_).norm());
+    beams_ = 0;
+  }
+  double longest_m() const { return longest_m_; }
+
+ private:
+  int min_beams_;
+  std::size_t element_ = 0;
+  int beams_ = 0;
+  Vec2 first_ = Vec2::Zero();
+  Vec2 last_ = Vec2::Zero();
+  double longest_m_ = 0.0;
+};
+
 }  // namespace
 
 void FreeSpaceOptions::Validate() const {
@@ -39,6 +71,9 @@ void FreeSpaceOptions::Validate() const {
   }
   if (!(max_see_through_ratio >= 0.0 && max_see_through_ratio <= 1.0)) {
     throw std::invalid_argument("FreeSpaceOptions.max_see_through_ratio must be in [0, 1]");
+  }
+  if (min_wall_run_beams < 2) {
+    throw std::invalid_argument("FreeSpaceOptions.min_wall_run_beams must be >= 2");
   }
 }
 
@@ -66,35 +101,32 @@ FreeSpaceCheck FreeSpaceConstraint::Check(const LaserScan& scan,
                               scan.robot_from_sensor.translation().norm() * sigma_heading;
   const double cos_max_incidence = std::cos(options_.max_incidence_rad);
 
-  // The walls a beam of this scan can reach, and the columns' cores (their
-  // radius less the clearance) in reach.
   std::vector<std::size_t> near;
-  for (std::size_t i = 0; i < geometry_.segments.size(); ++i) {
-    const auto& [a, b] = geometry_.segments[i];
-    if (PointSegmentDistance(origin, a, b) <= scan.max_range_m) near.push_back(i);
-  }
   std::vector<std::pair<Vec2, double>> cores;
-  for (const auto& [centre, radius] : geometry_.discs) {
-    const double core = radius - options_.end_clearance_m - k * sigma_origin;
-    if (core > 0.0 && (centre - origin).norm() - core <= scan.max_range_m) {
-      cores.emplace_back(centre, core);
-    }
-  }
-
+  InReach(origin, scan.max_range_m, options_.end_clearance_m + k * sigma_origin, &near, &cores);
+  WallRuns runs(options_.min_wall_run_beams);
   for (std::size_t j = 0; j < scan.readings.size();
        j += static_cast<std::size_t>(options_.beam_stride)) {
     const LaserReading& reading = scan.readings[j];
-    if (!reading.valid || !(reading.range_m > 0.0)) continue;
+    if (!reading.valid || !(reading.range_m > 0.0)) {
+      runs.Break();
+      continue;
+    }
     ++check.beams;
     const double heading = world_from_sensor.theta_rad + reading.bearing_rad;
     const Vec2 u(std::cos(heading), std::sin(heading));
     const double tolerance_m =
         options_.margin_m + k * (sigma_origin + reading.range_m * sigma_heading);
     if (count_short) {
-      const double map_range_m = FirstMapCrossing(origin, u, scan.max_range_m, near);
-      if (std::isfinite(map_range_m)) {
+      const MapCrossing map = FirstMapCrossing(origin, u, scan.max_range_m, near);
+      if (std::isfinite(map.range_m)) {
         ++check.mapped;
-        if (reading.range_m < map_range_m - tolerance_m) ++check.short_of_map;
+        if (reading.range_m < map.range_m - tolerance_m) ++check.short_of_map;
+      }
+      if (std::isfinite(map.range_m) && std::abs(reading.range_m - map.range_m) <= tolerance_m) {
+        runs.Reached(map.element, origin + map.range_m * u);
+      } else {
+        runs.Break();
       }
     }
     // Only the part of the beam that ends more than the margin before the
@@ -125,23 +157,50 @@ FreeSpaceCheck FreeSpaceConstraint::Check(const LaserScan& scan,
     }
     if (contradicts) ++check.see_through;
   }
+  runs.Break();
+  check.wall_run_m = runs.longest_m();
   return check;
 }
 
-double FreeSpaceConstraint::FirstMapCrossing(const Vec2& origin, const Vec2& u, double max_range_m,
-                                             const std::vector<std::size_t>& near) const {
+void FreeSpaceConstraint::InReach(const Vec2& origin, double max_range_m, double clearance_m,
+                                  std::vector<std::size_t>* near,
+                                  std::vector<std::pair<Vec2, double>>* cores) const {
+  for (std::size_t i = 0; i < geometry_.segments.size(); ++i) {
+    const auto& [a, b] = geometry_.segments[i];
+    if (PointSegmentDistance(origin, a, b) <= max_range_m) near->push_back(i);
+  }
+  for (const auto& [centre, radius] : geometry_.discs) {
+    const double core = radius - clearance_m;
+    if (core > 0.0 && (centre - origin).norm() - core <= max_range_m) {
+      cores->emplace_back(centre, core);
+    }
+  }
+}
+
+FreeSpaceConstraint::MapCrossing FreeSpaceConstraint::FirstMapCrossing(
+    const Vec2& origin, const Vec2& u, double max_range_m,
+    const std::vector<std::size_t>& near) const {
   const Vec2 end = origin + max_range_m * u;
   double first = 1.0;  // along origin -> end
+  std::size_t element = 0;
   for (const std::size_t i : near) {
     const auto& [a, b] = geometry_.segments[i];
     const double t = RaySegmentHit(origin, end, a, b);
-    if (std::isfinite(t)) first = std::min(first, t);
+    if (std::isfinite(t) && t < first) {
+      first = t;
+      element = i;
+    }
   }
-  for (const auto& [centre, radius] : geometry_.discs) {
+  for (std::size_t d = 0; d < geometry_.discs.size(); ++d) {
+    const auto& [centre, radius] = geometry_.discs[d];
     const std::vector<double> hits = LineCircleHits(origin, end, centre, radius);
-    if (hits.size() == 2 && hits[1] >= 0.0 && hits[0] <= first) first = std::max(0.0, hits[0]);
+    if (hits.size() == 2 && hits[1] >= 0.0 && hits[0] <= first) {
+      first = std::max(0.0, hits[0]);
+      element = geometry_.segments.size() + d;
+    }
   }
-  return first < 1.0 ? first * max_range_m : std::numeric_limits<double>::infinity();
+  if (first >= 1.0) return {std::numeric_limits<double>::infinity(), 0};
+  return {first * max_range_m, element};
 }
 
 bool FreeSpaceConstraint::Satisfied(const FreeSpaceCheck& check) const {

@@ -26,6 +26,7 @@
 // and the chapter-4 tracker (Localizer) asks it, in a cycle where nothing
 // paired, whether the scan showed the map at all (the beams short of it).
 
+#include <utility>
 #include <vector>
 
 #include "core/map/map_geometry.h"
@@ -58,6 +59,12 @@ struct FreeSpaceOptions {
   // error lets a beam through now and then); >= 0 and in [0, 1].
   int max_see_through = 1;
   double max_see_through_ratio = 0.01;
+  // With Check's `count_short`: a run of consecutive cast beams that all end
+  // at the same mapped wall counts for wall_run_m only when it has at least
+  // this many beams; >= 2. Default: the fewest readings the line extraction
+  // fits a line to (LineExtractionOptions::sparse_min_points of the SICK LMS
+  // 200 preset).
+  int min_wall_run_beams = 4;
 
   void Validate() const;  // throws std::invalid_argument naming the field
 };
@@ -70,6 +77,13 @@ struct FreeSpaceCheck {
   // something unmapped stands in front of the map: a visitor, a cupboard.
   int mapped = 0;
   int short_of_map = 0;
+  // With `count_short`: the longest stretch of a mapped wall, m, that a run
+  // of at least min_wall_run_beams consecutive cast beams all ending at it
+  // (neither short nor beyond) reached; 0 for none. The extraction keeps a
+  // line only when one unbroken run of its readings is long enough
+  // (LongestRunLength, segment_builder.cc): beams that reach a wall only
+  // between visitors, in short runs, give it nothing, however many they are.
+  double wall_run_m = 0.0;
 };
 
 // Holds the map's geometry; independent of the map object once built.
@@ -90,11 +104,21 @@ class FreeSpaceConstraint {
   const FreeSpaceOptions& options() const { return options_; }
 
  private:
-  // The range along the unit direction `u` from `origin` at which the beam
-  // first meets a mapped wall (of `near`) or column, within max_range_m;
-  // infinity for none.
-  double FirstMapCrossing(const Eigen::Vector2d& origin, const Eigen::Vector2d& u,
-                          double max_range_m, const std::vector<std::size_t>& near) const;
+  // The walls (indices) a beam from `origin` can reach within max_range_m,
+  // and the columns' cores (centre, radius less `clearance_m`) in reach.
+  void InReach(const Eigen::Vector2d& origin, double max_range_m, double clearance_m,
+               std::vector<std::size_t>* near,
+               std::vector<std::pair<Eigen::Vector2d, double>>* cores) const;
+  // Where a beam first meets the map: its range and the element it meets
+  // (a segment's index, or the number of segments plus a column's index).
+  struct MapCrossing {
+    double range_m = 0.0;  // infinity for none within the scan's range
+    std::size_t element = 0;
+  };
+  // Along the unit direction `u` from `origin`: the first mapped wall (of
+  // `near`) or column within max_range_m.
+  MapCrossing FirstMapCrossing(const Eigen::Vector2d& origin, const Eigen::Vector2d& u,
+                               double max_range_m, const std::vector<std::size_t>& near) const;
 
   FreeSpaceOptions options_;
   MapGeometry geometry_;

@@ -83,6 +83,7 @@ void LocalizerOptions::Validate() const {
   Require(lost_failed_cycles >= 1, "lost_failed_cycles", "an integer >= 1");
   Require(max_short_ratio_for_failure >= 0.0 && max_short_ratio_for_failure <= 1.0,
           "max_short_ratio_for_failure", "in [0, 1]");
+  Require(min_wall_run_for_failure_m >= 0.0, "min_wall_run_for_failure_m", ">= 0");
   try {
     failure_free_space.Validate();
   } catch (const std::invalid_argument& e) {
@@ -361,7 +362,8 @@ bool Localizer::FailureShown(const LaserScan* scan, const PoseWithCovariance& st
   if (scan == nullptr || options_.max_short_ratio_for_failure >= 1.0) return true;
   const FreeSpaceCheck check = free_space_.Check(*scan, state, /*count_short=*/true);
   if (!free_space_.Satisfied(check) || check.mapped == 0) return true;
-  return check.short_of_map <= options_.max_short_ratio_for_failure * check.mapped;
+  return check.short_of_map <= options_.max_short_ratio_for_failure * check.mapped &&
+         check.wall_run_m >= options_.min_wall_run_for_failure_m;
 }
 
 void Localizer::SuspendLostDetection(bool suspended, double now_s) {

@@ -582,17 +582,21 @@ bool NavigationController::ExploreStep(const ControlTick& tick) {
     AppendContours(tick, clip_contours_, &points_);
     return true;
   }
-  obstacles_.InRobot(tick.odometry, tick.belief, options_.dwa_reach_m, &points_,
+  // The map's ghost barriers and the others' hulls and stations are placed
+  // where it was last localized, carried on by odometry (Placement).
+  ControlTick placed = tick;
+  placed.belief = Placement(tick);
+  obstacles_.InRobot(tick.odometry, placed.belief, options_.dwa_reach_m, &points_,
                      /*map_outline=*/false);
   const std::size_t sensed = points_.size();
-  AppendOtherHulls(tick, tick.belief.Inverse(), options_.dwa_reach_m, options_.lost_hull_margin_m,
-                   &points_);
+  AppendOtherHulls(placed, placed.belief.Inverse(), options_.dwa_reach_m,
+                   options_.lost_hull_margin_m, &points_);
   // The stations the others hold, placed by the belief as their hulls are: a
   // robot falsely lost that explored into one came within 1 m of the node as
   // another arrived (expo_tours seed 1, 120.6 s, station_09; its belief was
   // 4 mm off). A kidnapped one keeps out of a phantom ring.
   if (fleet_.coordinator) {
-    AppendStationRings(tick.belief, tick.belief.Inverse(), options_.dwa_reach_m, &points_);
+    AppendStationRings(placed.belief, placed.belief.Inverse(), options_.dwa_reach_m, &points_);
   }
   points_.erase(
       std::remove_if(points_.begin() + static_cast<std::ptrdiff_t>(sensed), points_.end(),
@@ -600,7 +604,7 @@ bool NavigationController::ExploreStep(const ControlTick& tick) {
       points_.end());
   // Contours clipped as the deadlock rule says: a lost robot in a pile of
   // robots sees their markers as well as a localized one does.
-  AppendContours(tick, clip_contours_, &points_);
+  AppendContours(placed, clip_contours_, &points_);
   if (tick.now_s <= bumper_until_s_) {
     points_.insert(points_.end(), bumper_points_.begin(), bumper_points_.end());
   }

@@ -273,6 +273,12 @@ class NavigationController : public Controller {
   void PlanLocal(const ControlTick& tick, bool replan, const char* cause);
   void UpdateBand(const ControlTick& tick);
   void Drive(const ControlTick& tick);
+  // Where the robot places the map and the others while not localized: where
+  // it was last localized, carried on by odometry (ControlTick::last_localized),
+  // else its belief.
+  static core::Pose2 Placement(const ControlTick& tick) {
+    return tick.last_localized ? *tick.last_localized : tick.belief;
+  }
   // Not localized: drives towards open space (explore_when_lost).
   void Explore(const ControlTick& tick);
   // Drops the bumper contacts the explorer remembers from before `s`.

@@ -255,12 +255,17 @@ void NavigationController::Publish(const ControlTick& tick) {
   m.reserved_station = reserved_node_;
   m.occupied_station = occupied_node_;
   m.claims = claims_;
-  // Lost, it still sends its belief (the estimator's last, carried on by
-  // odometry) and says it is lost: the others keep its hull there (a robot
-  // that declared itself lost on gate failures is most often where it
-  // believes) but no longer explain its markers by it, so they also see its
-  // contour where it really is, as with the coordination down.
-  m.pose = tick.belief;
+  // Lost, it sends where it was last localized, carried on by its odometry
+  // (ControlTick::last_localized; its belief without one) and says it is
+  // lost: the others keep its hull there (a robot that declared itself lost
+  // on gate failures is most often where it was) but no longer explain its
+  // markers by it, so they also see its contour where it really is, as with
+  // the coordination down. Its belief, once lost, follows the hypotheses of
+  // global localization, look-alikes among them: others drove into lost
+  // robots standing a median 0.98 m from the hulls they drew there, 0.08 m
+  // from the last localized pose carried on (expo_rush seed 1, 2 h: 73 of
+  // the 100 robot contacts were a localized robot driving into a lost one).
+  m.pose = tick.localization_lost ? Placement(tick) : tick.belief;
   m.lost = tick.localization_lost;
   m.speed_mps = 0.5 * (command_.left_mps + command_.right_mps);
   m.turn_rate_radps = (command_.right_mps - command_.left_mps) / options_.dwa.wheelbase_m;

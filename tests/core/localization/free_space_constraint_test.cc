@@ -117,6 +117,39 @@ TEST(FreeSpaceConstraintTest, MarginsGrowWithTheHypothesisUncertainty) {
   EXPECT_TRUE(constraint.Satisfied(constraint.Check(scan, Certain(off, 0.2, 0.001))));
 }
 
+// The beams that reach a wall between visitors: every `cut`-th reading ends
+// 0.5 m out (a limb); 0: none.
+LaserScan CutEvery(LaserScan scan, int cut) {
+  for (std::size_t i = 0; cut > 0 && i < scan.readings.size(); i += cut) {
+    scan.readings[i].range_m = 0.5;
+  }
+  return scan;
+}
+
+// wall_run_m: the longest stretch of a wall that one unbroken run of at
+// least min_wall_run_beams consecutive beams reached; pieces are not joined
+// (the extraction keeps a line only for such a run).
+TEST(FreeSpaceConstraintTest, MeasuresTheLongestUnbrokenRunOnAWall) {
+  const std::vector<testing::Wall> walls = TwoRooms();
+  const FreeSpaceConstraint constraint(SegmentsOf(walls));
+  // In the west room, facing its 4 m south wall from 2 m: a 180 deg scan
+  // sees all of it, and the side walls.
+  const Pose2 truth{2.0, 2.0, -0.5 * kPi};
+  const LaserScan scan = testing::CastScan(walls, truth, testing::Scanner{}, 0.0, nullptr);
+  const auto run_m = [&](int cut) {
+    return constraint.Check(CutEvery(scan, cut), Certain(truth), /*count_short=*/true).wall_run_m;
+  };
+  ASSERT_EQ(FreeSpaceOptions{}.min_wall_run_beams, 4);
+  EXPECT_NEAR(run_m(0), 4.0, 0.05);  // whole
+  // Cut every 60 readings (30 deg): the longest piece, not the wall.
+  EXPECT_GT(run_m(60), 0.5);
+  EXPECT_LT(run_m(60), 2.5);
+  // Pieces of two readings: none counts.
+  EXPECT_EQ(run_m(3), 0.0);
+  // Without count_short nothing is measured.
+  EXPECT_EQ(constraint.Check(scan, Certain(truth)).wall_run_m, 0.0);
+}
+
 TEST(FreeSpaceConstraintTest, InfiniteLinesAreIgnored) {
   RobotMap map;
   map.lines.push_back(testing::MapLineThrough("wall", {3, -10}, {3, 10}, {0, 0}));
@@ -146,6 +179,9 @@ TEST(FreeSpaceConstraintTest, RejectsInvalidOptions) {
   EXPECT_THROW(FreeSpaceConstraint(RobotMap{}, o), std::invalid_argument);
   o = {};
   o.max_see_through_ratio = 1.5;
+  EXPECT_THROW(FreeSpaceConstraint(RobotMap{}, o), std::invalid_argument);
+  o = {};
+  o.min_wall_run_beams = 1;
   EXPECT_THROW(FreeSpaceConstraint(RobotMap{}, o), std::invalid_argument);
 }
 

@@ -5,7 +5,9 @@
 // run through the walls its estimate predicts.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -44,15 +46,21 @@ struct LostRun {
   LostReason reason = LostReason::kNone;
   long hidden_failures = 0;
   int cycles_without_pairing = 0;
+  // Of them, those with enough observations and predictions to fail.
+  int failed_cycles = 0;
 };
+
+LocalizerOptions WithShortRatio(double max_short_ratio) {
+  LocalizerOptions options;
+  options.odometry = Wheels();
+  options.max_short_ratio_for_failure = max_short_ratio;
+  return options;
+}
 
 // The robot stands at `estimate` for `cycles` scans taken from `truth`
 // among the room's walls plus `others` (unmapped).
 LostRun Stand(const Pose2& estimate, const Pose2& truth, const std::vector<Wall>& others,
-              double max_short_ratio, int cycles) {
-  LocalizerOptions options;
-  options.odometry = Wheels();
-  options.max_short_ratio_for_failure = max_short_ratio;
+              const LocalizerOptions& options, int cycles) {
   Localizer localizer(pavilion::testing::LShapedRoomMap(), options);
   pavilion::testing::DriveSimulator drive(truth, options.odometry, 1.0);
   localizer.AddEncoders(drive.Reading());
@@ -67,7 +75,12 @@ LostRun Stand(const Pose2& estimate, const Pose2& truth, const std::vector<Wall>
     localizer.AddEncoders(reading);
     EXPECT_EQ(localizer.AddScan(pavilion::testing::CastScan(walls, truth, reading.stamp_s, &noise)),
               ObservationStatus::kIntegrated);
-    run.cycles_without_pairing += localizer.last_cycle().matches.empty() ? 1 : 0;
+    const CycleReport& last = localizer.last_cycle();
+    if (last.matches.empty()) {
+      ++run.cycles_without_pairing;
+      const int enough = options.min_observations_for_failure;
+      if (last.observations >= enough && last.predictions >= enough) ++run.failed_cycles;
+    }
   }
   run.state = localizer.status().state;
   run.reason = localizer.status().reason;
@@ -79,7 +92,7 @@ const Pose2 kRobot{3.0, 3.0, 0.0};  // in the long part, facing its east wall
 
 TEST(LostDetection, ACrowdHidingTheWallsIsNotALoss) {
   const int cycles = 3 * LocalizerOptions{}.lost_failed_cycles;
-  const LostRun run = Stand(kRobot, kRobot, CrowdAround(kRobot), 0.5, cycles);
+  const LostRun run = Stand(kRobot, kRobot, CrowdAround(kRobot), WithShortRatio(0.5), cycles);
   // Nothing paired (the bodies' lines are no wall's), yet the robot stays
   // localized: every failure was hidden.
   EXPECT_EQ(run.cycles_without_pairing, cycles);
@@ -88,8 +101,8 @@ TEST(LostDetection, ACrowdHidingTheWallsIsNotALoss) {
 }
 
 TEST(LostDetection, TheThesisRuleCountsTheCrowdAsALoss) {
-  const LostRun run =
-      Stand(kRobot, kRobot, CrowdAround(kRobot), 1.0, 3 * LocalizerOptions{}.lost_failed_cycles);
+  const LostRun run = Stand(kRobot, kRobot, CrowdAround(kRobot), WithShortRatio(1.0),
+                            3 * LocalizerOptions{}.lost_failed_cycles);
   EXPECT_EQ(run.state, LocalizationState::kLost);
   EXPECT_EQ(run.reason, LostReason::kRepeatedGateFailures);
   EXPECT_EQ(run.hidden_failures, 0);
@@ -100,13 +113,60 @@ TEST(LostDetection, AKidnappedRobotIsStillDeclaredLost) {
   // through the walls its estimate predicts.
   const int needed = LocalizerOptions{}.lost_failed_cycles;
   const Pose2 truth{7.5, 2.2, 0.7};
-  const LostRun before = Stand(kRobot, truth, {}, 0.5, needed - 1);
+  const LostRun before = Stand(kRobot, truth, {}, WithShortRatio(0.5), needed - 1);
   EXPECT_EQ(before.state, LocalizationState::kTracking);
-  const LostRun run = Stand(kRobot, truth, {}, 0.5, needed);
+  const LostRun run = Stand(kRobot, truth, {}, WithShortRatio(0.5), needed);
   EXPECT_EQ(run.cycles_without_pairing, needed);
   EXPECT_EQ(run.state, LocalizationState::kLost);
   EXPECT_EQ(run.reason, LostReason::kRepeatedGateFailures);
   EXPECT_EQ(run.hidden_failures, 0);
+}
+
+// A crowd with gaps: three visitors' fronts (0.8 m, 2.5 m away: lines that
+// pair with nothing) and, all round, nearer people whose arms and legs cut
+// every fourth beam. Beside the fronts, the walls are seen between them three readings
+// at a time: too few for the extraction to fit a line to.
+std::vector<Wall> CrowdWithGaps(const Pose2& robot) {
+  const Pose2 laser = robot * Pose2{0.2, 0.0, 0.0};
+  const auto across = [&](double bearing, double range, double width) {
+    const double heading = laser.theta_rad + bearing;
+    const Eigen::Vector2d centre =
+        laser.translation() + range * Eigen::Vector2d(std::cos(heading), std::sin(heading));
+    const Eigen::Vector2d along(-std::sin(heading), std::cos(heading));
+    return Wall(centre - 0.5 * width * along, centre + 0.5 * width * along);
+  };
+  constexpr double kDeg = std::numbers::pi / 180.0;
+  const std::vector<double> fronts = {-30.0 * kDeg, 0.0, 30.0 * kDeg};
+  std::vector<Wall> people;
+  for (const double bearing : fronts) people.push_back(across(bearing, 2.5, 0.8));
+  // The scan's 181 readings are a degree apart from -90 deg; a 1 cm limb
+  // 1 m out cuts one of them. None stands before a front.
+  for (int i = 0; i < 181; i += 4) {
+    const double bearing = (i - 90) * kDeg;
+    const auto before = [&](double front) { return std::abs(bearing - front) < 10.0 * kDeg; };
+    if (std::none_of(fronts.begin(), fronts.end(), before)) {
+      people.push_back(across(bearing, 1.0, 0.01));
+    }
+  }
+  return people;
+}
+
+TEST(LostDetection, WallsSeenOnlyThroughGapsAreNotALoss) {
+  const int cycles = 3 * LocalizerOptions{}.lost_failed_cycles;
+  // The short-of-map ratio is set aside: three quarters of the beams outside
+  // the fronts reach the walls.
+  const LostRun run = Stand(kRobot, kRobot, CrowdWithGaps(kRobot), WithShortRatio(0.7), cycles);
+  EXPECT_EQ(run.cycles_without_pairing, cycles);
+  EXPECT_GE(run.failed_cycles, 2 * LocalizerOptions{}.lost_failed_cycles);
+  EXPECT_EQ(run.state, LocalizationState::kTracking);
+  EXPECT_EQ(run.hidden_failures, run.failed_cycles);
+  // Counting any run of beams that reached a wall, every cycle counts.
+  LocalizerOptions any_run = WithShortRatio(0.7);
+  any_run.min_wall_run_for_failure_m = 0.0;
+  const LostRun counted = Stand(kRobot, kRobot, CrowdWithGaps(kRobot), any_run, cycles);
+  EXPECT_EQ(counted.state, LocalizationState::kLost);
+  EXPECT_EQ(counted.reason, LostReason::kRepeatedGateFailures);
+  EXPECT_EQ(counted.hidden_failures, 0);
 }
 
 TEST(LostDetection, ValidatesTheRatio) {
@@ -114,6 +174,12 @@ TEST(LostDetection, ValidatesTheRatio) {
   options.max_short_ratio_for_failure = 1.5;
   EXPECT_THROW(options.Validate(), std::invalid_argument);
   options.max_short_ratio_for_failure = -0.1;
+  EXPECT_THROW(options.Validate(), std::invalid_argument);
+  options = LocalizerOptions{};
+  options.min_wall_run_for_failure_m = -0.1;
+  EXPECT_THROW(options.Validate(), std::invalid_argument);
+  options = LocalizerOptions{};
+  options.failure_free_space.min_wall_run_beams = 1;
   EXPECT_THROW(options.Validate(), std::invalid_argument);
 }
 

@@ -294,13 +294,14 @@ TEST(NavigationControllerFleet, RevisitsAVisitedStationAfterWaitingForTakenOnes)
 // Runs `controller` (a Robox octagon starting at the origin, its belief the
 // truth shifted by `belief_offset` in the world frame, with `position_sigma_m`)
 // for duration_s, `publish` called before every tick; returns the closest its
-// hull came to the hull of a robot standing at `other`.
+// hull came to the hull of a robot standing at `other`. `carried_on`: while
+// lost, where it was last localized carried on is the truth.
 double ClosestApproach(NavigationController& controller, const NavigationControllerOptions& options,
                        const core::Pose2& other, bool lost, double duration_s,
                        const std::function<void()>& publish, core::Pose2* end = nullptr,
                        std::vector<core::Pose2>* trail = nullptr,
                        const Eigen::Vector2d& belief_offset = Eigen::Vector2d::Zero(),
-                       double position_sigma_m = 0.0) {
+                       double position_sigma_m = 0.0, bool carried_on = false) {
   std::vector<Eigen::Vector2d> other_hull;
   for (const Eigen::Vector2d& c : RoboxOctagon()) other_hull.push_back(other * c);
   core::Pose2 pose;
@@ -312,6 +313,7 @@ double ClosestApproach(NavigationController& controller, const NavigationControl
     control.belief =
         core::Pose2{pose.x_m + belief_offset.x(), pose.y_m + belief_offset.y(), pose.theta_rad};
     control.position_sigma_m = position_sigma_m;
+    if (lost && carried_on) control.last_localized = pose;  // exact dead reckoning
     if (const std::optional<WheelSpeeds> w = controller.OnTick(control)) held = *w;
     const core::WheelTravel travel{
         held.left_radps * options.odometry.left_wheel_radius_m * kStepS,
@@ -324,6 +326,14 @@ double ClosestApproach(NavigationController& controller, const NavigationControl
   }
   if (end != nullptr) *end = pose;
   return closest_m;
+}
+
+// The message of a robot that publishes `pose`, declared lost or not.
+FleetMessage Published(const core::Pose2& pose, bool lost) {
+  FleetMessage m;
+  m.pose = pose;
+  m.lost = lost;
+  return m;
 }
 
 // A robot lost on an empty floor (nothing in its scans: another Robox's
@@ -357,6 +367,33 @@ TEST(NavigationControllerFleet, ALostRobotKeepsOffTheOthersPublishedHulls) {
   EXPECT_LT(ClosestWhileExploring(false), 0.01);
 }
 
+// The same robot, its belief 1 m to the side (a look-alike hypothesis): by
+// its belief it places the other's hull beside its way and drives into the
+// other; by where it was last localized, carried on, it keeps off.
+double ClosestWhileExploringOffBelief(bool carried_on) {
+  NavigationControllerOptions options;
+  options.step_s = kStepS;
+  options.explore_when_lost = true;
+  FleetCoordinator coordinator(2, FleetOptions{});
+  coordinator.SetStations({"a", "s", "b"});
+  NavigationController controller(Line(), RoboxOctagon(), MissionSequence::List({"b"}), options);
+  controller.SetFleet({&coordinator, 0});
+  coordinator.Join(1, RoboxOctagon());
+  const core::Pose2 other{1.5, 0.0, 0.0};
+  return ClosestApproach(
+      controller, options, other, true, 15.0,
+      [&] {
+        coordinator.Send(1, Published(other, false));
+        coordinator.Merge();
+      },
+      nullptr, nullptr, Eigen::Vector2d(0.0, 1.0), 0.0, carried_on);
+}
+
+TEST(NavigationControllerFleet, ALostRobotPlacesTheOthersWhereItWasLastLocalized) {
+  EXPECT_GT(ClosestWhileExploringOffBelief(true), 0.2);
+  EXPECT_LT(ClosestWhileExploringOffBelief(false), 0.01);
+}
+
 // What the driver's belief is off by (world frame) and how sure it is.
 struct DriverBelief {
   Eigen::Vector2d offset = Eigen::Vector2d::Zero();
@@ -386,14 +423,6 @@ double ClosestBesideAPublishedRobot(const core::Pose2& other, const FleetMessage
       end, nullptr, belief.offset, belief.position_sigma_m);
 }
 
-// The message of a robot that publishes `pose`, declared lost or not.
-FleetMessage Published(const core::Pose2& pose, bool lost) {
-  FleetMessage m;
-  m.pose = pose;
-  m.lost = lost;
-  return m;
-}
-
 // A robot drives from a to b past another that declared itself lost: it
 // stands 0.45 m beside the way, but its belief, published, is 0.3 m further
 // off (a false loss's hypothesis, expo_tours seed 1). Drawn grown by
@@ -410,6 +439,44 @@ double ClosestPassingALostRobot(bool declared_lost) {
 TEST(NavigationControllerFleet, KeepsFurtherFromARobotThatDeclaredItselfLost) {
   EXPECT_GT(ClosestPassingALostRobot(true), 0.05);
   EXPECT_LT(ClosestPassingALostRobot(false), 0.01);
+}
+
+// A robot not localized publishes, for the others to draw its hull at, where
+// it was last localized carried on by odometry — not its belief, which
+// follows global localization's hypotheses — and says it is lost; localized,
+// its belief.
+TEST(NavigationControllerFleet, ALostRobotPublishesWhereItWasLastLocalizedCarriedOn) {
+  NavigationControllerOptions options;
+  options.step_s = kStepS;
+  FleetCoordinator coordinator(2, FleetOptions{});
+  coordinator.SetStations({"a", "s", "b"});
+  NavigationController controller(Line(), RoboxOctagon(), MissionSequence::List({"b"}), options);
+  controller.SetFleet({&coordinator, 0});
+  const auto published = [&](const ControlTick& tick) {
+    controller.OnTick(tick);
+    coordinator.Merge();
+    return coordinator.board().message(0);
+  };
+  ControlTick lost{0, 0.0, core::Pose2{6.0, 3.0, 1.0}, core::Pose2{}, true};
+  lost.last_localized = core::Pose2{1.0, 0.2, 0.1};
+  const FleetMessage carried = published(lost);
+  ASSERT_TRUE(carried.pose);
+  EXPECT_TRUE(carried.lost);
+  EXPECT_DOUBLE_EQ(carried.pose->x_m, 1.0);
+  EXPECT_DOUBLE_EQ(carried.pose->y_m, 0.2);
+  EXPECT_DOUBLE_EQ(carried.pose->theta_rad, 0.1);
+  // Never localized (no such pose): its belief.
+  lost.tick = 1000;
+  lost.now_s = 5.0;
+  lost.last_localized.reset();
+  const FleetMessage believed = published(lost);
+  ASSERT_TRUE(believed.pose);
+  EXPECT_DOUBLE_EQ(believed.pose->x_m, 6.0);
+  const ControlTick localized{2000, 10.0, core::Pose2{0.5, 0.0, 0.0}, core::Pose2{}, false};
+  const FleetMessage fine = published(localized);
+  ASSERT_TRUE(fine.pose);
+  EXPECT_FALSE(fine.lost);
+  EXPECT_DOUBLE_EQ(fine.pose->x_m, 0.5);
 }
 
 // A robot lost on an empty floor explores straight ahead, over the station

@@ -66,6 +66,8 @@ class RecordingController : public Controller {
     last_lost = tick.localization_lost;
     last_position_sigma_m = tick.position_sigma_m;
     last_heading_sigma_rad = tick.heading_sigma_rad;
+    last_localized = tick.last_localized;
+    since_localized_m = tick.since_localized_m;
     return WheelSpeeds{1.0, 2.0};
   }
   std::optional<WheelSpeeds> OnScan(const core::LaserScan& scan,
@@ -76,6 +78,8 @@ class RecordingController : public Controller {
   bool last_lost = false;
   double last_position_sigma_m = -1.0;
   double last_heading_sigma_rad = -1.0;
+  std::optional<core::Pose2> last_localized;
+  double since_localized_m = -1.0;
 };
 
 NavigatorOptions Options() {
@@ -160,6 +164,40 @@ TEST(NavigatorTest, TellsTheControllerWhenTheEstimatorIsNotLocalized) {
   e->mode_ = LocalizationMode::kLocalized;
   navigator.Control(0, 1.5);
   EXPECT_FALSE(c->last_lost);
+}
+
+// Not localized, the controller is also told where the robot was when it
+// was last localized, carried on by its dead reckoning since — whatever the
+// estimator believes now — and how far it has driven.
+TEST(NavigatorTest, WhileNotLocalizedTellsWhereItWasLastLocalizedCarriedOn) {
+  auto estimator = std::make_unique<FakeEstimator>();
+  auto controller = std::make_unique<RecordingController>();
+  FakeEstimator* e = estimator.get();
+  RecordingController* c = controller.get();
+  Navigator navigator(Options(), std::move(estimator), std::move(controller));
+  const std::vector<core::EncoderReading> start{Reading(0.0, 0, 0)};
+  navigator.Sense(SensorFrame{0.0, start, {}, {}, {}});
+  navigator.Control(0, 0.0);  // localized at (5, -1, 0.5), odometry at (1, 2, 0)
+  EXPECT_FALSE(c->last_localized);
+  // Lost; the estimate jumps to a look-alike while the wheels turn once
+  // forward (2 pi r = 0.628 m straight on).
+  e->mode_ = LocalizationMode::kLost;
+  e->estimate_.pose = {20.0, 20.0, -2.0};
+  const std::vector<core::EncoderReading> turn{Reading(1.0, kTicksPerTurn, kTicksPerTurn)};
+  navigator.Sense(SensorFrame{1.0, turn, {}, {}, {}});
+  navigator.Control(1, 1.0);
+  const double d = 2.0 * std::numbers::pi * 0.1;
+  ASSERT_TRUE(c->last_localized);
+  EXPECT_NEAR(c->last_localized->x_m, 5.0 + d * std::cos(0.5), 1e-12);
+  EXPECT_NEAR(c->last_localized->y_m, -1.0 + d * std::sin(0.5), 1e-12);
+  EXPECT_NEAR(c->last_localized->theta_rad, 0.5, 1e-12);
+  EXPECT_NEAR(c->since_localized_m, d, 1e-12);
+  EXPECT_DOUBLE_EQ(c->last_belief.x_m, 20.0);  // the belief is the estimator's
+  // Localized again: nothing more to say.
+  e->mode_ = LocalizationMode::kLocalized;
+  navigator.Control(2, 1.5);
+  EXPECT_FALSE(c->last_localized);
+  EXPECT_EQ(c->since_localized_m, 0.0);
 }
 
 // Without a controller the stack commands nothing.
