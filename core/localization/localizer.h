@@ -236,6 +236,10 @@ class Localizer {
   const RobotMap& map() const { return map_; }
   const LocalizerOptions& options() const { return options_; }
   const OdometryBuffer& odometry_buffer() const { return buffer_; }
+  // Whether a cycle of `scan` (registered) that paired nothing at `state`
+  // shows a failure: the scan shows the map there (max_short_ratio_for_failure,
+  // min_wall_run_for_failure_m); a batch without a scan always does.
+  bool FailureShown(const LaserScan* scan, const PoseWithCovariance& state) const;
 
  private:
   struct Pending {
@@ -249,9 +253,6 @@ class Localizer {
   ObservationStatus ProcessScan(const LaserScan& scan);
   // `scan`: the registered scan the batch was extracted from, if any.
   ObservationStatus Integrate(const ObservationBatch& batch, const LaserScan* scan = nullptr);
-  // Whether a cycle without a pairing counts towards lost_failed_cycles
-  // (max_short_ratio_for_failure), at the state it was matched at.
-  bool FailureShown(const LaserScan* scan, const PoseWithCovariance& state) const;
   // kOutOfOrder, kTooOld, or kIntegrated when the stamp can still be integrated.
   ObservationStatus Admit(double stamp_s) const;
   bool MustWait(double stamp_s, double ready_s) const;

@@ -134,6 +134,7 @@ std::vector<std::pair<std::string, std::int64_t>> GlobalPoseEstimator::counters(
           {"falsified", c.falsified},
           {"free_space_rejections", c.free_space_rejections},
           {"free_space_falsified", c.free_space_falsified},
+          {"resumed_tracks", c.resumed_tracks},
           {"duplicates", c.duplicates},
           {"losses", c.losses},
           {"localizations", c.localizations}};

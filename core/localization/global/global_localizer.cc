@@ -105,6 +105,7 @@ GlobalLocalizer::GlobalLocalizer(RobotMap map, const GlobalLocalizerOptions& opt
 void GlobalLocalizer::Initialize(const Pose2& world_from_robot, const Eigen::Matrix3d& covariance,
                                  double stamp_s) {
   tracker_.Initialize(world_from_robot, covariance, stamp_s);
+  track_.reset();
   hypotheses_.clear();
   state_ = GlobalLocalizationState::kLocalized;
   lost_cause_ = GlobalLostCause::kNone;
@@ -117,6 +118,10 @@ void GlobalLocalizer::AddEncoders(const EncoderReading& reading) {
         WheelTravelFromEncoders(*last_encoders_, reading, options_.tracking.odometry);
     dead_reckoning_ =
         DiffDriveStep(dead_reckoning_, travel, options_.tracking.odometry.wheelbase_m);
+    if (track_) {
+      *track_ = DiffDriveStepWithCovariance(*track_, travel, options_.tracking.odometry.wheelbase_m,
+                                            options_.tracking.odometry.noise());
+    }
     odometry_.Append(std::max(reading.stamp_s, odometry_.latest_stamp_s()), travel);
   } else {
     odometry_.Reset(reading.stamp_s, PoseWithCovariance{}, dead_reckoning_);
@@ -249,6 +254,14 @@ void GlobalLocalizer::Generate(const ObservationBatch& batch, const LaserScan& r
   counters_.tree_nodes += last_search_.nodes;
   counters_.node_limit_hits += last_search_.node_limit_hit ? 1 : 0;
   counters_.hypothesis_limit_hits += last_search_.hypothesis_limit_hit ? 1 : 0;
+  if (found.empty() && track_) {
+    // The EKF's track resumed (resume_track): at the latest encoder time, a
+    // scan period at most after the batch.
+    found.push_back(LocationHypothesisData{*track_, {}, 0, 0.0});
+    ApplyCovarianceFloor(&found.back().location.covariance);
+    track_.reset();
+    ++counters_.resumed_tracks;
+  }
   if (found.empty()) {
     if (lost_cause_ == GlobalLostCause::kNone) lost_cause_ = GlobalLostCause::kNoHypotheses;
     return;
@@ -311,6 +324,7 @@ bool GlobalLocalizer::Verify(const LocalMap& local, Hypothesis* h) const {
 }
 
 std::vector<GlobalLocalizer::Hypothesis> GlobalLocalizer::TrackOne(const LocalMap& local,
+                                                                   const LaserScan& registered,
                                                                    Hypothesis& h, bool may_split) {
   TreeSearchStats stats;
   std::vector<LocationHypothesisData> sets = tree_.Track(local, h.state, &h.correlations, &stats);
@@ -340,7 +354,12 @@ std::vector<GlobalLocalizer::Hypothesis> GlobalLocalizer::TrackOne(const LocalMa
   // contradicted as much as one whose predictions fail the gates.
   const bool evidence = static_cast<int>(local.features.size()) >= options_.min_evidence;
   for (Hypothesis& o : offspring) {
-    o.failed_cycles = (o.pairings == 0 && evidence) ? h.failed_cycles + 1 : 0;
+    if (o.pairings > 0) {
+      o.failed_cycles = 0;
+    } else if (evidence &&
+               (!options_.hidden_failures_spare || tracker_.FailureShown(&registered, o.state))) {
+      o.failed_cycles = h.failed_cycles + 1;
+    }
   }
   return offspring;
 }
@@ -353,7 +372,7 @@ void GlobalLocalizer::TrackAll(const ObservationBatch& batch, const LaserScan& r
   for (std::size_t i = 0; i < hypotheses_.size(); ++i) {
     Predict(batch.stamp_s, &hypotheses_[i]);
     ApplyCovarianceFloor(&hypotheses_[i].state.covariance);
-    std::vector<Hypothesis> offspring = TrackOne(local, hypotheses_[i], i == 0);
+    std::vector<Hypothesis> offspring = TrackOne(local, registered, hypotheses_[i], i == 0);
     for (Hypothesis& o : offspring) {
       o.see_through_cycles = SeesThrough(registered, o.state) ? o.see_through_cycles + 1 : 0;
       next.push_back(std::move(o));
@@ -444,6 +463,9 @@ void GlobalLocalizer::Prune() {
 }
 
 void GlobalLocalizer::DeclareLost(GlobalLostCause cause) {
+  if (options_.resume_track && state_ == GlobalLocalizationState::kLocalized) {
+    track_ = tracker_.estimate();  // at the latest encoder time
+  }
   lost_estimate_ = Estimate();
   lost_estimate_stamp_s_ = odometry_.empty() ? 0.0 : odometry_.latest_stamp_s();
   state_ = GlobalLocalizationState::kLost;
@@ -456,6 +478,7 @@ void GlobalLocalizer::DeclareLost(GlobalLostCause cause) {
 }
 
 void GlobalLocalizer::Localize(const Hypothesis& h) {
+  track_.reset();
   tracker_.Initialize(h.state.pose, h.state.covariance, h.stamp_s);
   hypotheses_.clear();
   state_ = GlobalLocalizationState::kLocalized;

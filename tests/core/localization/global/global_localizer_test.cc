@@ -179,6 +179,86 @@ TEST(GlobalLocalizerTest, KidnapIsDeclaredLostAndRelocalized) {
   EXPECT_GE(run.localizer.counters().losses, 1);
 }
 
+// A crowd closing round the robot: ten visitors' fronts, 0.8 m wide, on a
+// 1.3 m circle about `robot`, hiding every wall.
+std::vector<testing::Wall> Crowded(const std::vector<testing::Wall>& walls, const Pose2& robot) {
+  std::vector<testing::Wall> all = walls;
+  for (int k = 0; k < 10; ++k) {
+    const double bearing = k * 0.2 * kPi;
+    const Eigen::Vector2d centre =
+        robot.translation() + 1.3 * Eigen::Vector2d(std::cos(bearing), std::sin(bearing));
+    const Eigen::Vector2d along(-std::sin(bearing), std::cos(bearing));
+    all.push_back({centre - 0.4 * along, centre + 0.4 * along});
+  }
+  return all;
+}
+
+struct CrowdedRun {
+  bool lost_in_crowd = false;
+  int hypotheses_in_crowd = -1;
+  double hypothesis_error_m = -1.0;  // the best hypothesis' at the crowd's end
+  long resumed_tracks = 0;
+  bool localized_after = false;
+};
+
+// A localized robot creeps on while a crowd closes round it: nothing pairs,
+// and after 2 s without a match over 0.1 m the EKF loses track. Nothing in
+// the crowd fits the room (the generation finds no hypothesis). Then the
+// crowd leaves.
+CrowdedRun LoseTrackInACrowd(bool resume_track, bool spare_hidden_failures = true) {
+  const std::vector<testing::Wall> walls = LWalls();
+  const RobotMap map = SegmentMap(walls, {1, 1}, walls.size(), Eigen::Vector2d::Zero());
+  GlobalLocalizerOptions options = Options();
+  options.tracking.lost_no_match_timeout_s = 2.0;
+  options.tracking.lost_no_match_travel_m = 0.1;
+  options.resume_track = resume_track;
+  options.hidden_failures_spare = spare_hidden_failures;
+  SimulatedRobot run(walls, map, {1.5, 1.0, 0.7}, options, FullCircle(8.0), 3);
+  for (int cycle = 0; cycle < 10; ++cycle) run.Cycle(30, 34);
+  EXPECT_TRUE(run.Localized());
+  CrowdedRun result;
+  for (int cycle = 0; cycle < 60; ++cycle) {
+    run.walls = Crowded(walls, run.drive.pose());
+    run.Cycle(30, 34);
+    result.lost_in_crowd |= run.localizer.state() != GlobalLocalizationState::kLocalized;
+  }
+  result.hypotheses_in_crowd = run.localizer.hypothesis_count();
+  if (!run.localizer.Hypotheses().empty()) {
+    result.hypothesis_error_m =
+        testing::PositionError(run.localizer.Hypotheses().front().location.pose, run.drive.pose());
+  }
+  result.resumed_tracks = run.localizer.counters().resumed_tracks;
+  run.walls = walls;
+  for (int cycle = 0; cycle < 20; ++cycle) run.Cycle(30, 34);
+  result.localized_after = run.Localized() && run.PositionError() < kLocalizedPositionM &&
+                           run.HeadingError() < kLocalizedHeadingRad;
+  return result;
+}
+
+// resume_track: the EKF's pose at the loss, carried on by odometry, is the
+// one hypothesis while the crowd hides the walls (its failures spared: the
+// scan shows no wall), within centimetres of the truth; without, the robot
+// is lost with none. Either way it is localized once the crowd has left.
+TEST(GlobalLocalizerTest, ALostTrackIsResumedWhileACrowdHidesTheWalls) {
+  const CrowdedRun resumed = LoseTrackInACrowd(true);
+  EXPECT_TRUE(resumed.lost_in_crowd);
+  EXPECT_EQ(resumed.hypotheses_in_crowd, 1);
+  EXPECT_GE(resumed.hypothesis_error_m, 0.0);
+  EXPECT_LT(resumed.hypothesis_error_m, kLocalizedPositionM);
+  EXPECT_EQ(resumed.resumed_tracks, 1);
+  EXPECT_TRUE(resumed.localized_after);
+  // The crowd's fronts pair with nothing: counted as failures, they falsify
+  // the resumed track within falsify_failed_cycles.
+  const CrowdedRun unspared = LoseTrackInACrowd(true, false);
+  EXPECT_EQ(unspared.resumed_tracks, 1);
+  EXPECT_EQ(unspared.hypotheses_in_crowd, 0);
+  const CrowdedRun thesis = LoseTrackInACrowd(false);
+  EXPECT_TRUE(thesis.lost_in_crowd);
+  EXPECT_EQ(thesis.hypotheses_in_crowd, 0);
+  EXPECT_EQ(thesis.resumed_tracks, 0);
+  EXPECT_TRUE(thesis.localized_after);
+}
+
 // A 12 x 4 m room (symmetric under a half turn) with a 1.6 m pillar at
 // (2, 1), seen by a 4 m laser from (-4, 0, 0) and driving east.
 struct PillarRoom {
