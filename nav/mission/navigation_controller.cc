@@ -591,7 +591,7 @@ bool NavigationController::ExploreStep(const ControlTick& tick) {
   const std::size_t sensed = points_.size();
   AppendOtherHulls(placed, placed.belief.Inverse(), options_.dwa_reach_m,
                    options_.lost_hull_margin_m, &points_);
-  // The stations the others hold, placed by the belief as their hulls are: a
+  // The stations the others hold, placed as their hulls are: a
   // robot falsely lost that explored into one came within 1 m of the node as
   // another arrived (expo_tours seed 1, 120.6 s, station_09; its belief was
   // 4 mm off). A kidnapped one keeps out of a phantom ring.

@@ -98,15 +98,15 @@ struct NavigationControllerOptions {
   // While not localized (lost or several hypotheses), after explore.settle_s
   // of standing, the controller drives by its senses alone: towards the
   // freest bearing (ExploreBearing) through the dynamic window, with the
-  // laser points, the blind zones' memory, the map's ghost barriers placed
-  // by the belief (glass the laser cannot see), other robots' contours and
-  // the bumpers, and with a coordinator the others' published hulls (grown,
-  // below) and the rings of the stations they hold, placed by the belief —
-  // not the map outline, which a wrong belief would misplace. Off: the robot
-  // stands.
+  // laser points, the blind zones' memory, the map's ghost barriers (glass
+  // the laser cannot see), other robots' contours and the bumpers, and with a
+  // coordinator the others' published hulls (grown, below) and the rings of
+  // the stations they hold — ghost barriers, hulls and rings placed where it
+  // was last localized, carried on by odometry (Placement) — not the map
+  // outline, which a wrong belief would misplace. Off: the robot stands.
   bool explore_when_lost = false;
   ExploreOptions explore;
-  // While it explores, the others' published hulls are placed by its belief
+  // While it explores, the others' published hulls are placed (Placement)
   // grown by this, m, [0, 2]: a robot falsely lost is most often within
   // decimetres of where it believes (expo_tours: nearly all losses under
   // 5 cm, up to 0.26 m after exploring), and its lasers see only the others'
