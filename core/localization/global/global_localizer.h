@@ -112,9 +112,10 @@ struct GlobalLocalizerOptions {
   // where it was; the generation needs several walls and finds none either,
   // and the robot stood lost for minutes (expo_rush seed 1, 2 h: 15 % of the
   // robots' localization cycles lost with no hypothesis; lost robots others
-  // drove into were a median 0.08 m from their pose carried on). A kidnapped robot's track is wrong: its beams read
-  // through the walls the track predicts (the free-space test falsifies it)
-  // or nothing pairs. Off: the thesis' framework (a loss is a generation).
+  // drove into were a median 0.08 m from their pose carried on). A kidnapped
+  // robot's track is wrong: its beams read through the walls the track
+  // predicts (the free-space test falsifies it) or nothing pairs. Off: the
+  // thesis' framework (a loss is a generation).
   bool resume_track = true;
   // A hypothesis's cycle without a pairing counts towards falsify_failed_cycles
   // only when the scan shows the map at it, as the EKF's lost detection asks
