@@ -35,13 +35,12 @@ struct ControlTick {
   double position_sigma_m = 0.0;
   double heading_sigma_rad = 0.0;
   // Not localized: the belief of the last tick it was localized, carried on
-  // by its dead reckoning since — where it is, unless it was carried off —
-  // and how far it has driven since (m); none while localized, or without an
-  // estimator. A belief once lost follows look-alike hypotheses: in expo_rush
-  // (seed 1, 2 h) lost robots stood a median 0.98 m from their belief when
-  // others touched them, and 0.08 m from this pose.
+  // by its dead reckoning since — where it is, unless it was carried off;
+  // none while localized, or without an estimator. A belief once lost
+  // follows look-alike hypotheses: in expo_rush (seed 1, 2 h) lost robots
+  // stood a median 0.98 m from their belief when others touched them, and
+  // 0.08 m from this pose.
   std::optional<core::Pose2> last_localized = std::nullopt;
-  double since_localized_m = 0.0;
 };
 
 // Where the robot is when a scan arrives (after the tick's odometry update).

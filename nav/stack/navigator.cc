@@ -13,7 +13,6 @@ Navigator::Navigator(const NavigatorOptions& options, std::unique_ptr<PoseEstima
     : odometry_(options.odometry, options.start_pose),
       estimator_(std::move(estimator)),
       controller_(std::move(controller)),
-      last_control_odometry_(options.start_pose),
       collision_refractory_s_(options.collision_refractory_s) {
   if (!(options.collision_refractory_s >= 0.0)) {
     throw std::invalid_argument("NavigatorOptions.collision_refractory_s must be >= 0");
@@ -24,14 +23,10 @@ std::optional<WheelSpeeds> Navigator::Control(std::int64_t tick, double now_s) {
   if (!controller_) return std::nullopt;
   const core::Pose2& odometry = odometry_.pose();
   ControlTick control{tick, now_s, belief(), odometry, not_localized()};
-  since_localized_m_ += (odometry.translation() - last_control_odometry_.translation()).norm();
-  last_control_odometry_ = odometry;
   if (estimator_ && !control.localization_lost) {
     localized_at_ = Anchor{control.belief, odometry};
-    since_localized_m_ = 0.0;
   } else if (localized_at_) {
     control.last_localized = localized_at_->belief * (localized_at_->odometry.Inverse() * odometry);
-    control.since_localized_m = since_localized_m_;
   }
   if (estimator_) {
     const Eigen::Matrix3d& p = estimator_->estimate().covariance;

@@ -89,15 +89,13 @@ class Navigator {
   // What the bumpers felt this frame, from their readings (in order).
   BumperContact FeelBumpers(const SensorFrame& frame);
 
-  // The belief and the odometry at the last Control() while localized, and
-  // the odometry's travel since (ControlTick::last_localized).
+  // The belief and the odometry at the last Control() while localized
+  // (ControlTick::last_localized).
   struct Anchor {
     core::Pose2 belief;
     core::Pose2 odometry;
   };
   std::optional<Anchor> localized_at_;
-  double since_localized_m_ = 0.0;
-  core::Pose2 last_control_odometry_;
 
   std::uint32_t bumper_zones_ = 0;  // pressed at the last bumper reading
   double collision_refractory_s_ = 1.0;

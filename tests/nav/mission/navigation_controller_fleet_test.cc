@@ -340,8 +340,12 @@ FleetMessage Published(const core::Pose2& pose, bool lost) {
 // recessed body can be all but invisible) explores straight ahead, where
 // another robot stands 1.5 m off. In the fleet it places the other's
 // published hull by its belief, grown by lost_hull_margin_m, and keeps off
-// it; alone, it drives into it.
-double ClosestWhileExploring(bool fleet) {
+// it; alone, it drives into it. `belief_offset`: its belief that far off
+// (world frame); `carried_on`: where it was last localized, carried on, is
+// the truth.
+double ClosestWhileExploring(bool fleet,
+                             const Eigen::Vector2d& belief_offset = Eigen::Vector2d::Zero(),
+                             bool carried_on = false) {
   NavigationControllerOptions options;
   options.step_s = kStepS;
   options.explore_when_lost = true;
@@ -353,13 +357,14 @@ double ClosestWhileExploring(bool fleet) {
     coordinator.Join(1, RoboxOctagon());
   }
   const core::Pose2 other{1.5, 0.0, 0.0};
-  return ClosestApproach(controller, options, other, true, 15.0, [&] {
-    if (!fleet) return;
-    FleetMessage m;
-    m.pose = other;
-    coordinator.Send(1, m);
-    coordinator.Merge();
-  });
+  return ClosestApproach(
+      controller, options, other, true, 15.0,
+      [&] {
+        if (!fleet) return;
+        coordinator.Send(1, Published(other, false));
+        coordinator.Merge();
+      },
+      nullptr, nullptr, belief_offset, 0.0, carried_on);
 }
 
 TEST(NavigationControllerFleet, ALostRobotKeepsOffTheOthersPublishedHulls) {
@@ -370,28 +375,10 @@ TEST(NavigationControllerFleet, ALostRobotKeepsOffTheOthersPublishedHulls) {
 // The same robot, its belief 1 m to the side (a look-alike hypothesis): by
 // its belief it places the other's hull beside its way and drives into the
 // other; by where it was last localized, carried on, it keeps off.
-double ClosestWhileExploringOffBelief(bool carried_on) {
-  NavigationControllerOptions options;
-  options.step_s = kStepS;
-  options.explore_when_lost = true;
-  FleetCoordinator coordinator(2, FleetOptions{});
-  coordinator.SetStations({"a", "s", "b"});
-  NavigationController controller(Line(), RoboxOctagon(), MissionSequence::List({"b"}), options);
-  controller.SetFleet({&coordinator, 0});
-  coordinator.Join(1, RoboxOctagon());
-  const core::Pose2 other{1.5, 0.0, 0.0};
-  return ClosestApproach(
-      controller, options, other, true, 15.0,
-      [&] {
-        coordinator.Send(1, Published(other, false));
-        coordinator.Merge();
-      },
-      nullptr, nullptr, Eigen::Vector2d(0.0, 1.0), 0.0, carried_on);
-}
-
 TEST(NavigationControllerFleet, ALostRobotPlacesTheOthersWhereItWasLastLocalized) {
-  EXPECT_GT(ClosestWhileExploringOffBelief(true), 0.2);
-  EXPECT_LT(ClosestWhileExploringOffBelief(false), 0.01);
+  const Eigen::Vector2d aside(0.0, 1.0);
+  EXPECT_GT(ClosestWhileExploring(true, aside, true), 0.2);
+  EXPECT_LT(ClosestWhileExploring(true, aside, false), 0.01);
 }
 
 // What the driver's belief is off by (world frame) and how sure it is.

@@ -67,7 +67,6 @@ class RecordingController : public Controller {
     last_position_sigma_m = tick.position_sigma_m;
     last_heading_sigma_rad = tick.heading_sigma_rad;
     last_localized = tick.last_localized;
-    since_localized_m = tick.since_localized_m;
     return WheelSpeeds{1.0, 2.0};
   }
   std::optional<WheelSpeeds> OnScan(const core::LaserScan& scan,
@@ -79,7 +78,6 @@ class RecordingController : public Controller {
   double last_position_sigma_m = -1.0;
   double last_heading_sigma_rad = -1.0;
   std::optional<core::Pose2> last_localized;
-  double since_localized_m = -1.0;
 };
 
 NavigatorOptions Options() {
@@ -168,7 +166,7 @@ TEST(NavigatorTest, TellsTheControllerWhenTheEstimatorIsNotLocalized) {
 
 // Not localized, the controller is also told where the robot was when it
 // was last localized, carried on by its dead reckoning since — whatever the
-// estimator believes now — and how far it has driven.
+// estimator believes now.
 TEST(NavigatorTest, WhileNotLocalizedTellsWhereItWasLastLocalizedCarriedOn) {
   auto estimator = std::make_unique<FakeEstimator>();
   auto controller = std::make_unique<RecordingController>();
@@ -191,13 +189,11 @@ TEST(NavigatorTest, WhileNotLocalizedTellsWhereItWasLastLocalizedCarriedOn) {
   EXPECT_NEAR(c->last_localized->x_m, 5.0 + d * std::cos(0.5), 1e-12);
   EXPECT_NEAR(c->last_localized->y_m, -1.0 + d * std::sin(0.5), 1e-12);
   EXPECT_NEAR(c->last_localized->theta_rad, 0.5, 1e-12);
-  EXPECT_NEAR(c->since_localized_m, d, 1e-12);
   EXPECT_DOUBLE_EQ(c->last_belief.x_m, 20.0);  // the belief is the estimator's
   // Localized again: nothing more to say.
   e->mode_ = LocalizationMode::kLocalized;
   navigator.Control(2, 1.5);
   EXPECT_FALSE(c->last_localized);
-  EXPECT_EQ(c->since_localized_m, 0.0);
 }
 
 // Without a controller the stack commands nothing.
