@@ -253,34 +253,41 @@ void ScanObstacles::InRobot(const core::Pose2& odom_from_robot, const core::Pose
       if (q.squaredNorm() <= reach2) points_in_robot->push_back(q);
     }
   }
-  // A map point deeper than kGhostInsideM in the polygon cannot be where the
-  // belief puts it; a remembered reading that deep is where the robot now
-  // stands, and what it saw there has gone.
-  const auto under_robot = [&](const Eigen::Vector2d& q) {
-    if (!footprint_convex_ || q.norm() >= footprint_radius_m_) return false;
-    Eigen::Vector2d normal;
-    return SignedDistance(footprint_, q, &normal) < -kGhostInsideM;
-  };
   for (const Remembered& m : memory_) {
     for (const Eigen::Vector2d& p : m.in_odom) {
       const Eigen::Vector2d q = robot_from_odom.Apply(p);
-      if (q.squaredNorm() <= reach2 && !Covered(q) && !under_robot(q)) {
+      if (q.squaredNorm() <= reach2 && !Covered(q) && !UnderRobot(q)) {
         points_in_robot->push_back(q);
       }
     }
   }
-  const core::PointTransform robot_from_world(world_from_robot.Inverse());
-  const Eigen::Vector2d centre = world_from_robot.translation();
-  barriers_.ForEachNear(centre, reach_m, [&](const Eigen::Vector2d& g) {
-    const Eigen::Vector2d q = robot_from_world.Apply(g);
-    if (!under_robot(q)) points_in_robot->push_back(q);
-  });
+  AppendGhostBarriers(world_from_robot, reach_m, points_in_robot);
   if (!map_outline) return;
-  outline_.ForEachNear(centre, std::min(reach_m, footprint_radius_m_ + kOutlineReachM),
+  const core::PointTransform robot_from_world(world_from_robot.Inverse());
+  outline_.ForEachNear(world_from_robot.translation(),
+                       std::min(reach_m, footprint_radius_m_ + kOutlineReachM),
                        [&](const Eigen::Vector2d& w) {
                          const Eigen::Vector2d q = robot_from_world.Apply(w);
-                         if (!Covered(q) && !under_robot(q)) points_in_robot->push_back(q);
+                         if (!Covered(q) && !UnderRobot(q)) points_in_robot->push_back(q);
                        });
+}
+
+void ScanObstacles::AppendGhostBarriers(const core::Pose2& world_from_robot, double reach_m,
+                                        std::vector<Eigen::Vector2d>* points_in_robot) const {
+  const core::PointTransform robot_from_world(world_from_robot.Inverse());
+  barriers_.ForEachNear(world_from_robot.translation(), reach_m, [&](const Eigen::Vector2d& g) {
+    const Eigen::Vector2d q = robot_from_world.Apply(g);
+    if (!UnderRobot(q)) points_in_robot->push_back(q);
+  });
+}
+
+// A map point deeper than kGhostInsideM in the polygon cannot be where the
+// belief puts it; a remembered reading that deep is where the robot now
+// stands, and what it saw there has gone.
+bool ScanObstacles::UnderRobot(const Eigen::Vector2d& q) const {
+  if (!footprint_convex_ || q.norm() >= footprint_radius_m_) return false;
+  Eigen::Vector2d normal;
+  return SignedDistance(footprint_, q, &normal) < -kGhostInsideM;
 }
 
 void ScanObstacles::ForgetBefore(double stamp_s) {

@@ -142,6 +142,11 @@ class ScanObstacles {
   void InRobot(const core::Pose2& odom_from_robot, const core::Pose2& world_from_robot,
                double reach_m, std::vector<Eigen::Vector2d>* points_in_robot,
                bool map_outline = true) const;
+  // Appends the filled ghost barriers within `reach_m` of the robot, placed
+  // by `world_from_robot`, in the robot frame (InRobot's barriers; a robot
+  // that is not localized places them by each pose it may be at).
+  void AppendGhostBarriers(const core::Pose2& world_from_robot, double reach_m,
+                           std::vector<Eigen::Vector2d>* points_in_robot) const;
   // Drops the remembered blind-zone readings of scans before `stamp_s` (the
   // deadlock rule's: NavigationController::GatherDrivePoints).
   void ForgetBefore(double stamp_s);
@@ -178,6 +183,9 @@ class ScanObstacles {
     double taken_s = 0.0;  // scan time
     std::vector<Eigen::Vector2d> in_odom;
   };
+  // True when a map point or remembered reading lies deeper than
+  // kGhostInsideM inside the robot's polygon (robot frame).
+  bool UnderRobot(const Eigen::Vector2d& q) const;
   // True when a laser's current field of view covers the point (robot frame).
   bool Covered(const Eigen::Vector2d& point_in_robot) const;
   static void SetCone(LaserPoints* laser);

@@ -252,8 +252,14 @@ void NavigationController::OnBumper(const core::BumperReading& reading,
 std::optional<WheelSpeeds> NavigationController::OnTick(const ControlTick& tick) {
   if (tick.tick % dwa_period_ticks_ == 0) {
     held_ = output_;
-    Cycle(tick);
-    if (fleet_.coordinator) Publish(tick);
+    const ControlTick steered = Steered(tick);
+    Cycle(steered);
+    if (fleet_.coordinator) Publish(steered);
+    if (!options_.hold_belief_at_goal || !queue_.localization_paused() || tick.localization_lost) {
+      goal_hold_.reset();
+    } else if (!goal_hold_) {
+      goal_hold_ = HeldBelief{steered.belief, tick.odometry};
+    }
   }
   // A safety stop (the window found no admissible command) and a pressed
   // bumper go to the motors at once, as Robox's security circuit stops it (A.5).
@@ -267,6 +273,13 @@ std::optional<WheelSpeeds> NavigationController::OnTick(const ControlTick& tick)
   cycled_ = true;
   output_ = next;
   return ToWheels(output_);
+}
+
+ControlTick NavigationController::Steered(const ControlTick& tick) const {
+  if (!goal_hold_ || tick.localization_lost) return tick;
+  ControlTick steered = tick;
+  steered.belief = goal_hold_->belief * (goal_hold_->odometry.Inverse() * tick.odometry);
+  return steered;
 }
 
 void NavigationController::Cycle(const ControlTick& tick) {
@@ -563,76 +576,6 @@ DwaResult NavigationController::Steer(const ControlTick& tick, const DwaGoal& go
     arc_in_world_.push_back(tick.belief * p);
   }
   return result;
-}
-
-void NavigationController::ForgetTouchesBefore(double s) {
-  std::erase_if(touched_in_odometry_, [&](const auto& touched) { return touched.first < s; });
-}
-
-void NavigationController::Explore(const ControlTick& tick) {
-  const bool stalled = ExploreStep(tick);
-  // A robot relocalizing holds its mission: a deadlock it is in still counts.
-  if (state_ == State::kRelocalizing) UpdateDeadlock(tick, stalled);
-}
-
-bool NavigationController::ExploreStep(const ControlTick& tick) {
-  if (!options_.explore_when_lost || !tick.localization_lost ||
-      tick.now_s - lost_since_s_ < options_.explore.settle_s) {
-    points_.clear();  // standing: only the overlap the deadlock monitor reads
-    AppendContours(tick, clip_contours_, &points_);
-    return true;
-  }
-  // The map's ghost barriers and the others' hulls and stations are placed
-  // where it was last localized, carried on by odometry (Placement).
-  ControlTick placed = tick;
-  placed.belief = Placement(tick);
-  obstacles_.InRobot(tick.odometry, placed.belief, options_.dwa_reach_m, &points_,
-                     /*map_outline=*/false);
-  const std::size_t sensed = points_.size();
-  AppendOtherHulls(placed, placed.belief.Inverse(), options_.dwa_reach_m,
-                   options_.lost_hull_margin_m, &points_);
-  // The stations the others hold, placed as their hulls are: a
-  // robot falsely lost that explored into one came within 1 m of the node as
-  // another arrived (expo_tours seed 1, 120.6 s, station_09; its belief was
-  // 4 mm off). A kidnapped one keeps out of a phantom ring.
-  if (fleet_.coordinator) {
-    AppendStationRings(placed.belief, placed.belief.Inverse(), options_.dwa_reach_m, &points_);
-  }
-  points_.erase(
-      std::remove_if(points_.begin() + static_cast<std::ptrdiff_t>(sensed), points_.end(),
-                     [&](const Eigen::Vector2d& p) { return core::Contains(margin_outline_, p); }),
-      points_.end());
-  // Contours clipped as the deadlock rule says: a lost robot in a pile of
-  // robots sees their markers as well as a localized one does.
-  AppendContours(placed, clip_contours_, &points_);
-  if (tick.now_s <= bumper_until_s_) {
-    points_.insert(points_.end(), bumper_points_.begin(), bumper_points_.end());
-  }
-  std::optional<double> current;
-  if (explore_heading_) {
-    current = core::NormalizeAngle(*explore_heading_ - tick.odometry.theta_rad);
-  }
-  // What the bumpers met lately, for the bearing alone (ExploreOptions::contact_memory_s):
-  // appended for the choice, then dropped again before the dynamic window.
-  ForgetTouchesBefore(tick.now_s - options_.explore.contact_memory_s);
-  const std::size_t seen = points_.size();
-  const core::PointTransform robot_from_odometry(tick.odometry.Inverse());
-  for (const auto& [at_s, p] : touched_in_odometry_) {
-    points_.push_back(robot_from_odometry.Apply(p));
-  }
-  const std::optional<double> bearing = ExploreBearing(
-      points_, current, circumradius_m_ + options_.dwa.safety_margin_m, options_.explore);
-  points_.resize(seen);
-  arc_in_world_.clear();
-  if (!bearing) {  // nowhere open: stand until the others or the crowd move
-    explore_heading_.reset();
-    return true;
-  }
-  explore_heading_ = core::NormalizeAngle(*bearing + tick.odometry.theta_rad);
-  DwaGoal goal;
-  goal.target_in_robot = AheadAlong(*bearing);
-  goal.speed_limit_mps = options_.explore.speed_mps;
-  return !Steer(tick, goal).admissible_found;
 }
 
 void NavigationController::EndMission(const ControlTick& tick, bool completed, AbortReason reason) {

@@ -95,6 +95,16 @@ struct NavigationControllerOptions {
   // mission is aborted as lost only when this long passes first. 0: aborted
   // at once. s, [0, 3600]. Chosen: the kidnap recovery bound of 30 s.
   double relocalization_timeout_s = 30.0;
+  // Near the goal (CommandQueueOptions::localization_pause_radius_m) the
+  // thesis deactivates localization (§6.3.3), "because localization causes
+  // the robot pose estimates to be noisy such that for any position
+  // controller the goal cannot be reached". true: the controller steers by
+  // the belief it held on entering that radius, carried on by odometry,
+  // while the estimator runs on, so a robot kidnapped at its goal is noticed
+  // there (kidnap_recovery: one kidnapped while turning onto its goal
+  // heading stood blocked, its localization paused, for good). false: the
+  // thesis' pause (localization_paused()).
+  bool hold_belief_at_goal = true;
   // While not localized (lost or several hypotheses), after explore.settle_s
   // of standing, the controller drives by its senses alone: towards the
   // freest bearing (ExploreBearing) through the dynamic window, with the
@@ -102,8 +112,10 @@ struct NavigationControllerOptions {
   // the laser cannot see), other robots' contours and the bumpers, and with a
   // coordinator the others' published hulls (grown, below) and the rings of
   // the stations they hold — ghost barriers, hulls and rings placed where it
-  // was last localized, carried on by odometry (Placement) — not the map
-  // outline, which a wrong belief would misplace. Off: the robot stands.
+  // was last localized, carried on by odometry (Placement), and the ghost
+  // barriers also by a lone hypothesis (ControlTick::lone_hypothesis) — not
+  // the map outline, which a wrong belief would misplace. Off: the robot
+  // stands.
   bool explore_when_lost = false;
   ExploreOptions explore;
   // While it explores, the others' published hulls are placed (Placement)
@@ -241,7 +253,9 @@ class NavigationController : public Controller {
                                     const ScanContext& context) override;
   void OnBumper(const core::BumperReading& reading, const ScanContext& context) override;
   std::optional<MissionStatus> mission() const override;
-  bool localization_paused() const override { return queue_.localization_paused(); }
+  bool localization_paused() const override {
+    return !options_.hold_belief_at_goal && queue_.localization_paused();
+  }
   void TakeEvents(std::vector<NavigationEvent>* events) override;
   const NavigationFigures* navigation() const override;
   std::optional<NavigationPicture> picture() const override;
@@ -279,6 +293,9 @@ class NavigationController : public Controller {
   static core::Pose2 Placement(const ControlTick& tick) {
     return tick.last_localized ? *tick.last_localized : tick.belief;
   }
+  // `tick` with the belief held at the goal (hold_belief_at_goal) while
+  // the queue would pause localization and the estimator is localized.
+  ControlTick Steered(const ControlTick& tick) const;
   // Not localized: drives towards open space (explore_when_lost).
   void Explore(const ControlTick& tick);
   // Drops the bumper contacts the explorer remembers from before `s`.
@@ -370,6 +387,13 @@ class NavigationController : public Controller {
   std::int64_t band_period_ticks_ = 1;
 
   State state_ = State::kWaiting;
+  // The belief and odometry when the queue paused localization at the goal
+  // (hold_belief_at_goal); none elsewhere.
+  struct HeldBelief {
+    core::Pose2 belief;
+    core::Pose2 odometry;
+  };
+  std::optional<HeldBelief> goal_hold_;
   Mission current_;
   int mission_index_ = -1;
   double mission_start_s_ = 0.0;

@@ -43,6 +43,10 @@ class FakeEstimator : public PoseEstimator {
   const core::PoseWithCovariance& estimate() const override { return estimate_; }
   std::string lost_reason() const override { return "none"; }
   LocalizationMode mode() const override { return mode_; }
+  std::vector<LocationHypothesis> hypotheses() const override {
+    if (mode_ == LocalizationMode::kLost) return {};
+    return std::vector<LocationHypothesis>(hypotheses_, LocationHypothesis{estimate_, 0, 0.0});
+  }
   void OnContact(const BumperContact& contact) override {
     collisions += contact.press ? 1 : 0;
     held_s += contact.held_s;
@@ -56,6 +60,7 @@ class FakeEstimator : public PoseEstimator {
   int scans_seen = 0;
   core::PoseWithCovariance estimate_{core::Pose2{5.0, -1.0, 0.5}, Eigen::Matrix3d::Identity()};
   LocalizationMode mode_ = LocalizationMode::kLocalized;
+  std::size_t hypotheses_ = 1;  // while not localized
 };
 
 // A controller double: remembers the belief of its last tick, answers scans.
@@ -67,6 +72,7 @@ class RecordingController : public Controller {
     last_position_sigma_m = tick.position_sigma_m;
     last_heading_sigma_rad = tick.heading_sigma_rad;
     last_localized = tick.last_localized;
+    lone_hypothesis = tick.lone_hypothesis;
     return WheelSpeeds{1.0, 2.0};
   }
   std::optional<WheelSpeeds> OnScan(const core::LaserScan& scan,
@@ -78,6 +84,7 @@ class RecordingController : public Controller {
   double last_position_sigma_m = -1.0;
   double last_heading_sigma_rad = -1.0;
   std::optional<core::Pose2> last_localized;
+  bool lone_hypothesis = false;
 };
 
 NavigatorOptions Options() {
@@ -194,6 +201,28 @@ TEST(NavigatorTest, WhileNotLocalizedTellsWhereItWasLastLocalizedCarriedOn) {
   e->mode_ = LocalizationMode::kLocalized;
   navigator.Control(2, 1.5);
   EXPECT_FALSE(c->last_localized);
+}
+
+// The controller is told when the estimator, not localized, holds a single
+// hypothesis (its belief): not while localized, lost or among several.
+TEST(NavigatorTest, TellsTheControllerWhenItsOneHypothesisIsNotYetDetermined) {
+  auto estimator = std::make_unique<FakeEstimator>();
+  auto controller = std::make_unique<RecordingController>();
+  FakeEstimator* e = estimator.get();
+  RecordingController* c = controller.get();
+  Navigator navigator(Options(), std::move(estimator), std::move(controller));
+  navigator.Control(0, 0.0);
+  EXPECT_FALSE(c->lone_hypothesis);
+  e->mode_ = LocalizationMode::kNotLocalized;
+  e->hypotheses_ = 3;
+  navigator.Control(1, 0.1);
+  EXPECT_FALSE(c->lone_hypothesis);
+  e->hypotheses_ = 1;
+  navigator.Control(2, 0.2);
+  EXPECT_TRUE(c->lone_hypothesis);
+  e->mode_ = LocalizationMode::kLost;
+  navigator.Control(3, 0.3);
+  EXPECT_FALSE(c->lone_hypothesis);
 }
 
 // Without a controller the stack commands nothing.
