@@ -19,19 +19,25 @@ constexpr std::int64_t kCountBytes = 2;
 constexpr std::int64_t kNodeBytes = 2;
 constexpr std::int64_t kWeightBytes = 4;
 constexpr std::int64_t kPoseFlagBytes = 1;
-constexpr std::int64_t kPoseBytes = 6 * 4;  // x, y, theta, speed, turn rate, sigma
+constexpr std::int64_t kPoseBytes = 6 * 4;    // x, y, theta, speed, turn rate, sigma
+constexpr std::int64_t kAlsoAtBytes = 3 * 4;  // x, y, theta
 constexpr std::int64_t kStationBytes = 2;
 constexpr std::int64_t kVertexBytes = 2 * 4;
 
 bool SameMessage(const FleetMessage& a, const FleetMessage& b) {
   if (a.reserved_station != b.reserved_station || a.occupied_station != b.occupied_station ||
       a.pose.has_value() != b.pose.has_value() || a.lost != b.lost ||
-      a.path.size() != b.path.size() || a.claims != b.claims) {
+      a.also_at.has_value() != b.also_at.has_value() || a.path.size() != b.path.size() ||
+      a.claims != b.claims) {
     return false;
   }
   if (a.pose && (a.pose->x_m != b.pose->x_m || a.pose->y_m != b.pose->y_m ||
                  a.pose->theta_rad != b.pose->theta_rad || a.speed_mps != b.speed_mps ||
                  a.turn_rate_radps != b.turn_rate_radps)) {
+    return false;
+  }
+  if (a.also_at && (a.also_at->x_m != b.also_at->x_m || a.also_at->y_m != b.also_at->y_m ||
+                    a.also_at->theta_rad != b.also_at->theta_rad)) {
     return false;
   }
   for (std::size_t i = 0; i < a.path.size(); ++i) {
@@ -57,7 +63,8 @@ void FleetOptions::Validate() const {
 std::int64_t EncodedBytes(const FleetMessage& message) {
   return kRobotIndexBytes + kCountBytes +
          static_cast<std::int64_t>(message.path.size()) * (kNodeBytes + kWeightBytes) +
-         kPoseFlagBytes + (message.pose ? kPoseBytes : 0) + 2 * kStationBytes + kCountBytes +
+         kPoseFlagBytes + (message.pose ? kPoseBytes : 0) + (message.also_at ? kAlsoAtBytes : 0) +
+         2 * kStationBytes + kCountBytes +
          static_cast<std::int64_t>(message.claims.size()) * kNodeBytes;
 }
 

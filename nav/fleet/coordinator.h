@@ -98,12 +98,15 @@ struct FleetMessage {
   // 1 sigma of where its outline is (with the pose): its position's plus its
   // circumradius times its heading's, m.
   double outline_sigma_m = 0.0;
+  // Not localized with one hypothesis that is not `pose`: where that
+  // hypothesis puts it. The others draw its hull at both poses.
+  std::optional<core::Pose2> also_at = std::nullopt;
 };
 
 // Bytes of the compact encoding of a message (a 2-byte robot index; per path
 // element a 2-byte node index and a 4-byte float weight, plus a 2-byte count;
 // the pose, speed, turn rate and outline sigma as six 4-byte floats, a 1-byte flag that also holds
-// `lost`; two 2-byte stations;
+// `lost` and whether `also_at` follows, as three 4-byte floats; two 2-byte stations;
 // the claims as a 2-byte count and 2 bytes each).
 std::int64_t EncodedBytes(const FleetMessage& message);
 

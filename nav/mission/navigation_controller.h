@@ -351,6 +351,11 @@ class NavigationController : public Controller {
   void AppendOtherHulls(const ControlTick& tick, const core::Pose2& frame_from_world,
                         double reach_m, double margin_m,
                         std::vector<Eigen::Vector2d>* points) const;
+  // One of them, `m`'s robot of outline `hull`, drawn at `at`.
+  void AppendOtherHull(const ControlTick& tick, const core::Pose2& frame_from_world, double reach_m,
+                       double margin_m, const FleetMessage& m,
+                       const std::vector<Eigen::Vector2d>& hull, const core::Pose2& at,
+                       std::vector<Eigen::Vector2d>* points) const;
   // Rings of virtual points that keep this robot out of the stations the
   // others hold (fleet_station_clear_m), in the frame `frame_from_world`.
   void AppendStationRings(const core::Pose2& belief, const core::Pose2& frame_from_world,

@@ -205,26 +205,33 @@ bool NavigationController::ExploreStep(const ControlTick& tick) {
     return true;
   }
   // The map's ghost barriers and the others' hulls and stations are placed
-  // where it was last localized, carried on by odometry (Placement).
+  // where it was last localized, carried on by odometry (Placement), and
+  // with one hypothesis by that too: where either pose puts an exit or
+  // another robot, it keeps out. (expo_rush seed 2: a Robox drove out
+  // through the exit its pose carried on placed 1.3 m off, its lone
+  // hypothesis 2-4 cm from the truth.)
   ControlTick placed = tick;
   placed.belief = Placement(tick);
+  const bool lone = tick.lone_hypothesis && tick.last_localized;
   obstacles_.InRobot(tick.odometry, placed.belief, options_.dwa_reach_m, &points_,
                      /*map_outline=*/false);
-  // A lone hypothesis places the ghost barriers too: where either pose puts
-  // an exit, the robot keeps out (seed 2's Robox drove out through the exit
-  // its drifted last localized pose placed 1.3 m off).
-  if (tick.lone_hypothesis && tick.last_localized) {
-    obstacles_.AppendGhostBarriers(tick.belief, options_.dwa_reach_m, &points_);
-  }
+  if (lone) obstacles_.AppendGhostBarriers(tick.belief, options_.dwa_reach_m, &points_);
   const std::size_t sensed = points_.size();
   AppendOtherHulls(placed, placed.belief.Inverse(), options_.dwa_reach_m,
                    options_.lost_hull_margin_m, &points_);
+  if (lone) {
+    AppendOtherHulls(tick, tick.belief.Inverse(), options_.dwa_reach_m, options_.lost_hull_margin_m,
+                     &points_);
+  }
   // The stations the others hold, placed as their hulls are: a
   // robot falsely lost that explored into one came within 1 m of the node as
   // another arrived (expo_tours seed 1, 120.6 s, station_09; its belief was
   // 4 mm off). A kidnapped one keeps out of a phantom ring.
   if (fleet_.coordinator) {
     AppendStationRings(placed.belief, placed.belief.Inverse(), options_.dwa_reach_m, &points_);
+    if (lone) {
+      AppendStationRings(tick.belief, tick.belief.Inverse(), options_.dwa_reach_m, &points_);
+    }
   }
   points_.erase(
       std::remove_if(points_.begin() + static_cast<std::ptrdiff_t>(sensed), points_.end(),

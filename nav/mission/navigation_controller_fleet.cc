@@ -267,6 +267,13 @@ void NavigationController::Publish(const ControlTick& tick) {
   // the 100 robot contacts were a localized robot driving into a lost one).
   m.pose = tick.localization_lost ? Placement(tick) : tick.belief;
   m.lost = tick.localization_lost;
+  // With one hypothesis it may just as well be there (a kidnapped robot's
+  // pose carried on is wrong, its lone hypothesis often right: expo_rush
+  // seed 2, 989.7 s, robox_13 drove into robox_09 kidnapped 12 m and not
+  // yet localized again, its hypothesis 2 mm off).
+  if (tick.localization_lost && tick.lone_hypothesis && tick.last_localized) {
+    m.also_at = tick.belief;
+  }
   m.speed_mps = 0.5 * (command_.left_mps + command_.right_mps);
   m.turn_rate_radps = (command_.right_mps - command_.left_mps) / options_.dwa.wheelbase_m;
   m.outline_sigma_m = tick.position_sigma_m + circumradius_m_ * tick.heading_sigma_rad;
@@ -422,77 +429,91 @@ void NavigationController::AppendOtherHulls(const ControlTick& tick,
                                             double margin_m,
                                             std::vector<Eigen::Vector2d>* points) const {
   if (!fleet_.coordinator) return;
-  const core::Pose2& belief = tick.belief;
-  // Outline points at most this far apart (the ghost barriers' fill).
-  const double spacing_m = options_.ghost_barrier.fill_m;
   const FleetBoard& board = fleet_.coordinator->board();
   for (int r = 0; r < board.robots(); ++r) {
     const FleetMessage& m = board.message(r);
-    const std::vector<Eigen::Vector2d>& hull = board.footprint(r);
-    if (r == fleet_.robot || !m.pose || hull.empty()) continue;
-    // A robot that declared itself lost publishes a belief that may be as far
-    // off as the one a lost robot has of the others (lost_hull_margin_m).
-    // Otherwise both beliefs' sigmas say how far off the hull may be drawn
-    // (fleet_hull_sigmas): this robot's heading error swings it about this
-    // robot by the distance between them.
-    const double distance_m = (m.pose->translation() - belief.translation()).norm();
-    const double sigma_m =
-        std::hypot(tick.position_sigma_m + distance_m * tick.heading_sigma_rad, m.outline_sigma_m);
-    const double uncertain_m =
-        m.lost ? std::max(margin_m, options_.lost_hull_margin_m)
-               : std::max(margin_m, std::min(options_.fleet_hull_sigmas * sigma_m,
-                                             options_.lost_hull_margin_m));
-    const double radius_m = Circumradius(hull) + uncertain_m;
-    if (distance_m > reach_m + radius_m) continue;
-    const core::Pose2 frame_from_robot = frame_from_world * *m.pose;
-    // The growth for uncertainty never covers this robot: it stops
-    // kRatchetGapM short of its hull, a ratchet that lets it move away but
-    // not closer. A hull drawn that much larger around a robot that declared
-    // itself lost beside this one covered its centre, and it stood 17 minutes
-    // (expo_tours seed 4, 2,596 s: robox_08 lost 0.4 m off its belief, its
-    // lone hypothesis never pinned while robox_02 hid the crossing walls).
-    // Where even the hull grown by margin_m reaches into this robot (a belief
-    // that far off), that outline's points within its margin are left out,
-    // as a lost robot leaves out the others' (Explore); its lasers and
-    // markers show the other as it is.
-    // A localized robot's hull is grown by margin_m the same way: the growth
-    // stops short of this robot, and where its bare hull reaches in (the two
-    // touched: beliefs a centimetre off, the recessed bodies of §6.3.5.1
-    // hiding their true size from the lasers) its points within the margin
-    // are moved out onto it (ClearMargin). Drawn whole, it held two robots
-    // face to face for 470 s (expo_day seed 3, 4,430 s: robox_01 and robox_08).
-    bool drop_inside = false;
-    core::Polygon2 grown = InflateConvexPolygon(hull, uncertain_m);
-    const bool near = distance_m < Circumradius(grown) + circumradius_m_ + kRatchetGapM;
-    if (near) {
-      const double certain_m = m.lost ? margin_m : 0.0;
-      const double grow_m = RatchetedGrowth(hull, belief.Inverse() * *m.pose, footprint_, certain_m,
-                                            uncertain_m, &drop_inside);
-      if (grow_m != uncertain_m) grown = InflateConvexPolygon(hull, grow_m);
+    if (r == fleet_.robot || !m.pose || board.footprint(r).empty()) continue;
+    // A robot not localized may be at either pose it sends: drawn at both.
+    AppendOtherHull(tick, frame_from_world, reach_m, margin_m, m, board.footprint(r), *m.pose,
+                    points);
+    if (m.also_at) {
+      AppendOtherHull(tick, frame_from_world, reach_m, margin_m, m, board.footprint(r), *m.also_at,
+                      points);
     }
-    // A moving robot is drawn also where it will be when it has stopped: on
-    // the arc of its commanded speed and turn rate, as the dynamic window
-    // models a command (held a cycle, then both wheels braked in proportion
-    // at the limit, so the robot stops on the same arc), plus the age of the
-    // pose. Two robots closing in on each other then do not each brake only
-    // for where the other is now, nor for where it would go straight on
-    // while it turns (expo_tours seed 5, 1,650 s: two robots turning into
-    // each other touched).
-    const double v = m.speed_mps;
-    const double w = m.turn_rate_radps;
-    const double half_b = 0.5 * options_.dwa.wheelbase_m;
-    const double brake_s = std::max(std::abs(v - w * half_b), std::abs(v + w * half_b)) /
-                           options_.dwa.max_wheel_accel_mps2;
-    // Braking in proportion halves the mean speeds: the stop is where the
-    // command held for half the braking time leads.
-    const double ahead_s = 1.0 / options_.dwa_rate_hz + kPoseAgeS + 0.5 * brake_s;
-    const std::size_t first = points->size();
-    AppendSweptOutline(grown, BodyTwist{v, w}, ahead_s, kSweepStepM, spacing_m, frame_from_robot,
-                       points);
-    if (!drop_inside) continue;
-    ClearMargin(margin_outline_, m.lost ? nullptr : &ratchet_outline_,
-                (frame_from_world * belief).Inverse(), first, points);
   }
+}
+
+void NavigationController::AppendOtherHull(const ControlTick& tick,
+                                           const core::Pose2& frame_from_world, double reach_m,
+                                           double margin_m, const FleetMessage& m,
+                                           const std::vector<Eigen::Vector2d>& hull,
+                                           const core::Pose2& at,
+                                           std::vector<Eigen::Vector2d>* points) const {
+  const core::Pose2& belief = tick.belief;
+  // Outline points at most this far apart (the ghost barriers' fill).
+  const double spacing_m = options_.ghost_barrier.fill_m;
+  // A robot that declared itself lost publishes a belief that may be as far
+  // off as the one a lost robot has of the others (lost_hull_margin_m).
+  // Otherwise both beliefs' sigmas say how far off the hull may be drawn
+  // (fleet_hull_sigmas): this robot's heading error swings it about this
+  // robot by the distance between them.
+  const double distance_m = (m.pose->translation() - belief.translation()).norm();
+  const double sigma_m =
+      std::hypot(tick.position_sigma_m + distance_m * tick.heading_sigma_rad, m.outline_sigma_m);
+  const double uncertain_m = m.lost
+                                 ? std::max(margin_m, options_.lost_hull_margin_m)
+                                 : std::max(margin_m, std::min(options_.fleet_hull_sigmas * sigma_m,
+                                                               options_.lost_hull_margin_m));
+  const double radius_m = Circumradius(hull) + uncertain_m;
+  if (distance_m > reach_m + radius_m) return;
+  const core::Pose2 frame_from_robot = frame_from_world * at;
+  // The growth for uncertainty never covers this robot: it stops
+  // kRatchetGapM short of its hull, a ratchet that lets it move away but
+  // not closer. A hull drawn that much larger around a robot that declared
+  // itself lost beside this one covered its centre, and it stood 17 minutes
+  // (expo_tours seed 4, 2,596 s: robox_08 lost 0.4 m off its belief, its
+  // lone hypothesis never pinned while robox_02 hid the crossing walls).
+  // Where even the hull grown by margin_m reaches into this robot (a belief
+  // that far off), that outline's points within its margin are left out,
+  // as a lost robot leaves out the others' (Explore); its lasers and
+  // markers show the other as it is.
+  // A localized robot's hull is grown by margin_m the same way: the growth
+  // stops short of this robot, and where its bare hull reaches in (the two
+  // touched: beliefs a centimetre off, the recessed bodies of §6.3.5.1
+  // hiding their true size from the lasers) its points within the margin
+  // are moved out onto it (ClearMargin). Drawn whole, it held two robots
+  // face to face for 470 s (expo_day seed 3, 4,430 s: robox_01 and robox_08).
+  bool drop_inside = false;
+  core::Polygon2 grown = InflateConvexPolygon(hull, uncertain_m);
+  const bool near = distance_m < Circumradius(grown) + circumradius_m_ + kRatchetGapM;
+  if (near) {
+    const double certain_m = m.lost ? margin_m : 0.0;
+    const double grow_m = RatchetedGrowth(hull, belief.Inverse() * at, footprint_, certain_m,
+                                          uncertain_m, &drop_inside);
+    if (grow_m != uncertain_m) grown = InflateConvexPolygon(hull, grow_m);
+  }
+  // A moving robot is drawn also where it will be when it has stopped: on
+  // the arc of its commanded speed and turn rate, as the dynamic window
+  // models a command (held a cycle, then both wheels braked in proportion
+  // at the limit, so the robot stops on the same arc), plus the age of the
+  // pose. Two robots closing in on each other then do not each brake only
+  // for where the other is now, nor for where it would go straight on
+  // while it turns (expo_tours seed 5, 1,650 s: two robots turning into
+  // each other touched).
+  const double v = m.speed_mps;
+  const double w = m.turn_rate_radps;
+  const double half_b = 0.5 * options_.dwa.wheelbase_m;
+  const double brake_s = std::max(std::abs(v - w * half_b), std::abs(v + w * half_b)) /
+                         options_.dwa.max_wheel_accel_mps2;
+  // Braking in proportion halves the mean speeds: the stop is where the
+  // command held for half the braking time leads.
+  const double ahead_s = 1.0 / options_.dwa_rate_hz + kPoseAgeS + 0.5 * brake_s;
+  const std::size_t first = points->size();
+  AppendSweptOutline(grown, BodyTwist{v, w}, ahead_s, kSweepStepM, spacing_m, frame_from_robot,
+                     points);
+  if (!drop_inside) return;
+  ClearMargin(margin_outline_, m.lost ? nullptr : &ratchet_outline_,
+              (frame_from_world * belief).Inverse(), first, points);
 }
 
 void NavigationController::AppendStationRings(const core::Pose2& belief,
@@ -532,7 +553,9 @@ void NavigationController::AppendStationRings(const core::Pose2& belief,
     // A station this robot claims or heads for while another robot
     // (claiming it or not) is inside its ring: wait outside until it has left.
     for (int station : own) {
-      if (inside(station, m.pose->translation()) && !inside(station, self)) {
+      const bool in = inside(station, m.pose->translation()) ||
+                      (m.also_at && inside(station, m.also_at->translation()));
+      if (in && !inside(station, self)) {
         rings.push_back(station);
       }
     }

@@ -164,6 +164,7 @@ void ReadMission(YamlDocument* doc, MapReader& r, const Scenario& scenario, Robo
                                            ? nav::InitialPlanner::kOmplRrtConnect
                                            : nav::InitialPlanner::kOmplRrtStar;
   ReadNavigationOptions(m, &mission.navigation);
+  mission.navigation.hold_belief_at_goal = m.Bool("hold_belief_at_goal", true);
   m.Finish();
   robot->mission = std::move(mission);
 }

@@ -278,6 +278,13 @@ TEST(FleetCoordinator, CountsTheBytesOfTheCompactEncoding) {
   EXPECT_EQ(c.bytes_up(0), 2 * EncodedBytes(m));
   EXPECT_EQ(c.bytes_down(1), EncodedBytes(m));
   EXPECT_EQ(c.messages(0), 2);
+  // A second pose (a lone hypothesis' while not localized): 12 bytes more,
+  // and a message that changed.
+  m.also_at = core::Pose2{4, 5, -1.0};
+  EXPECT_EQ(EncodedBytes(m), 2 + 2 + 12 + 1 + 24 + 12 + 4 + 2 + 4);
+  c.Send(0, m);
+  c.Merge();
+  EXPECT_EQ(c.bytes_down(1), 2 * EncodedBytes(m) - 12);
 }
 
 TEST(FleetOptions, RejectsValuesOutOfRange) {

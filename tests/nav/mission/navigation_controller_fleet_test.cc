@@ -291,17 +291,24 @@ TEST(NavigationControllerFleet, RevisitsAVisitedStationAfterWaitingForTakenOnes)
   EXPECT_EQ(controller.navigation()->station_revisits, 1);
 }
 
-// Runs `controller` (a Robox octagon starting at the origin, its belief the
-// truth shifted by `belief_offset` in the world frame, with `position_sigma_m`)
-// for duration_s, `publish` called before every tick; returns the closest its
-// hull came to the hull of a robot standing at `other`. `carried_on`: while
-// lost, where it was last localized carried on is the truth.
+// What a robot believes, against the truth (offsets in the world frame).
+struct Beliefs {
+  Eigen::Vector2d offset = Eigen::Vector2d::Zero();  // its belief's
+  double position_sigma_m = 0.0;
+  // While lost: where it was last localized, carried on, is the truth
+  // shifted by this; none: never localized.
+  std::optional<Eigen::Vector2d> carried_on_offset = std::nullopt;
+  bool lone_hypothesis = false;  // while lost: its belief is its one hypothesis
+};
+
+// Runs `controller` (a Robox octagon starting at the origin, believing as
+// `beliefs` say) for duration_s, `publish` called before every tick; returns
+// the closest its hull came to the hull of a robot standing at `other`.
 double ClosestApproach(NavigationController& controller, const NavigationControllerOptions& options,
                        const core::Pose2& other, bool lost, double duration_s,
                        const std::function<void()>& publish, core::Pose2* end = nullptr,
-                       std::vector<core::Pose2>* trail = nullptr,
-                       const Eigen::Vector2d& belief_offset = Eigen::Vector2d::Zero(),
-                       double position_sigma_m = 0.0, bool carried_on = false) {
+                       std::vector<core::Pose2>* trail = nullptr, const Beliefs& beliefs = {}) {
+  const Eigen::Vector2d& belief_offset = beliefs.offset;
   std::vector<Eigen::Vector2d> other_hull;
   for (const Eigen::Vector2d& c : RoboxOctagon()) other_hull.push_back(other * c);
   core::Pose2 pose;
@@ -312,8 +319,12 @@ double ClosestApproach(NavigationController& controller, const NavigationControl
     ControlTick control{tick, tick * kStepS, pose, pose, lost};
     control.belief =
         core::Pose2{pose.x_m + belief_offset.x(), pose.y_m + belief_offset.y(), pose.theta_rad};
-    control.position_sigma_m = position_sigma_m;
-    if (lost && carried_on) control.last_localized = pose;  // exact dead reckoning
+    control.position_sigma_m = beliefs.position_sigma_m;
+    if (lost && beliefs.carried_on_offset) {
+      const Eigen::Vector2d& c = *beliefs.carried_on_offset;
+      control.last_localized = core::Pose2{pose.x_m + c.x(), pose.y_m + c.y(), pose.theta_rad};
+      control.lone_hypothesis = beliefs.lone_hypothesis;
+    }
     if (const std::optional<WheelSpeeds> w = controller.OnTick(control)) held = *w;
     const core::WheelTravel travel{
         held.left_radps * options.odometry.left_wheel_radius_m * kStepS,
@@ -340,12 +351,9 @@ FleetMessage Published(const core::Pose2& pose, bool lost) {
 // recessed body can be all but invisible) explores straight ahead, where
 // another robot stands 1.5 m off. In the fleet it places the other's
 // published hull by its belief, grown by lost_hull_margin_m, and keeps off
-// it; alone, it drives into it. `belief_offset`: its belief that far off
-// (world frame); `carried_on`: where it was last localized, carried on, is
-// the truth.
-double ClosestWhileExploring(bool fleet,
-                             const Eigen::Vector2d& belief_offset = Eigen::Vector2d::Zero(),
-                             bool carried_on = false) {
+// it; alone, it drives into it. `beliefs`: what it believes (its belief, where
+// it was last localized carried on, a lone hypothesis).
+double ClosestWhileExploring(bool fleet, const Beliefs& beliefs = {}) {
   NavigationControllerOptions options;
   options.step_s = kStepS;
   options.explore_when_lost = true;
@@ -364,7 +372,7 @@ double ClosestWhileExploring(bool fleet,
         coordinator.Send(1, Published(other, false));
         coordinator.Merge();
       },
-      nullptr, nullptr, belief_offset, 0.0, carried_on);
+      nullptr, nullptr, beliefs);
 }
 
 TEST(NavigationControllerFleet, ALostRobotKeepsOffTheOthersPublishedHulls) {
@@ -377,15 +385,21 @@ TEST(NavigationControllerFleet, ALostRobotKeepsOffTheOthersPublishedHulls) {
 // other; by where it was last localized, carried on, it keeps off.
 TEST(NavigationControllerFleet, ALostRobotPlacesTheOthersWhereItWasLastLocalized) {
   const Eigen::Vector2d aside(0.0, 1.0);
-  EXPECT_GT(ClosestWhileExploring(true, aside, true), 0.2);
-  EXPECT_LT(ClosestWhileExploring(true, aside, false), 0.01);
+  EXPECT_GT(
+      ClosestWhileExploring(true, {.offset = aside, .carried_on_offset = Eigen::Vector2d::Zero()}),
+      0.2);
+  EXPECT_LT(ClosestWhileExploring(true, {.offset = aside}), 0.01);
 }
 
-// What the driver's belief is off by (world frame) and how sure it is.
-struct DriverBelief {
-  Eigen::Vector2d offset = Eigen::Vector2d::Zero();
-  double position_sigma_m = 0.0;
-};
+// Kidnapped 1 m aside and not localized again, its one hypothesis right: by
+// where it was last localized, carried on, it places the other's hull beside
+// its way; by its hypothesis as well, it keeps off.
+TEST(NavigationControllerFleet, ALostRobotPlacesTheOthersByItsLoneHypothesisToo) {
+  const Eigen::Vector2d aside(0.0, 1.0);
+  EXPECT_GT(ClosestWhileExploring(true, {.carried_on_offset = aside, .lone_hypothesis = true}),
+            0.2);
+  EXPECT_LT(ClosestWhileExploring(true, {.carried_on_offset = aside}), 0.01);
+}
 
 // A robot (the controller, with `options`) drives from the origin to b,
 // another Robox standing at `other` and publishing `published` (its pose,
@@ -394,7 +408,7 @@ struct DriverBelief {
 double ClosestBesideAPublishedRobot(const core::Pose2& other, const FleetMessage& published,
                                     double duration_s, core::Pose2* end,
                                     NavigationControllerOptions options = {},
-                                    const DriverBelief& belief = {}) {
+                                    const Beliefs& belief = {}) {
   options.step_s = kStepS;
   FleetCoordinator coordinator(2, FleetOptions{});
   coordinator.SetStations({"a", "s", "b"});
@@ -407,7 +421,7 @@ double ClosestBesideAPublishedRobot(const core::Pose2& other, const FleetMessage
         coordinator.Send(1, published);
         coordinator.Merge();
       },
-      end, nullptr, belief.offset, belief.position_sigma_m);
+      end, nullptr, belief);
 }
 
 // A robot drives from a to b past another that declared itself lost: it
@@ -421,6 +435,23 @@ double ClosestPassingALostRobot(bool declared_lost) {
       {2.0, 0.45, 0.0}, Published({2.0, 0.75, 0.0}, declared_lost), 12.0, &end);
   EXPECT_GT(end.x_m, 4.0) << "the passer got past";
   return closest_m;
+}
+
+// The same passer beside a robot not localized whose pose carried on is a
+// phantom 3 m off the way and whose one hypothesis is right: it keeps off
+// the hull drawn at the hypothesis; without it, it brushes past.
+double ClosestPassingARobotWithALoneHypothesis(bool sends_hypothesis) {
+  FleetMessage m = Published({2.0, 3.45, 0.0}, true);
+  if (sends_hypothesis) m.also_at = core::Pose2{2.0, 0.45, 0.0};
+  core::Pose2 end;
+  const double closest_m = ClosestBesideAPublishedRobot({2.0, 0.45, 0.0}, m, 12.0, &end);
+  EXPECT_GT(end.x_m, 4.0) << "the passer got past";
+  return closest_m;
+}
+
+TEST(NavigationControllerFleet, KeepsOffARobotWhereItsLoneHypothesisPutsIt) {
+  EXPECT_GT(ClosestPassingARobotWithALoneHypothesis(true), 0.05);
+  EXPECT_LT(ClosestPassingARobotWithALoneHypothesis(false), 0.01);
 }
 
 TEST(NavigationControllerFleet, KeepsFurtherFromARobotThatDeclaredItselfLost) {
@@ -452,6 +483,16 @@ TEST(NavigationControllerFleet, ALostRobotPublishesWhereItWasLastLocalizedCarrie
   EXPECT_DOUBLE_EQ(carried.pose->x_m, 1.0);
   EXPECT_DOUBLE_EQ(carried.pose->y_m, 0.2);
   EXPECT_DOUBLE_EQ(carried.pose->theta_rad, 0.1);
+  EXPECT_FALSE(carried.also_at);
+  // With one hypothesis (its belief), it sends that as well.
+  lost.lone_hypothesis = true;
+  lost.tick = 500;
+  lost.now_s = 2.5;
+  const FleetMessage both = published(lost);
+  ASSERT_TRUE(both.also_at);
+  EXPECT_DOUBLE_EQ(both.also_at->x_m, 6.0);
+  EXPECT_DOUBLE_EQ(both.pose->x_m, 1.0);
+  lost.lone_hypothesis = false;
   // Never localized (no such pose): its belief.
   lost.tick = 1000;
   lost.now_s = 5.0;

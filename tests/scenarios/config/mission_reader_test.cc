@@ -58,5 +58,33 @@ TEST(ScenarioLoaderTest, ReadsRestNodesAndReportsAnUnknownOne) {
   EXPECT_TRUE(Contains(all[0].message, "unknown station 'dock_11'")) << all[0].message;
 }
 
+// hold_belief_at_goal: on unless the mission turns it off (the thesis'
+// pause of localization at the goal); a value that is no boolean is a
+// file:line:key error.
+TEST(ScenarioLoaderTest, ReadsWhetherTheBeliefIsHeldAtTheGoal) {
+  const std::string source = std::string(PAVILION_SOURCE_DIR) + "/scenarios/office_errands.yaml";
+  ASSERT_TRUE(LoadScenarioFile(source).robots[0].mission.has_value());
+  EXPECT_TRUE(LoadScenarioFile(source).robots[0].mission->navigation.hold_belief_at_goal);
+  std::ifstream in(source);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string key = "    mission:\n";
+  const std::size_t at = text.find(key);
+  ASSERT_NE(at, std::string::npos);
+  const std::size_t world = text.find("world: office_floor");
+  ASSERT_NE(world, std::string::npos);
+  text.replace(world, 19,
+               "world: " + std::string(PAVILION_SOURCE_DIR) + "/worlds/office_floor/world.yaml");
+  std::string off = text;
+  off.insert(off.find(key) + key.size(), "      hold_belief_at_goal: false\n");
+  const Scenario paused = LoadScenarioFile(WriteFile(TestDir(), "paused.yaml", off));
+  EXPECT_FALSE(paused.robots[0].mission->navigation.hold_belief_at_goal);
+  std::string bad = text;
+  bad.insert(bad.find(key) + key.size(), "      hold_belief_at_goal: sometimes\n");
+  const std::vector<Diagnostic> all = LoadErrors(WriteFile(TestDir(), "bad.yaml", bad));
+  ASSERT_EQ(all.size(), 1u);
+  EXPECT_EQ(all[0].key_path, "robots[0].mission.hold_belief_at_goal");
+  EXPECT_GT(all[0].line, 0);
+}
+
 }  // namespace
 }  // namespace pavilion::scenarios
