@@ -212,26 +212,25 @@ bool NavigationController::ExploreStep(const ControlTick& tick) {
   // hypothesis 2-4 cm from the truth.)
   ControlTick placed = tick;
   placed.belief = Placement(tick);
-  const bool lone = tick.lone_hypothesis && tick.last_localized;
+  std::vector<ControlTick> placements{placed};
+  if (tick.lone_hypothesis && tick.last_localized) placements.push_back(tick);
   obstacles_.InRobot(tick.odometry, placed.belief, options_.dwa_reach_m, &points_,
                      /*map_outline=*/false);
-  if (lone) obstacles_.AppendGhostBarriers(tick.belief, options_.dwa_reach_m, &points_);
+  for (std::size_t k = 1; k < placements.size(); ++k) {
+    obstacles_.AppendGhostBarriers(placements[k].belief, options_.dwa_reach_m, &points_);
+  }
   const std::size_t sensed = points_.size();
-  AppendOtherHulls(placed, placed.belief.Inverse(), options_.dwa_reach_m,
-                   options_.lost_hull_margin_m, &points_);
-  if (lone) {
-    AppendOtherHulls(tick, tick.belief.Inverse(), options_.dwa_reach_m, options_.lost_hull_margin_m,
+  for (const ControlTick& at : placements) {
+    AppendOtherHulls(at, at.belief.Inverse(), options_.dwa_reach_m, options_.lost_hull_margin_m,
                      &points_);
   }
   // The stations the others hold, placed as their hulls are: a
   // robot falsely lost that explored into one came within 1 m of the node as
   // another arrived (expo_tours seed 1, 120.6 s, station_09; its belief was
   // 4 mm off). A kidnapped one keeps out of a phantom ring.
-  if (fleet_.coordinator) {
-    AppendStationRings(placed.belief, placed.belief.Inverse(), options_.dwa_reach_m, &points_);
-    if (lone) {
-      AppendStationRings(tick.belief, tick.belief.Inverse(), options_.dwa_reach_m, &points_);
-    }
+  for (const ControlTick& at : placements) {
+    if (!fleet_.coordinator) break;
+    AppendStationRings(at.belief, at.belief.Inverse(), options_.dwa_reach_m, &points_);
   }
   points_.erase(
       std::remove_if(points_.begin() + static_cast<std::ptrdiff_t>(sensed), points_.end(),

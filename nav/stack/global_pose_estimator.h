@@ -39,6 +39,7 @@ class GlobalPoseEstimator : public PoseEstimator {
   std::string lost_reason() const override;
   LocalizationMode mode() const override;
   std::vector<LocationHypothesis> hypotheses() const override;
+  std::size_t hypothesis_count() const override { return localizer_->Hypotheses().size(); }
   void SetPaused(bool paused, double now_s) override;
   void OnContact(const BumperContact& contact) override;
   std::vector<std::pair<std::string, std::int64_t>> counters() const override;

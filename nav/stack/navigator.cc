@@ -29,7 +29,7 @@ std::optional<WheelSpeeds> Navigator::Control(std::int64_t tick, double now_s) {
     control.last_localized = localized_at_->belief * (localized_at_->odometry.Inverse() * odometry);
   }
   control.lone_hypothesis = estimator_ && estimator_->mode() == LocalizationMode::kNotLocalized &&
-                            estimator_->hypotheses().size() == 1;
+                            estimator_->hypothesis_count() == 1;
   if (estimator_) {
     const Eigen::Matrix3d& p = estimator_->estimate().covariance;
     const Eigen::Matrix2d position = p.topLeftCorner<2, 2>();

@@ -6,6 +6,7 @@
 // chapter 5, Fig. 5.17 (GlobalPoseEstimator).
 
 #include <Eigen/Core>
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -112,6 +113,8 @@ class PoseEstimator {
     if (mode() == LocalizationMode::kLost) return {};
     return {LocationHypothesis{estimate(), 0, 0.0}};
   }
+  // How many hypotheses it holds (hypotheses().size(), without copying them).
+  virtual std::size_t hypothesis_count() const { return hypotheses().size(); }
   // Why the estimator declares itself lost ("none" while it tracks), for events.
   virtual std::string lost_reason() const = 0;
   // While paused (the navigation near a goal, §6.3.3: "localization gets
