@@ -90,6 +90,10 @@ void LocalizerOptions::Validate() const {
     throw std::invalid_argument(std::string("failure_free_space.") + e.what());
   }
   Require(min_observations_for_failure >= 1, "min_observations_for_failure", "an integer >= 1");
+  Require(slip_covariance.allFinite() && slip_covariance.diagonal().minCoeff() >= 0.0 &&
+              (slip_covariance - slip_covariance.transpose()).cwiseAbs().maxCoeff() <= 1e-12,
+          "slip_covariance", "finite and symmetric with a diagonal >= 0");
+  Require(slip_min_matches >= 1, "slip_min_matches", "an integer >= 1");
   Require(std::isfinite(lost_position_sigma_m) && lost_position_sigma_m > 0.0,
           "lost_position_sigma_m", "a finite value > 0");
 }
@@ -314,19 +318,20 @@ ObservationStatus Localizer::Integrate(const ObservationBatch& batch, const Lase
   const std::size_t at = buffer_.SplitAt(batch.stamp_s);
   const std::size_t now = buffer_.size() - 1;
   PoseWithCovariance state = buffer_.node(at).state;
-  MatchingResult result;
-  if (options_.map_correlations) {
-    // The cross-covariances live at the latest node: back to T through the
-    // inverse transition (determinant 1, eq. 2.11), updated with the state,
-    // and forward again along the corrected, re-linearized steps.
-    const Eigen::Matrix3d back = buffer_.Transition(at, now).inverse();
-    if (!correlations_.features().empty()) correlations_.Transform(back);
-    result = matcher_.MatchAndUpdate(predictor_, batch, &state, &correlations_);
-    if (!result.matches.empty()) buffer_.CorrectAt(at, state);
-    if (!correlations_.features().empty()) correlations_.Transform(buffer_.Transition(at, now));
-  } else {
-    result = matcher_.MatchAndUpdate(predictor_, batch, &state);
-    if (!result.matches.empty()) buffer_.CorrectAt(at, state);
+  // The cross-covariances live at the latest node: back to T through the
+  // inverse transition (determinant 1, eq. 2.11), updated with the state,
+  // and forward again along the corrected, re-linearized steps.
+  if (options_.map_correlations && !correlations_.features().empty()) {
+    correlations_.Transform(buffer_.Transition(at, now).inverse());
+  }
+  MatchingResult result = Match(batch, &state);
+  if (result.matches.empty() && status_.state == LocalizationState::kTracking &&
+      !options_.slip_covariance.isZero(0.0)) {
+    MatchAgainWithSlip(batch, &state, &result);
+  }
+  if (!result.matches.empty()) buffer_.CorrectAt(at, state);
+  if (options_.map_correlations && !correlations_.features().empty()) {
+    correlations_.Transform(buffer_.Transition(at, now));
   }
   last_integrated_s_ = batch.stamp_s;
 
@@ -356,6 +361,33 @@ ObservationStatus Localizer::Integrate(const ObservationBatch& batch, const Lase
     CheckLost(buffer_.latest_stamp_s());
   }
   return ObservationStatus::kIntegrated;
+}
+
+MatchingResult Localizer::Match(const ObservationBatch& batch, PoseWithCovariance* state) {
+  return options_.map_correlations
+             ? matcher_.MatchAndUpdate(predictor_, batch, state, &correlations_)
+             : matcher_.MatchAndUpdate(predictor_, batch, state);
+}
+
+void Localizer::MatchAgainWithSlip(const ObservationBatch& batch, PoseWithCovariance* state,
+                                   MatchingResult* result) {
+  if (result->observations < options_.slip_min_matches ||
+      result->predictions < options_.slip_min_matches) {
+    return;
+  }
+  PoseWithCovariance widened = *state;  // unchanged by a match that paired nothing
+  widened.covariance += options_.slip_covariance;
+  // A second match that pairs too few is undone, correlations included.
+  std::optional<PoseMapCrossCovariance> kept;
+  if (options_.map_correlations) kept = correlations_;
+  MatchingResult again = Match(batch, &widened);
+  if (static_cast<int>(again.matches.size()) >= options_.slip_min_matches) {
+    *state = widened;
+    *result = std::move(again);
+    ++counters_.slip_rematches;
+  } else if (kept) {
+    correlations_ = std::move(*kept);
+  }
 }
 
 bool Localizer::FailureShown(const LaserScan* scan, const PoseWithCovariance& state) const {

@@ -470,6 +470,9 @@ class NavigationController : public Controller {
   enum class EscapeWay { kNone, kBearing, kReverse, kForward, kCreep };
   EscapeWay escape_way_ = EscapeWay::kNone;
   bool creep_reverse_ = true;
+  // The creep began with a point inside the outline (a contact): it judges
+  // with no margin and lets such points get kCreepContactSlackM deeper.
+  bool creep_from_contact_ = false;
   // kBearing: cycles held turning towards it with a point near the circle
   // the corners sweep (then it turns with the creep's margin).
   int creep_turn_cycles_ = 0;

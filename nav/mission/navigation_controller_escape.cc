@@ -32,6 +32,15 @@ constexpr double kCreepMarginM = 0.005;
 constexpr double kCreepSpeedMps = 0.05;
 constexpr double kCreepMinFreeM = 0.05;
 constexpr double kCreepClearM = 0.01;
+// A creep that begins in contact — a point inside the outline — judges with
+// no margin and lets the points inside get this much deeper while it passes
+// them (DwaGoal::contact_slack_m): a wheel hub's round side sliding off a
+// door post's corner whose points lie on both sides of the wheel axis, where
+// every motion the drive allows first takes one of them deeper (3.2 mm for a
+// point 1.6 cm beside the axis, on the outline's 16-gon hub). Pygmalion
+// stood so for 18 hours, the post 1.7 cm into its hub (computer2000, seed 1,
+// office_09's door, 34,015 s).
+constexpr double kCreepContactSlackM = 0.004;
 // The turn towards an escape bearing creeps too (the margin cut to
 // kCreepMarginM) once it has been held this many cycles more than
 // kTurnedRad from the bearing with some point within the circle its corners
@@ -91,8 +100,11 @@ std::optional<double> NavigationController::ChooseEscapeWay(const ControlTick& t
     escape_way_ = EscapeWay::kNone;
   }
   const auto creep_free = [&](bool reverse) {
-    return StraightPolygonTravel(points_, footprint_, reverse, kCreepMarginM,
-                                 options_.explore.reach_m);
+    return creep_from_contact_
+               ? StraightPolygonTravel(points_, footprint_, reverse, 0.0, options_.explore.reach_m,
+                                       kCreepContactSlackM)
+               : StraightPolygonTravel(points_, footprint_, reverse, kCreepMarginM,
+                                       options_.explore.reach_m);
   };
   if (escape_way_ == EscapeWay::kCreep &&
       (PolygonClearance(footprint_, points_) > margin_m + kCreepClearM ||
@@ -113,6 +125,7 @@ std::optional<double> NavigationController::ChooseEscapeWay(const ControlTick& t
                                                            : EscapeWay::kNone;
   }
   if (escape_way_ != EscapeWay::kCreep && escape_stalls_ >= kCreepAfterCycles) {
+    creep_from_contact_ = PolygonClearance(footprint_, points_) <= 0.0;
     creep_reverse_ = creep_free(true) >= kCreepMinFreeM;
     if (creep_reverse_ || creep_free(false) >= kCreepMinFreeM) escape_way_ = EscapeWay::kCreep;
   }
@@ -178,6 +191,10 @@ bool NavigationController::Escape(const ControlTick& tick) {
   if (escape_way_ == EscapeWay::kCreep || creep_turn_cycles_ > kCreepTurnAfterCycles) {
     goal.speed_limit_mps = std::min(o.speed_mps, kCreepSpeedMps);
     goal.margin_m = std::min(kCreepMarginM, options_.dwa.safety_margin_m);
+  }
+  if (escape_way_ == EscapeWay::kCreep && creep_from_contact_) {
+    goal.margin_m = 0.0;
+    goal.contact_slack_m = kCreepContactSlackM;
   }
   const DwaResult result = Steer(tick, goal);
   const bool standing = result.command.left_mps == 0.0 && result.command.right_mps == 0.0 &&

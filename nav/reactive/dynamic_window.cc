@@ -232,7 +232,7 @@ void DynamicWindow::AddContact(const Eigen::Vector2d& p, double edge_distance_m)
   const std::size_t k = contacts_.size();
   if (contact_polygons_.size() <= k) contact_polygons_.push_back(robot_polygon_);
   // The mitred offset polygon {EdgeDistance <= offset} passes kContactSlack_m inside p.
-  const double offset_m = edge_distance_m - kContactSlack_m;
+  const double offset_m = edge_distance_m - cycle_contact_slack_m_;
   core::Polygon2& polygon = contact_polygons_[k];
   for (std::size_t i = 0; i < robot_polygon_.size(); ++i) {
     polygon[i] = robot_polygon_[i] + offset_m * miter_[i];
@@ -306,7 +306,9 @@ bool DynamicWindow::RecedesFromContacts(Candidate& c) const {
     const Eigen::Vector2d velocity(-c.twist.v_mps + c.twist.omega_radps * contact.point.y(),
                                    -c.twist.omega_radps * contact.point.x());
     const double rate_mps = contact.normal.dot(velocity);
-    if (rate_mps < -kSlideSlope * velocity.norm() - kRateSlack_mps) return false;
+    if (!cycle_slide_waived_ && rate_mps < -kSlideSlope * velocity.norm() - kRateSlack_mps) {
+      return false;
+    }
     predicted_m = std::min(predicted_m, contact.distance_m + rate_mps * options_.period_s);
   }
   c.escape_gain_m = contacts_.empty() ? 0.0 : predicted_m - nearest_contact_m_;
@@ -438,6 +440,11 @@ DwaResult DynamicWindow::Choose(const WheelVelocity& current,
   }
   cycle_margin_m_ = reduced ? goal.margin_m : options_.safety_margin_m;
   cycle_reduced_ = reduced;
+  if (goal.contact_slack_m > kMaxContactSlack_m || std::isnan(goal.contact_slack_m)) {
+    throw std::invalid_argument("goal.contact_slack_m must be at most 5 mm");
+  }
+  cycle_slide_waived_ = goal.contact_slack_m >= 0.0;
+  cycle_contact_slack_m_ = cycle_slide_waived_ ? goal.contact_slack_m : kContactSlack_m;
   DwaResult result;
   Scene scene;
   scene.speed_cap_mps = kInfinity;

@@ -133,6 +133,16 @@ struct DwaGoal {
   // brings it nearer, the contact rules admit none, and the robot stands
   // for good (Pygmalion askew in a 0.9 m door, computer2000 seed 1).
   double margin_m = -1.0;
+  // How much deeper (m) a contact point may get before standstill, in
+  // [0, kMaxContactSlack_m]; negative: kContactSlack_m, with the first-order
+  // sliding test. Set, the sliding test is waived and this bound alone
+  // holds. For an escape's creep: a wheel hub's round side pressed on a door
+  // post's corner, the corner's points on both sides of the wheel axis, is
+  // made deeper by every motion the drive allows (the hub moves only along
+  // the robot's axis), by about a millimetre while it passes; Pygmalion stood
+  // so for 18 hours (computer2000, seed 1 at the slip re-match, office_09's
+  // door with a suitcase it had pushed in beside it).
+  double contact_slack_m = -1.0;
 };
 
 struct DwaResult {
@@ -186,6 +196,7 @@ class DynamicWindow {
   // How much deeper (m) a contact point may get before standstill: room for
   // the second-order approach of motions that leave it tangentially.
   static constexpr double kContactSlack_m = 2.5e-4;
+  static constexpr double kMaxContactSlack_m = 0.005;  // DwaGoal::contact_slack_m's bound
 
  private:
   // One grid point of the window and its evaluation.
@@ -249,6 +260,9 @@ class DynamicWindow {
   // margin_polygon_.
   double cycle_margin_m_ = 0.0;
   bool cycle_reduced_ = false;
+  // This cycle's contact slack and whether the sliding test is waived (DwaGoal::contact_slack_m).
+  double cycle_contact_slack_m_ = kContactSlack_m;
+  bool cycle_slide_waived_ = false;
   double reduced_margin_m_ = -1.0;
   core::Polygon2 reduced_polygon_;
   const core::Polygon2& CyclePolygon() const {

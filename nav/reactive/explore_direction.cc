@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <stdexcept>
 #include <string>
@@ -69,9 +70,42 @@ double StraightFreeTravel(std::span<const Eigen::Vector2d> points_in_robot,
   return free_m;
 }
 
+namespace {
+
+// The most a point at `p` inside the convex `polygon` (counter-clockwise) gets
+// deeper than it is, m, as it moves along p + t (u, 0) for t in [0, until_m]:
+// its depth, the least distance to an edge's line, is concave in t.
+double DeepeningAlong(const core::Polygon2& polygon, const Eigen::Vector2d& p, double u,
+                      double until_m) {
+  const auto depth = [&](double t) {
+    const Eigen::Vector2d q = p + Eigen::Vector2d(u * t, 0.0);
+    double least = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < polygon.size(); ++i) {
+      const Eigen::Vector2d d = polygon[(i + 1) % polygon.size()] - polygon[i];
+      const Eigen::Vector2d n = Eigen::Vector2d(d.y(), -d.x()).normalized();
+      least = std::min(least, -n.dot(q - polygon[i]));
+    }
+    return least;
+  };
+  double lo = 0.0;
+  double hi = until_m;
+  for (int k = 0; k < 60; ++k) {  // ternary search of the concave maximum
+    const double a = lo + (hi - lo) / 3.0;
+    const double b = hi - (hi - lo) / 3.0;
+    if (depth(a) < depth(b)) {
+      lo = a;
+    } else {
+      hi = b;
+    }
+  }
+  return std::max(0.0, depth(0.5 * (lo + hi)) - depth(0.0));
+}
+
+}  // namespace
+
 double StraightPolygonTravel(std::span<const Eigen::Vector2d> points_in_robot,
                              std::span<const Eigen::Vector2d> footprint, bool reverse,
-                             double margin_m, double reach_m) {
+                             double margin_m, double reach_m, double contact_slack_m) {
   const core::Polygon2 grown =
       InflateConvexPolygon(core::Polygon2(footprint.begin(), footprint.end()), margin_m);
   // In the robot frame a point moves against the travel: p + t u, u = -+x.
@@ -94,7 +128,14 @@ double StraightPolygonTravel(std::span<const Eigen::Vector2d> points_in_robot,
         leave = std::min(leave, -outside / rate);
       }
     }
-    if (enter <= leave) free_m = std::min(free_m, enter);
+    if (enter > leave) continue;
+    // Inside now: it blocks unless the travel takes it out no more than
+    // contact_slack_m deeper than it is.
+    if (enter == 0.0 && contact_slack_m > 0.0 && leave > 0.0 &&
+        DeepeningAlong(grown, p, u, leave) <= contact_slack_m) {
+      continue;
+    }
+    free_m = std::min(free_m, enter);
   }
   return free_m;
 }

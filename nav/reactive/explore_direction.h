@@ -74,10 +74,13 @@ double StraightFreeTravel(std::span<const Eigen::Vector2d> points_in_robot,
 // inside the grown outline now; capped at `reach_m`. Unlike the box of
 // StraightFreeTravel, a point beside the outline's narrower parts does not
 // count: a square robot with wheel hubs bulging 4 cm from its sides, a door
-// post beside the hub, can still drive straight on or back.
+// post beside the hub, can still drive straight on or back. A point inside
+// the grown outline now does not count when the travel takes it out again
+// no more than `contact_slack_m` deeper than it is (DwaGoal::contact_slack_m:
+// the hub's round side pressed on a post's corner).
 double StraightPolygonTravel(std::span<const Eigen::Vector2d> points_in_robot,
                              std::span<const Eigen::Vector2d> footprint, bool reverse,
-                             double margin_m, double reach_m);
+                             double margin_m, double reach_m, double contact_slack_m = 0.0);
 
 // The bearing to drive along (robot frame, rad in (-pi, pi]): `current` while
 // its free travel is at least keep_free_m, else the freest bearing of the fan

@@ -137,7 +137,8 @@ std::vector<std::pair<std::string, std::int64_t>> GlobalPoseEstimator::counters(
           {"resumed_tracks", c.resumed_tracks},
           {"duplicates", c.duplicates},
           {"losses", c.losses},
-          {"localizations", c.localizations}};
+          {"localizations", c.localizations},
+          {"slip_rematches", localizer_->tracker().counters().slip_rematches}};
 }
 
 }  // namespace pavilion::nav

@@ -39,6 +39,9 @@ void LocalizationEntry::Validate() const {
   Require(!hold_s || InRange(*hold_s, 0.0, 1.0), "LocalizationEntry", "hold_s", "in [0, 1000] ms");
   Require(InRange(odometry_k_scale, 1.0, 1000.0), "LocalizationEntry", "odometry_k_scale",
           "in [1, 1000]");
+  Require(slip_sigma.allFinite() && (slip_sigma.array() >= 0.0).all() &&
+              (slip_sigma.array() <= 0.5).all(),
+          "LocalizationEntry", "slip_sigma", "in [0, 0.5] each (m, m, rad)");
   Require(InRange(rate_hz, 0.01, kMaxLocalizationRateHz), "LocalizationEntry", "rate_hz",
           "in [0.01, 1000] Hz");
   Require(initial_sigma.allFinite() && (initial_sigma.array() > 0.0).all(), "LocalizationEntry",

@@ -84,6 +84,15 @@ struct LocalizationEntry {
   // term for (`realism: realistic`'s acceleration slip and carpet). Key
   // odometry_k_scale, [1, 1000].
   double odometry_k_scale = 1.0;
+  // A cycle that pairs nothing is matched again with the pose's uncertainty
+  // grown by these standard deviations (core::LocalizerOptions::
+  // slip_covariance): the filter's answer to a slip or shove the bumpers did
+  // not feel (thesis §4.6). 3 cm and 1° admit, within the gate's 2.45σ,
+  // the slips the simulated robots show in quick turn reversals (0.6-0.8°
+  // for Pygmalion, 1-3° for Robox after fast turns) and keep a kidnap's
+  // metres out. Key slip_sigma: [x, y, theta] (m, m, rad), each in
+  // [0, 0.5]; [0, 0, 0]: the thesis' single match.
+  Eigen::Vector3d slip_sigma{0.03, 0.03, 0.0175};
   // `method: global`: global localization (thesis chapter 5, Fig. 5.17) —
   // lost is not final, the robot relocalizes itself; `ekf` (default): the
   // chapter-4 pose tracking alone.

@@ -313,7 +313,8 @@ void ReadLocalization(YamlDocument* doc, MapReader& r, const std::string& base,
       {"line_floor_alpha_deg", "line_floor_alpha_rad", &LocalizationEntry::line_floor_alpha_rad,
        kRadPerDeg},
       {"hold_ms", "hold_s", &LocalizationEntry::hold_s, 1e-3},
-      {"odometry_k_scale", &LocalizationEntry::odometry_k_scale}};
+      {"odometry_k_scale", &LocalizationEntry::odometry_k_scale},
+      {"slip_sigma", &LocalizationEntry::slip_sigma}};
   if (l.derive_map_noise_m) {
     fields.push_back({"map_noise_m", "derive_map_noise_m", &LocalizationEntry::derive_map_noise_m});
   }

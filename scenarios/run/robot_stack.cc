@@ -46,6 +46,9 @@ core::LocalizerOptions LocalizerOptionsFor(const RobotEntry& robot) {
   o.odometry.k_right_m *= k_scale;
   o.odometry.k_turn_m *= k_scale;
   o.significance = robot.localization.significance;
+  const Eigen::Vector3d slip_var =
+      robot.localization.slip_sigma.cwiseProduct(robot.localization.slip_sigma);
+  o.slip_covariance = slip_var.asDiagonal();
   for (const sim::LaserMount& mount : robot.config.lasers) {
     core::LaserSensorOptions laser;
     laser.id = mount.id;

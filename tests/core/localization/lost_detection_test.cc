@@ -22,6 +22,7 @@ using pavilion::testing::Wall;
 
 constexpr double kCycleS = 0.1;  // one scan per 10 Hz cycle
 constexpr double kStepS = 0.005;
+constexpr double kDeg = std::numbers::pi / 180.0;
 
 EncoderOdometryOptions Wheels() { return {0.09, 0.09, 0.5, 5e-6, 5e-6}; }
 
@@ -45,6 +46,8 @@ struct LostRun {
   LocalizationState state = LocalizationState::kTracking;
   LostReason reason = LostReason::kNone;
   long hidden_failures = 0;
+  long slip_rematches = 0;
+  Pose2 estimate;
   int cycles_without_pairing = 0;
   // Of them, those with enough observations and predictions to fail.
   int failed_cycles = 0;
@@ -59,12 +62,14 @@ LocalizerOptions WithShortRatio(double max_short_ratio) {
 
 // The robot stands at `estimate` for `cycles` scans taken from `truth`
 // among the room's walls plus `others` (unmapped).
+// `variance`: of the initial estimate (x, y, theta).
 LostRun Stand(const Pose2& estimate, const Pose2& truth, const std::vector<Wall>& others,
-              const LocalizerOptions& options, int cycles) {
+              const LocalizerOptions& options, int cycles,
+              const Eigen::Vector3d& variance = Eigen::Vector3d(1e-4, 1e-4, 1e-4)) {
   Localizer localizer(pavilion::testing::LShapedRoomMap(), options);
   pavilion::testing::DriveSimulator drive(truth, options.odometry, 1.0);
   localizer.AddEncoders(drive.Reading());
-  localizer.Initialize(estimate, Eigen::Vector3d(1e-4, 1e-4, 1e-4).asDiagonal());
+  localizer.Initialize(estimate, variance.asDiagonal());
   std::vector<Wall> walls = pavilion::testing::LShapedRoomWalls();
   walls.insert(walls.end(), others.begin(), others.end());
   RandomStream noise(7, 1);
@@ -85,6 +90,8 @@ LostRun Stand(const Pose2& estimate, const Pose2& truth, const std::vector<Wall>
   run.state = localizer.status().state;
   run.reason = localizer.status().reason;
   run.hidden_failures = localizer.counters().hidden_failures;
+  run.slip_rematches = localizer.counters().slip_rematches;
+  run.estimate = localizer.estimate().pose;
   return run;
 }
 
@@ -135,7 +142,6 @@ std::vector<Wall> CrowdWithGaps(const Pose2& robot) {
     const Eigen::Vector2d along(-std::sin(heading), std::cos(heading));
     return Wall(centre - 0.5 * width * along, centre + 0.5 * width * along);
   };
-  constexpr double kDeg = std::numbers::pi / 180.0;
   const std::vector<double> fronts = {-30.0 * kDeg, 0.0, 30.0 * kDeg};
   std::vector<Wall> people;
   for (const double bearing : fronts) people.push_back(across(bearing, 2.5, 0.8));
@@ -169,6 +175,60 @@ TEST(LostDetection, WallsSeenOnlyThroughGapsAreNotALoss) {
   EXPECT_EQ(counted.hidden_failures, 0);
 }
 
+LocalizerOptions WithSlip(double sigma_m, double sigma_theta_rad) {
+  LocalizerOptions options = WithShortRatio(0.5);
+  options.slip_covariance =
+      Eigen::Vector3d(sigma_m * sigma_m, sigma_m * sigma_m, sigma_theta_rad * sigma_theta_rad)
+          .asDiagonal();
+  return options;
+}
+
+// computer2000's slip (378ac77, 11,067 s): the robot turned 0.67° more than
+// its wheels said while the estimate was sure of its heading to 0.17° (2σ).
+// Here: 1.5° and 2 cm off, with a heading sigma of 0.1°.
+const Pose2 kSlipped{kRobot.x_m + 0.02, kRobot.y_m - 0.01, kRobot.theta_rad + 1.5 * kDeg};
+const Eigen::Vector3d kSureOfItself(25e-6, 25e-6, std::pow(0.1 * kDeg, 2));
+
+TEST(LostDetection, ASlipTheBumpersDidNotFeelIsMatchedAgain) {
+  const int cycles = 3 * LocalizerOptions{}.lost_failed_cycles;
+  // The thesis' single match: every cycle fails its gates, and the robot,
+  // 2 cm and 1.5° from the truth, is declared lost.
+  const LostRun thesis = Stand(kSlipped, kRobot, {}, WithShortRatio(0.5), cycles, kSureOfItself);
+  EXPECT_EQ(thesis.state, LocalizationState::kLost);
+  EXPECT_EQ(thesis.reason, LostReason::kRepeatedGateFailures);
+  EXPECT_EQ(thesis.slip_rematches, 0);
+  // Matched again with 3 cm and 1° more: the first cycle pairs, and the
+  // estimate returns to the truth.
+  const LostRun run =
+      Stand(kSlipped, kRobot, {}, WithSlip(0.03, 1.0 * kDeg), cycles, kSureOfItself);
+  EXPECT_EQ(run.state, LocalizationState::kTracking);
+  EXPECT_EQ(run.cycles_without_pairing, 0);
+  EXPECT_GE(run.slip_rematches, 1);
+  EXPECT_LE(run.slip_rematches, 2);
+  EXPECT_NEAR(run.estimate.x_m, kRobot.x_m, 0.005);
+  EXPECT_NEAR(run.estimate.y_m, kRobot.y_m, 0.005);
+  EXPECT_NEAR(run.estimate.theta_rad, kRobot.theta_rad, 0.1 * kDeg);
+}
+
+TEST(LostDetection, TheSlipsSecondMatchDoesNotHideAKidnap) {
+  const int needed = LocalizerOptions{}.lost_failed_cycles;
+  const Pose2 truth{7.5, 2.2, 0.7};  // as AKidnappedRobotIsStillDeclaredLost
+  const LostRun run = Stand(kRobot, truth, {}, WithSlip(0.03, 1.0 * kDeg), needed);
+  EXPECT_EQ(run.cycles_without_pairing, needed);
+  EXPECT_EQ(run.slip_rematches, 0);
+  EXPECT_EQ(run.state, LocalizationState::kLost);
+  EXPECT_EQ(run.reason, LostReason::kRepeatedGateFailures);
+}
+
+TEST(LostDetection, ACrowdsLinesAreNotPairedByTheSlipsSecondMatch) {
+  const int cycles = 3 * LocalizerOptions{}.lost_failed_cycles;
+  const LostRun run =
+      Stand(kRobot, kRobot, CrowdAround(kRobot), WithSlip(0.03, 1.0 * kDeg), cycles);
+  EXPECT_EQ(run.cycles_without_pairing, cycles);
+  EXPECT_EQ(run.slip_rematches, 0);
+  EXPECT_EQ(run.state, LocalizationState::kTracking);
+}
+
 TEST(LostDetection, ValidatesTheRatio) {
   LocalizerOptions options;
   options.max_short_ratio_for_failure = 1.5;
@@ -180,6 +240,15 @@ TEST(LostDetection, ValidatesTheRatio) {
   EXPECT_THROW(options.Validate(), std::invalid_argument);
   options = LocalizerOptions{};
   options.failure_free_space.min_wall_run_beams = 1;
+  EXPECT_THROW(options.Validate(), std::invalid_argument);
+  options = LocalizerOptions{};
+  options.slip_covariance(2, 2) = -1e-4;
+  EXPECT_THROW(options.Validate(), std::invalid_argument);
+  options = LocalizerOptions{};
+  options.slip_covariance(0, 1) = 1e-4;  // not symmetric
+  EXPECT_THROW(options.Validate(), std::invalid_argument);
+  options = LocalizerOptions{};
+  options.slip_min_matches = 0;
   EXPECT_THROW(options.Validate(), std::invalid_argument);
 }
 

@@ -664,6 +664,71 @@ TEST(DynamicWindowTest, CreepsPastAPostBesideAHubWithAReducedMargin) {
   EXPECT_THROW(dwa.Choose({}, post, goal), std::invalid_argument);
 }
 
+// Pygmalion's navigation outline as RobotDescription::OutlineWithWheels draws
+// it: the 45 cm square and its wheels' collision spheres as 16-gon discs
+// (7.5 cm at y = ±0.19), which bulge 4 cm from its sides.
+core::Polygon2 WheeledSquare() {
+  std::vector<Eigen::Vector2d> points = {
+      {-0.225, -0.225}, {0.225, -0.225}, {0.225, 0.225}, {-0.225, 0.225}};
+  const double outer = 0.075 / std::cos(kPi / 16.0);
+  for (const double y : {-0.19, 0.19}) {
+    for (int k = 0; k < 16; ++k) {
+      points.emplace_back(outer * std::cos(2.0 * kPi * k / 16.0),
+                          y + outer * std::sin(2.0 * kPi * k / 16.0));
+    }
+  }
+  return core::ConvexHull(std::move(points));
+}
+
+// Where Pygmalion stood for 18 hours (computer2000 seed 1, office_09's door,
+// 34,030 s, the robot's frame): a door post's face cuts up to 1.7 cm into
+// the right hub, its points on both sides of the wheel axis. Every motion the
+// drive allows first takes one of them deeper, by about a millimetre, so the
+// sliding test admits only standing, even with no margin. With
+// the creep's 4 mm contact slack the window creeps forward, the way the face
+// recedes from the hub, and no point gets more than that deeper.
+TEST(DynamicWindowTest, CreepsOffAPostCornerPressingAHubWithAContactSlack) {
+  DynamicWindowOptions o;
+  o.wheelbase_m = 0.38;
+  o.max_speed_mps = 0.4;
+  const core::Polygon2 outline = WheeledSquare();
+  DynamicWindow dwa(o, outline);
+  const std::vector<Eigen::Vector2d> post = {{-0.021, -0.248}, {-0.007, -0.248}, {0.004, -0.261},
+                                             {0.016, -0.259},  {0.039, -0.269},  {0.062, -0.280}};
+  DwaGoal goal;
+  goal.target_in_robot = {1.0, 0.0};
+  goal.speed_limit_mps = 0.05;
+  goal.exact_clearance = true;
+  goal.margin_m = 0.0;
+  const DwaResult held = dwa.Choose({}, post, goal);
+  EXPECT_TRUE(held.in_collision);
+  EXPECT_EQ(held.command.left_mps, 0.0);
+  EXPECT_EQ(held.command.right_mps, 0.0);
+  goal.contact_slack_m = 0.004;
+  const DwaResult creep = dwa.Choose({}, post, goal);
+  ASSERT_TRUE(creep.admissible_found);
+  EXPECT_GT(creep.command.left_mps + creep.command.right_mps, 0.0);
+  // Held one period and braked: no point more than the slack deeper.
+  std::vector<double> start;
+  Eigen::Vector2d normal;
+  for (const Eigen::Vector2d& p : post) start.push_back(SignedDistance(outline, p, &normal));
+  core::Pose2 pose;
+  double worst_m = 0.0;
+  for (double t = 0.0; t < 0.3; t += 1e-3) {
+    const double scale = t < o.period_s ? 1.0 : 0.0;
+    pose = core::DiffDriveStep(
+        pose, {creep.command.left_mps * scale * 1e-3, creep.command.right_mps * scale * 1e-3},
+        o.wheelbase_m);
+    for (std::size_t i = 0; i < post.size(); ++i) {
+      worst_m =
+          std::max(worst_m, start[i] - SignedDistance(outline, pose.Inverse() * post[i], &normal));
+    }
+  }
+  EXPECT_LE(worst_m, 0.004 + 1e-4);
+  goal.contact_slack_m = 0.006;  // beyond kMaxContactSlack_m
+  EXPECT_THROW(dwa.Choose({}, post, goal), std::invalid_argument);
+}
+
 // Bad options name the field; a clockwise polygon and a too short look-ahead are refused.
 TEST(DynamicWindowTest, RejectsBadOptions) {
   auto message = [](DynamicWindowOptions o) {

@@ -7,6 +7,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "core/geometry/polygon.h"
+
 namespace pavilion::nav {
 namespace {
 
@@ -37,6 +39,41 @@ TEST(FreeTravel, StopsWhereTheCorridorsRoundFrontTouchesAPoint) {
 std::vector<Eigen::Vector2d> HubbedSquare() {
   return {{-0.225, -0.225}, {0.0, -0.2665}, {0.225, -0.225},
           {0.225, 0.225},   {0.0, 0.2665},  {-0.225, 0.225}};
+}
+
+// Pygmalion's outline with its wheels' 16-gon discs (OutlineWithWheels).
+std::vector<Eigen::Vector2d> WheeledSquare() {
+  std::vector<Eigen::Vector2d> points = {
+      {-0.225, -0.225}, {0.225, -0.225}, {0.225, 0.225}, {-0.225, 0.225}};
+  const double outer = 0.075 / std::cos(kPi / 16.0);
+  for (const double y : {-0.19, 0.19}) {
+    for (int k = 0; k < 16; ++k) {
+      points.emplace_back(outer * std::cos(2.0 * kPi * k / 16.0),
+                          y + outer * std::sin(2.0 * kPi * k / 16.0));
+    }
+  }
+  return core::ConvexHull(std::move(points));
+}
+
+// A door post's face pressed 1.7 cm into the right hub, its points on both
+// sides of the wheel axis (computer2000 seed 1, 34,030 s; as
+// DynamicWindowTest.CreepsOffAPostCornerPressingAHubWithAContactSlack).
+TEST(StraightPolygonTravel, LetsAHubSlideOffAPostCornerWithinTheContactSlack) {
+  const std::vector<Eigen::Vector2d> post = {{-0.021, -0.248}, {-0.007, -0.248}, {0.004, -0.261},
+                                             {0.016, -0.259},  {0.039, -0.269},  {0.062, -0.280}};
+  const std::vector<Eigen::Vector2d> outline = WheeledSquare();
+  // Inside now: no travel either way.
+  EXPECT_DOUBLE_EQ(StraightPolygonTravel(post, outline, false, 0.0, 3.0), 0.0);
+  EXPECT_DOUBLE_EQ(StraightPolygonTravel(post, outline, true, 0.0, 3.0), 0.0);
+  // With the creep's 4 mm of slack the hub slides on, off the face: the
+  // point 1.6 cm beside the wheel axis gets 3.2 mm deeper passing the
+  // 16-gon's lowest vertex, the others less.
+  EXPECT_DOUBLE_EQ(StraightPolygonTravel(post, outline, false, 0.0, 3.0, 0.004), 3.0);
+  // A point 3 cm ahead of the axis and 2 cm inside the hub would pass its
+  // vertex 6 mm deeper: it blocks driving on, not backing away from it.
+  const std::vector<Eigen::Vector2d> deep = {{0.03, -0.24}};
+  EXPECT_DOUBLE_EQ(StraightPolygonTravel(deep, outline, false, 0.0, 3.0, 0.004), 0.0);
+  EXPECT_DOUBLE_EQ(StraightPolygonTravel(deep, outline, true, 0.0, 3.0, 0.004), 3.0);
 }
 
 TEST(StraightPolygonTravel, LetsAPointBesideTheHubPassWhereTheBoxDoesNot) {

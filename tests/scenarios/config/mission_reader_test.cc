@@ -61,19 +61,23 @@ TEST(ScenarioLoaderTest, ReadsRestNodesAndReportsAnUnknownOne) {
 // hold_belief_at_goal: on unless the mission turns it off (the thesis'
 // pause of localization at the goal); a value that is no boolean is a
 // file:line:key error.
+// office_errands.yaml's text, its world named by its full path (for a copy elsewhere).
+std::string OfficeErrandsText() {
+  std::ifstream in(std::string(PAVILION_SOURCE_DIR) + "/scenarios/office_errands.yaml");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::size_t world = text.find("world: office_floor");
+  if (world == std::string::npos) return "";
+  return text.replace(
+      world, 19, "world: " + std::string(PAVILION_SOURCE_DIR) + "/worlds/office_floor/world.yaml");
+}
+
 TEST(ScenarioLoaderTest, ReadsWhetherTheBeliefIsHeldAtTheGoal) {
   const std::string source = std::string(PAVILION_SOURCE_DIR) + "/scenarios/office_errands.yaml";
   ASSERT_TRUE(LoadScenarioFile(source).robots[0].mission.has_value());
   EXPECT_TRUE(LoadScenarioFile(source).robots[0].mission->navigation.hold_belief_at_goal);
-  std::ifstream in(source);
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string text = OfficeErrandsText();
   const std::string key = "    mission:\n";
-  const std::size_t at = text.find(key);
-  ASSERT_NE(at, std::string::npos);
-  const std::size_t world = text.find("world: office_floor");
-  ASSERT_NE(world, std::string::npos);
-  text.replace(world, 19,
-               "world: " + std::string(PAVILION_SOURCE_DIR) + "/worlds/office_floor/world.yaml");
+  ASSERT_NE(text.find(key), std::string::npos);
   std::string off = text;
   off.insert(off.find(key) + key.size(), "      hold_belief_at_goal: false\n");
   const Scenario paused = LoadScenarioFile(WriteFile(TestDir(), "paused.yaml", off));
@@ -83,6 +87,26 @@ TEST(ScenarioLoaderTest, ReadsWhetherTheBeliefIsHeldAtTheGoal) {
   const std::vector<Diagnostic> all = LoadErrors(WriteFile(TestDir(), "bad.yaml", bad));
   ASSERT_EQ(all.size(), 1u);
   EXPECT_EQ(all[0].key_path, "robots[0].mission.hold_belief_at_goal");
+  EXPECT_GT(all[0].line, 0);
+}
+
+// localization.slip_sigma: 3 cm, 3 cm and 1° unless given; [0, 0, 0] is the
+// thesis' filter; a negative sigma is an error at its line.
+TEST(ScenarioLoaderTest, ReadsTheSlipSigma) {
+  const std::string text = OfficeErrandsText();
+  const std::string key = "    localization:\n";
+  ASSERT_NE(text.find(key), std::string::npos);
+  const Scenario plain = LoadScenarioFile(WriteFile(TestDir(), "plain.yaml", text));
+  EXPECT_EQ(plain.robots[0].localization.slip_sigma, Eigen::Vector3d(0.03, 0.03, 0.0175));
+  std::string thesis = text;
+  thesis.insert(thesis.find(key) + key.size(), "      slip_sigma: [0, 0, 0]\n");
+  const Scenario single = LoadScenarioFile(WriteFile(TestDir(), "thesis.yaml", thesis));
+  EXPECT_TRUE(single.robots[0].localization.slip_sigma.isZero(0.0));
+  std::string bad = text;
+  bad.insert(bad.find(key) + key.size(), "      slip_sigma: [0.03, -0.01, 0.02]\n");
+  const std::vector<Diagnostic> all = LoadErrors(WriteFile(TestDir(), "bad_slip.yaml", bad));
+  ASSERT_EQ(all.size(), 1u);
+  EXPECT_EQ(all[0].key_path, "robots[0].localization.slip_sigma");
   EXPECT_GT(all[0].line, 0);
 }
 
