@@ -18,6 +18,7 @@
 #include "core/random/random_stream.h"
 #include "core/types/pose2.h"
 #include "nav/reactive/swept_polygon.h"
+#include "tests/support/pygmalion_outline.h"
 
 namespace pavilion::nav {
 namespace {
@@ -664,22 +665,6 @@ TEST(DynamicWindowTest, CreepsPastAPostBesideAHubWithAReducedMargin) {
   EXPECT_THROW(dwa.Choose({}, post, goal), std::invalid_argument);
 }
 
-// Pygmalion's navigation outline as RobotDescription::OutlineWithWheels draws
-// it: the 45 cm square and its wheels' collision spheres as 16-gon discs
-// (7.5 cm at y = ±0.19), which bulge 4 cm from its sides.
-core::Polygon2 WheeledSquare() {
-  std::vector<Eigen::Vector2d> points = {
-      {-0.225, -0.225}, {0.225, -0.225}, {0.225, 0.225}, {-0.225, 0.225}};
-  const double outer = 0.075 / std::cos(kPi / 16.0);
-  for (const double y : {-0.19, 0.19}) {
-    for (int k = 0; k < 16; ++k) {
-      points.emplace_back(outer * std::cos(2.0 * kPi * k / 16.0),
-                          y + outer * std::sin(2.0 * kPi * k / 16.0));
-    }
-  }
-  return core::ConvexHull(std::move(points));
-}
-
 // Where Pygmalion stood for 18 hours (computer2000 seed 1, office_09's door,
 // 34,030 s, the robot's frame): a door post's face cuts up to 1.7 cm into
 // the right hub, its points on both sides of the wheel axis. Every motion the
@@ -691,7 +676,7 @@ TEST(DynamicWindowTest, CreepsOffAPostCornerPressingAHubWithAContactSlack) {
   DynamicWindowOptions o;
   o.wheelbase_m = 0.38;
   o.max_speed_mps = 0.4;
-  const core::Polygon2 outline = WheeledSquare();
+  const core::Polygon2 outline = pavilion::testing::PygmalionWheeledOutline();
   DynamicWindow dwa(o, outline);
   const std::vector<Eigen::Vector2d> post = {{-0.021, -0.248}, {-0.007, -0.248}, {0.004, -0.261},
                                              {0.016, -0.259},  {0.039, -0.269},  {0.062, -0.280}};

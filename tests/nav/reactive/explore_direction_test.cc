@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/geometry/polygon.h"
+#include "tests/support/pygmalion_outline.h"
 
 namespace pavilion::nav {
 namespace {
@@ -41,27 +42,13 @@ std::vector<Eigen::Vector2d> HubbedSquare() {
           {0.225, 0.225},   {0.0, 0.2665},  {-0.225, 0.225}};
 }
 
-// Pygmalion's outline with its wheels' 16-gon discs (OutlineWithWheels).
-std::vector<Eigen::Vector2d> WheeledSquare() {
-  std::vector<Eigen::Vector2d> points = {
-      {-0.225, -0.225}, {0.225, -0.225}, {0.225, 0.225}, {-0.225, 0.225}};
-  const double outer = 0.075 / std::cos(kPi / 16.0);
-  for (const double y : {-0.19, 0.19}) {
-    for (int k = 0; k < 16; ++k) {
-      points.emplace_back(outer * std::cos(2.0 * kPi * k / 16.0),
-                          y + outer * std::sin(2.0 * kPi * k / 16.0));
-    }
-  }
-  return core::ConvexHull(std::move(points));
-}
-
 // A door post's face pressed 1.7 cm into the right hub, its points on both
 // sides of the wheel axis (computer2000 seed 1, 34,030 s; as
 // DynamicWindowTest.CreepsOffAPostCornerPressingAHubWithAContactSlack).
 TEST(StraightPolygonTravel, LetsAHubSlideOffAPostCornerWithinTheContactSlack) {
   const std::vector<Eigen::Vector2d> post = {{-0.021, -0.248}, {-0.007, -0.248}, {0.004, -0.261},
                                              {0.016, -0.259},  {0.039, -0.269},  {0.062, -0.280}};
-  const std::vector<Eigen::Vector2d> outline = WheeledSquare();
+  const std::vector<Eigen::Vector2d> outline = pavilion::testing::PygmalionWheeledOutline();
   // Inside now: no travel either way.
   EXPECT_DOUBLE_EQ(StraightPolygonTravel(post, outline, false, 0.0, 3.0), 0.0);
   EXPECT_DOUBLE_EQ(StraightPolygonTravel(post, outline, true, 0.0, 3.0), 0.0);
