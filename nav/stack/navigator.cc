@@ -47,9 +47,13 @@ std::optional<WheelSpeeds> Navigator::Control(std::int64_t tick, double now_s) {
 
 SenseResult Navigator::Sense(const SensorFrame& frame) {
   SenseResult result;
+  const double heading_before_rad = odometry_.pose().theta_rad;
   for (const core::EncoderReading& reading : frame.encoders) odometry_.Update(reading);
-  const BumperContact contact = FeelBumpers(frame);
-  if (estimator_ && (contact.press || contact.held_s > 0.0)) estimator_->OnContact(contact);
+  const BumperContact contact = FeelBumpers(
+      frame, std::abs(core::NormalizeAngle(odometry_.pose().theta_rad - heading_before_rad)));
+  if (estimator_ && (contact.press || contact.held_s > 0.0 || contact.turned_rad > 0.0)) {
+    estimator_->OnContact(contact);
+  }
   if (controller_ && !frame.bumpers.empty()) {
     const ScanContext context{frame.now_s, belief(), odometry_.pose()};
     for (const core::BumperReading& b : frame.bumpers) controller_->OnBumper(b, context);
@@ -68,7 +72,7 @@ SenseResult Navigator::Sense(const SensorFrame& frame) {
   return result;
 }
 
-BumperContact Navigator::FeelBumpers(const SensorFrame& frame) {
+BumperContact Navigator::FeelBumpers(const SensorFrame& frame, double turned_rad) {
   BumperContact contact;
   const auto hold_until = [&](double t) {
     if (bumper_zones_ != 0) contact.held_s += std::max(0.0, t - held_until_s_);
@@ -88,6 +92,13 @@ BumperContact Navigator::FeelBumpers(const SensorFrame& frame) {
   // Readings come only on a change: zones still pressed stay pressed to the
   // end of the tick.
   hold_until(frame.now_s);
+  if (contact.press) collision_turn_rad_ = 0.0;
+  if (contact.press || contact.held_s > 0.0 ||
+      frame.now_s - last_press_s_ <= collision_refractory_s_) {
+    contact.turned_before_rad = collision_turn_rad_;
+    contact.turned_rad = turned_rad;
+    collision_turn_rad_ += turned_rad;
+  }
   return contact;
 }
 

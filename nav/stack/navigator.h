@@ -30,7 +30,9 @@ struct NavigatorOptions {
   // this long, s >= 0: a visitor's bump flickers the bumper zones on and off
   // several times in a second, and each flicker is not another collision
   // (stacked, eight additions of a 0.15 rad sigma left an EKF 40 deg off).
-  // The time the zones stay pressed counts in full (BumperContact::held_s).
+  // The time the zones stay pressed counts in full (BumperContact::held_s);
+  // the odometry's turn counts from a press while the zones stay pressed and
+  // for this long after it (BumperContact::turned_rad).
   double collision_refractory_s = 1.0;
 };
 
@@ -86,8 +88,9 @@ class Navigator {
   std::unique_ptr<PoseEstimator> estimator_;
   std::unique_ptr<Controller> controller_;
   std::unique_ptr<PoseEstimator> shadow_;
-  // What the bumpers felt this frame, from their readings (in order).
-  BumperContact FeelBumpers(const SensorFrame& frame);
+  // What the bumpers felt this frame, from their readings (in order), and
+  // how far the odometry turned in it (`turned_rad`) if during a collision.
+  BumperContact FeelBumpers(const SensorFrame& frame, double turned_rad);
 
   // The belief and the odometry at the last Control() while localized
   // (ControlTick::last_localized).
@@ -99,8 +102,9 @@ class Navigator {
 
   std::uint32_t bumper_zones_ = 0;  // pressed at the last bumper reading
   double collision_refractory_s_ = 1.0;
-  double last_press_s_ = -1e300;  // the last press that counted
-  double held_until_s_ = 0.0;     // pressed time is counted up to here
+  double last_press_s_ = -1e300;     // the last press that counted
+  double held_until_s_ = 0.0;        // pressed time is counted up to here
+  double collision_turn_rad_ = 0.0;  // the odometry's turn since the last press
 };
 
 }  // namespace pavilion::nav

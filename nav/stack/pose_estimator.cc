@@ -30,6 +30,7 @@ void CollisionNoiseOptions::Validate(const char* owner) const {
   require(press_sigma_rad, "press_sigma_rad");
   require(hold_sigma_m, "hold_sigma_m");
   require(hold_sigma_rad, "hold_sigma_rad");
+  require(turn_slip_fraction, "turn_slip_fraction");
 }
 
 Eigen::Matrix3d CollisionNoiseOptions::Covariance(const BumperContact& contact) const {
@@ -37,8 +38,13 @@ Eigen::Matrix3d CollisionNoiseOptions::Covariance(const BumperContact& contact) 
   const double held_s = std::max(0.0, contact.held_s);
   const double position_m2 =
       press * press_sigma_m * press_sigma_m + held_s * hold_sigma_m * hold_sigma_m;
-  const double heading_rad2 =
-      press * press_sigma_rad * press_sigma_rad + held_s * hold_sigma_rad * hold_sigma_rad;
+  // The slip's sigma over the collision so far is turn_slip_fraction times
+  // its whole turn; this report adds the growth of its square.
+  const double before_rad = turn_slip_fraction * std::max(0.0, contact.turned_before_rad);
+  const double after_rad = before_rad + turn_slip_fraction * std::max(0.0, contact.turned_rad);
+  const double heading_rad2 = press * press_sigma_rad * press_sigma_rad +
+                              held_s * hold_sigma_rad * hold_sigma_rad +
+                              (after_rad * after_rad - before_rad * before_rad);
   return Eigen::Vector3d(position_m2, position_m2, heading_rad2).asDiagonal();
 }
 

@@ -316,7 +316,10 @@ void RobotBody::AddRaycastDrive(const PartLayout& layout) {
 }
 
 // The articulated reference: chassis, drive wheels on hinge motors, casters
-// (nearly frictionless spheres) on ball joints.
+// (nearly frictionless spheres) on ball joints. A wheel's sphere stands in for
+// a tyre as wide as WheelSpec::width_m inside the chassis; it touches the floor
+// alone (Pygmalion's would bulge 4 cm beyond its 45 cm chassis and catch door
+// posts the real wheel cannot reach), as the ray-cast drive's wheels do.
 void RobotBody::AddArticulatedParts(std::unique_ptr<btCompoundShape> compound,
                                     const btTransform& base_from_chassis, const PartLayout& layout,
                                     const Material& material) {
@@ -336,9 +339,10 @@ void RobotBody::AddArticulatedParts(std::unique_ptr<btCompoundShape> compound,
         btVector3(w.position_m.x(), layout.wheel_y[side], layout.radius[side]));
     const int wheel_element = world_.elements->Add(
         placement_.id + (side == 0 ? "/left_wheel" : "/right_wheel"), m.material, true, group_);
-    btRigidBody* wheel_body = physics.AddDynamic(
-        std::make_unique<btSphereShape>(layout.radius[side]), layout.masses.wheel_kg[side],
-        base_from_wheel, kWheelTreadFriction, 0.0, wheel_element);
+    btRigidBody* wheel_body =
+        physics.AddDynamic(std::make_unique<btSphereShape>(layout.radius[side]),
+                           layout.masses.wheel_kg[side], base_from_wheel, kWheelTreadFriction, 0.0,
+                           wheel_element, nullptr, PhysicsWorld::Touches::kFloorOnly);
     parts_.push_back({wheel_body, base_from_wheel});
     const btVector3 pivot_in_chassis = base_from_chassis.inverse() * base_from_wheel.getOrigin();
     auto joint = std::make_unique<btHingeConstraint>(*body, *wheel_body, pivot_in_chassis,

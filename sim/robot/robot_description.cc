@@ -3,6 +3,7 @@
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
+#include <utility>
 
 #include "core/geometry/polygon.h"
 
@@ -33,8 +34,12 @@ std::vector<Eigen::Vector2d> RobotDescription::OutlineWithWheels() const {
       points.push_back(c + outer * Eigen::Vector2d(std::cos(a), std::sin(a)));
     }
   };
-  add_disc(left_wheel.position_m, left_wheel.radius_m);
-  add_disc(right_wheel.position_m, right_wheel.radius_m);
+  for (const WheelSpec* w : {&left_wheel, &right_wheel}) {
+    const double hx = w->radius_m, hy = 0.5 * w->width_m;
+    for (const auto& [sx, sy] : {std::pair{1, 1}, {-1, 1}, {-1, -1}, {1, -1}}) {
+      points.push_back(w->position_m + Eigen::Vector2d(sx * hx, sy * hy));
+    }
+  }
   for (const CasterSpec& c : casters) add_disc(c.position_m, c.radius_m);
   return core::ConvexHull(std::move(points));
 }

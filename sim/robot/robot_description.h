@@ -18,7 +18,8 @@ namespace pavilion::sim {
 struct WheelSpec {
   std::string joint;                     // URDF joint name
   double radius_m = 0.1;                 // > 0
-  double width_m = 0.04;                 // > 0 (collision uses a sphere of the radius)
+  double width_m = 0.04;                 // > 0 (the articulated model rolls a sphere
+                                         // of the radius that touches the floor alone)
   double mass_kg = 1.0;                  // > 0
   Eigen::Vector2d position_m{0.0, 0.2};  // axle centre in the base frame (x, y)
 };
@@ -110,9 +111,10 @@ struct RobotDescription {
   std::map<std::string, Material> materials;
 
   double wheelbase_m() const { return left_wheel.position_m.y() - right_wheel.position_m.y(); }
-  // The outline seen from above with the wheels (their collision spheres'
-  // discs, as 16-gons) and casters: what must clear an obstacle at any
-  // height, counter-clockwise, convex (the navigation's robot polygon).
+  // The outline seen from above with the wheels (their tyres, 2 radius_m long
+  // and width_m wide) and casters (their spheres' discs, as 16-gons): what
+  // must clear an obstacle at any height, counter-clockwise, convex (the
+  // navigation's robot polygon).
   std::vector<Eigen::Vector2d> OutlineWithWheels() const;
   // The slabs the simulator builds the chassis of (collisions, laser rays,
   // sections): chassis_prisms while footprint_m is the hull of their outlines;

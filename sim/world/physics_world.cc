@@ -20,6 +20,15 @@ namespace {
 // pyramid) hold both tangents: creep < 0.003 mm/s, σ 0.09 / 0.04 mrad.
 constexpr int kSolverFrictionModes = SOLVER_USE_2_FRICTION_DIRECTIONS;
 
+// Broadphase filter groups: Bullet's own (btBroadphaseProxy) for dynamic and
+// static bodies, plus one for the floor. A body added with
+// Touches::kFloorOnly masks all but the floor; the others keep the group and
+// mask btDiscreteDynamicsWorld::addRigidBody(body) would give them.
+constexpr int kFloorFilter = 1 << 6;  // after btBroadphaseProxy::CharacterFilter (32)
+constexpr int kDynamicGroup = btBroadphaseProxy::DefaultFilter;
+constexpr int kStaticGroup = btBroadphaseProxy::StaticFilter;
+constexpr int kAllMask = btBroadphaseProxy::AllFilter;
+
 // Robots' own parts never collide with each other.
 struct SameRobotFilter : btOverlapFilterCallback {
   const std::vector<core::SectionElement>* elements = nullptr;
@@ -80,14 +89,15 @@ const btDbvtBroadphase& PhysicsWorld::broadphase() const { return impl_->broadph
 
 btRigidBody* PhysicsWorld::AddStatic(std::unique_ptr<btCollisionShape> shape,
                                      const btTransform& transform, const Material& material,
-                                     int element) {
+                                     int element, bool floor) {
   btRigidBody::btRigidBodyConstructionInfo info(0.0, nullptr, shape.get());
   info.m_startWorldTransform = transform;
   info.m_friction = material.friction;
   info.m_restitution = material.restitution;
   auto body = std::make_unique<btRigidBody>(info);
   body->setUserIndex(element);
-  impl_->dynamics.addRigidBody(body.get());
+  impl_->dynamics.addRigidBody(body.get(), kStaticGroup | (floor ? kFloorFilter : 0),
+                               kAllMask ^ kStaticGroup);
   impl_->shapes.push_back(std::move(shape));
   impl_->rigid_bodies.push_back(std::move(body));
   return impl_->rigid_bodies.back().get();
@@ -96,7 +106,7 @@ btRigidBody* PhysicsWorld::AddStatic(std::unique_ptr<btCollisionShape> shape,
 btRigidBody* PhysicsWorld::AddDynamic(std::unique_ptr<btCollisionShape> shape, double mass_kg,
                                       const btTransform& transform, double friction,
                                       double restitution, int element,
-                                      const btVector3* given_inertia) {
+                                      const btVector3* given_inertia, Touches touches) {
   btVector3 inertia(0, 0, 0);
   shape->calculateLocalInertia(mass_kg, inertia);
   if (given_inertia != nullptr) inertia = *given_inertia;
@@ -107,13 +117,18 @@ btRigidBody* PhysicsWorld::AddDynamic(std::unique_ptr<btCollisionShape> shape, d
   auto rigid = std::make_unique<btRigidBody>(info);
   rigid->setActivationState(DISABLE_DEACTIVATION);
   rigid->setUserIndex(element);
-  return AddRigidBody(std::move(shape), std::move(motion), std::move(rigid));
+  return AddRigidBody(std::move(shape), std::move(motion), std::move(rigid), touches);
 }
 
 btRigidBody* PhysicsWorld::AddRigidBody(std::unique_ptr<btCollisionShape> shape,
                                         std::unique_ptr<btMotionState> motion,
-                                        std::unique_ptr<btRigidBody> rigid) {
-  impl_->dynamics.addRigidBody(rigid.get());
+                                        std::unique_ptr<btRigidBody> rigid, Touches touches) {
+  if (rigid->isStaticOrKinematicObject()) {
+    impl_->dynamics.addRigidBody(rigid.get(), kStaticGroup, kAllMask ^ kStaticGroup);
+  } else {
+    impl_->dynamics.addRigidBody(rigid.get(), kDynamicGroup,
+                                 touches == Touches::kFloorOnly ? kFloorFilter : kAllMask);
+  }
   impl_->shapes.push_back(std::move(shape));
   impl_->motion_states.push_back(std::move(motion));
   impl_->rigid_bodies.push_back(std::move(rigid));

@@ -43,18 +43,25 @@ class PhysicsWorld {
   btDbvtBroadphase& broadphase();
   const btDbvtBroadphase& broadphase() const;
 
-  // A static rigid body of `material` at `transform`.
+  // What a body may touch. A robot's drive wheel is a sphere standing in for
+  // a thin tyre inside the chassis: only its rolling contact with the floor is
+  // real, and its bulk (up to a radius beside the axle) must touch nothing else.
+  enum class Touches { kAll, kFloorOnly };
+
+  // A static rigid body of `material` at `transform`; `floor` marks the ground
+  // the drive wheels roll on.
   btRigidBody* AddStatic(std::unique_ptr<btCollisionShape> shape, const btTransform& transform,
-                         const Material& material, int element);
+                         const Material& material, int element, bool floor = false);
   // A dynamic rigid body, never deactivated. Its inertia is the shape's unless
   // given (principal moments about the body axes).
   btRigidBody* AddDynamic(std::unique_ptr<btCollisionShape> shape, double mass_kg,
                           const btTransform& transform, double friction, double restitution,
-                          int element, const btVector3* given_inertia = nullptr);
+                          int element, const btVector3* given_inertia = nullptr,
+                          Touches touches = Touches::kAll);
   // Adds a rigid body built by the caller and keeps its parts.
   btRigidBody* AddRigidBody(std::unique_ptr<btCollisionShape> shape,
                             std::unique_ptr<btMotionState> motion,
-                            std::unique_ptr<btRigidBody> rigid);
+                            std::unique_ptr<btRigidBody> rigid, Touches touches = Touches::kAll);
   void AddConstraint(std::unique_ptr<btTypedConstraint> constraint,
                      bool disable_collisions_between_linked_bodies);
   // Keeps a shape that lives as long as the world (a child of a compound).

@@ -54,7 +54,7 @@ class StaticBuilder {
     btTransform t;
     t.setIdentity();
     t.setOrigin(btVector3(centre.x(), centre.y(), -0.5 * kFloorThicknessM));
-    AddStatic(std::move(shape), t, floor.material, element);
+    AddStatic(std::move(shape), t, floor.material, element, /*floor=*/true);
   }
 
   // The relief sampled every kReliefGridSpacingM (or closer, so that the
@@ -84,7 +84,7 @@ class StaticBuilder {
     btTransform t;
     t.setIdentity();
     t.setOrigin(btVector3(centre.x(), centre.y(), 0.5 * (min_m + max_m)));
-    AddStatic(std::move(shape), t, floor.material, element);
+    AddStatic(std::move(shape), t, floor.material, element, /*floor=*/true);
   }
 
   void AddWall(const Wall& wall) {
@@ -144,9 +144,9 @@ class StaticBuilder {
 
  private:
   btRigidBody* AddStatic(std::unique_ptr<btCollisionShape> shape, const btTransform& transform,
-                         const std::string& material, int element) {
+                         const std::string& material, int element, bool floor = false) {
     return physics_.AddStatic(std::move(shape), transform, description_.MaterialNamed(material),
-                              element);
+                              element, floor);
   }
 
   const WorldDescription& description_;

@@ -1,7 +1,9 @@
 #pragma once
-// Pygmalion's navigation outline as RobotDescription::OutlineWithWheels draws
-// it: the 45 cm square and its wheels' collision spheres as 16-gon discs
-// (7.5 cm at y = ±0.19), which bulge 4 cm from its sides. Counter-clockwise.
+// Pygmalion's navigation outline as RobotDescription::OutlineWithWheels drew
+// it while the articulated wheels' spheres touched walls: the 45 cm square and
+// those spheres as 16-gon discs (7.5 cm at y = ±0.19), hubs that bulge 4 cm
+// from its sides — an outline with corners a post can press between.
+// Counter-clockwise.
 #include <Eigen/Core>
 #include <cmath>
 #include <numbers>

@@ -51,11 +51,16 @@ class FakeEstimator : public PoseEstimator {
     collisions += contact.press ? 1 : 0;
     held_s += contact.held_s;
     ++contacts;
+    if (contact.press) turned_rad = 0.0;
+    // Each report's earlier turn is the sum of the collision's reports so far.
+    EXPECT_NEAR(contact.turned_before_rad, turned_rad, 1e-12);
+    turned_rad += contact.turned_rad;
   }
 
   int collisions = 0;  // presses
   double held_s = 0.0;
-  int contacts = 0;  // calls
+  double turned_rad = 0.0;  // the odometry's turn reported since the last press
+  int contacts = 0;         // calls
   int encoders_seen = 0;
   int scans_seen = 0;
   core::PoseWithCovariance estimate_{core::Pose2{5.0, -1.0, 0.5}, Eigen::Matrix3d::Identity()};
@@ -286,6 +291,46 @@ TEST(NavigatorTest, FeelsEachCollisionOnceAndTheTimeItIsHeld) {
   EXPECT_THROW(Navigator(bad, nullptr, nullptr), std::invalid_argument);
 }
 
+// The odometry's turn counts from a collision's press, while the zones stay
+// pressed and for the refractory period after the press (robox_15 in
+// expo_rush: its wheels turned 14 deg in the half second after a 0.16 s
+// press while its body stood); before the press and after that, not at all.
+TEST(NavigatorTest, ReportsTheOdometrysTurnDuringACollision) {
+  auto estimator = std::make_unique<FakeEstimator>();
+  FakeEstimator* e = estimator.get();
+  NavigatorOptions options = Options();
+  options.collision_refractory_s = 1.0;
+  Navigator navigator(options, std::move(estimator), nullptr);
+  // Turning on the spot: 10 ticks a wheel every 10 ms, 2 (2 pi 0.1 / 100) / 0.5 rad.
+  const double per_tick_rad = 2.0 * (2.0 * std::numbers::pi * 0.1 * 10.0 / kTicksPerTurn) / 0.5;
+  std::int64_t ticks = 0;
+  const auto tick = [&](double now_s, std::optional<double> stamp_s = std::nullopt,
+                        std::uint32_t zones = 0) {
+    const std::vector<core::EncoderReading> encoders{Reading(now_s, -ticks, ticks)};
+    ticks += 10;
+    std::vector<core::BumperReading> readings;
+    if (stamp_s) readings.push_back({*stamp_s, zones});
+    navigator.Sense(SensorFrame{now_s, encoders, {}, readings, {}});
+  };
+  tick(10.00);  // the first reading sets the counts: no motion
+  for (int k = 1; k <= 4; ++k) tick(10.00 + 0.01 * k);
+  EXPECT_EQ(e->contacts, 0);  // turning before any press is odometry's own
+  tick(10.05, 10.045, 0b01);  // pressed
+  for (int k = 6; k <= 19; ++k) tick(10.00 + 0.01 * k);
+  tick(10.20, 10.195, 0);  // released after 0.15 s; the wheels go on turning
+  for (int k = 21; k <= 150; ++k) tick(10.00 + 0.01 * k);
+  // Counted in the frames from 10.05 to 11.04: within a second of the press.
+  EXPECT_EQ(e->collisions, 1);
+  EXPECT_NEAR(e->turned_rad, 100 * per_tick_rad, 1e-9);
+  const int calls = e->contacts;
+  tick(11.51);
+  EXPECT_EQ(e->contacts, calls);
+  tick(11.52, 11.515, 0b10);  // a new collision counts its own turn from zero
+  tick(11.53);
+  EXPECT_EQ(e->collisions, 2);
+  EXPECT_NEAR(e->turned_rad, 2 * per_tick_rad, 1e-9);
+}
+
 // A collision's noise: the press's jump, plus a random walk while held (the
 // added variance grows linearly with the time held, its sigma with the root).
 TEST(CollisionNoiseTest, AJumpAtThePressAndARandomWalkWhileHeld) {
@@ -305,6 +350,16 @@ TEST(CollisionNoiseTest, AJumpAtThePressAndARandomWalkWhileHeld) {
   const Eigen::Matrix3d both = o.Covariance({true, 0.25});
   EXPECT_NEAR(both(0, 0), 0.02 * 0.02 + 0.25 * 0.01, 1e-12);
   EXPECT_TRUE(o.Covariance({false, 0.0}).isZero());
+  // The odometry's turn adds one error over the whole collision: reports of
+  // 0.1 then 0.2 rad add up to the variance of (fraction x 0.3 rad)^2, with
+  // no position.
+  o.turn_slip_fraction = 0.5;
+  const Eigen::Matrix3d first = o.Covariance({false, 0.0, 0.0, 0.1});
+  const Eigen::Matrix3d second = o.Covariance({false, 0.0, 0.1, 0.2});
+  EXPECT_NEAR(first(2, 2), 0.05 * 0.05, 1e-12);
+  EXPECT_NEAR(first(2, 2) + second(2, 2), 0.15 * 0.15, 1e-12);
+  EXPECT_EQ(second(0, 0), 0.0);
+  EXPECT_EQ(second(1, 1), 0.0);
   EXPECT_NO_THROW(o.Validate("Test"));
   o.hold_sigma_rad = -0.1;
   try {
