@@ -36,6 +36,10 @@ const char* ToString(NavigationEvent::Type type) {
       return "deadlock_resolved";
     case NavigationEvent::Type::kDeadlockUnresolved:
       return "deadlock_unresolved";
+    case NavigationEvent::Type::kUncertaintyHold:
+      return "uncertainty_hold";
+    case NavigationEvent::Type::kUncertaintyHoldEnded:
+      return "uncertainty_hold_ended";
   }
   return "unknown";
 }

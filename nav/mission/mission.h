@@ -41,7 +41,9 @@ struct NavigationEvent {
     kReplanned,
     kDeadlockDetected,
     kDeadlockResolved,
-    kDeadlockUnresolved
+    kDeadlockUnresolved,
+    kUncertaintyHold,      // stands for its belief's uncertainty (UncertaintyOptions)
+    kUncertaintyHoldEnded  // ... and drives on, or the hold ended otherwise
   };
   Type type = Type::kMissionStarted;
   double at_s = 0.0;
@@ -50,7 +52,8 @@ struct NavigationEvent {
   AbortReason reason = AbortReason::kUnreachable;  // kMissionAborted
   // kReplanned: "band_snap", "blocked", "relocalized" or "fleet"
   std::string cause;
-  // kMissionCompleted/Aborted: since its start; kDeadlockResolved: since detection
+  // kMissionCompleted/Aborted: since its start; kDeadlockResolved: since
+  // detection; kUncertaintyHoldEnded: since the hold began
   double duration_s = 0.0;
   double path_length_m = 0;  // kMissionCompleted/Aborted: travelled since its start (odometry)
   bool rest = false;         // mission events: the goal is a rest node (no station was free)
@@ -99,6 +102,9 @@ struct NavigationFigures {
   // the run judges when a human would have stepped in. Not in metrics.json.
   double still_s = 0.0;
   int escapes = 0;  // escapes from a pocket (EscapeOptions)
+  // Holds for the belief's uncertainty (UncertaintyOptions) and their time, s.
+  int uncertainty_holds = 0;
+  double uncertainty_hold_s = 0.0;
 
   int missions_aborted_total() const;
 };

@@ -106,6 +106,17 @@ void EscapeOptions::Validate() const {
   require(mark_radius_m > 0.0 && mark_radius_m <= 1.0, "mark_radius_m", "in (0, 1] m");
 }
 
+void UncertaintyOptions::Validate() const {
+  const auto require = [](bool ok, const std::string& field, const std::string& range) {
+    if (!ok) throw std::invalid_argument("UncertaintyOptions." + field + " must be " + range);
+  };
+  require(reach_m >= 0.0 && reach_m <= 10.0, "reach_m", "in [0, 10] m");
+  require(stop_m >= 0.0 && stop_m <= 10.0, "stop_m", "in [0, 10] m (0: off)");
+  require(slow_m >= 0.0 && (stop_m == 0.0 || slow_m < stop_m), "slow_m", "in [0, stop_m) m");
+  require(hold_max_s > 0.0 && hold_max_s <= 3600.0, "hold_max_s", "in (0, 3600] s");
+  require(crawl_mps > 0.0 && crawl_mps <= 2.0, "crawl_mps", "in (0, 2] m/s");
+}
+
 void NavigationControllerOptions::Validate() const {
   Require(step_s > 0.0 && step_s <= 1.0, "step_s", "in (0, 1] s");
   Require(start_s >= 0.0 && start_s <= kMaxStartS, "start_s", "in [0, 1e7] s");
@@ -146,6 +157,7 @@ void NavigationControllerOptions::Validate() const {
   ghost_barrier.Validate();
   explore.Validate();
   escape.Validate();
+  uncertainty.Validate();
   ompl.Validate();
   local.Validate();
   dwa.Validate();
@@ -293,6 +305,8 @@ void NavigationController::Cycle(const ControlTick& tick) {
   command_ = {};
   no_admissible_ = false;
   if (tick.now_s + 1e-9 < options_.start_s) return;
+  // Before the states that return early: a hold ends when the robot stops driving.
+  const bool hold = HoldForUncertainty(tick);
   if (state_ == State::kRelocalizing && !Relocalize(tick)) return Explore(tick);
   if (state_ == State::kLost) {
     if (tick.localization_lost) return Explore(tick);
@@ -314,8 +328,9 @@ void NavigationController::Cycle(const ControlTick& tick) {
   }
   if (state_ != State::kDriving) return;
   if (dt_s > 0.0) {
+    // Standing for its uncertainty the robot is not blocked: the monitor rests.
     const BlockedMonitor::Step step =
-        blocked_.Update(tick.now_s, travelled_m / dt_s, turned_rad / dt_s, true);
+        blocked_.Update(tick.now_s, travelled_m / dt_s, turned_rad / dt_s, !hold);
     if (step.became_blocked) Emit(NavigationEvent::Type::kBlocked, tick.now_s);
     if (step.abort) return EndMission(tick, false, AbortReason::kBlocked);
     if (step.replan) {
@@ -327,6 +342,7 @@ void NavigationController::Cycle(const ControlTick& tick) {
   }
   CheckProgress(tick);
   if (state_ != State::kDriving) return;
+  if (hold) return ResetProgress(tick);  // stands (command_ is zero); no escape
   SwitchTakenGoal(tick);
   if (state_ != State::kDriving) return;
   if (fleet_.coordinator && tick.now_s + 1e-9 >= next_fleet_check_s_) {
@@ -506,6 +522,53 @@ void NavigationController::CheckProgress(const ControlTick& tick) {
   if (queue_.arrived()) EndMission(tick, true, AbortReason::kUnreachable);
 }
 
+double NavigationController::UncertainErrorM(const ControlTick& tick) const {
+  return 2.0 * (tick.position_sigma_m + options_.uncertainty.reach_m * tick.heading_sigma_rad);
+}
+
+double NavigationController::UncertainSpeedLimit(const ControlTick& tick) const {
+  const UncertaintyOptions& o = options_.uncertainty;
+  const double error_m = UncertainErrorM(tick);
+  if (o.stop_m <= 0.0 || error_m <= o.slow_m) return std::numeric_limits<double>::infinity();
+  const double limit_mps =
+      options_.dwa.max_speed_mps * std::max(0.0, (o.stop_m - error_m) / (o.stop_m - o.slow_m));
+  return uncertain_patience_out_ ? std::max(limit_mps, o.crawl_mps) : limit_mps;
+}
+
+bool NavigationController::HoldForUncertainty(const ControlTick& tick) {
+  const UncertaintyOptions& o = options_.uncertainty;
+  const double error_m = UncertainErrorM(tick);
+  if (error_m <= o.slow_m) uncertain_patience_out_ = false;  // certain again
+  const bool patience_out =
+      uncertain_since_s_ && tick.now_s - *uncertain_since_s_ >= o.hold_max_s - 1e-9;
+  if (patience_out) uncertain_patience_out_ = true;
+  const bool hold = state_ == State::kDriving && !tick.localization_lost && o.stop_m > 0.0 &&
+                    error_m >= o.stop_m && !uncertain_patience_out_;
+  if (hold && !uncertain_since_s_) {
+    uncertain_since_s_ = tick.now_s;
+    ++figures_.uncertainty_holds;
+    Emit(NavigationEvent::Type::kUncertaintyHold, tick.now_s);
+  } else if (!hold && uncertain_since_s_) {
+    const double held_s = tick.now_s - *uncertain_since_s_;
+    figures_.uncertainty_hold_s += held_s;
+    uncertain_since_s_.reset();
+    Emit(NavigationEvent::Type::kUncertaintyHoldEnded, tick.now_s);
+    NavigationEvent& ended = events_.back();
+    ended.duration_s = held_s;
+    // Why: certain again, out of patience (it drives on at a crawl), the
+    // estimator declared itself lost, or the mission ended.
+    ended.cause = patience_out                ? "patience"
+                  : tick.localization_lost    ? "lost"
+                  : state_ != State::kDriving ? "mission"
+                                              : "certain";
+  }
+  if (hold) {
+    escape_until_s_.reset();
+    arc_in_world_.clear();
+  }
+  return hold;
+}
+
 void NavigationController::Drive(const ControlTick& tick) {
   const core::Pose2 robot_from_world = tick.belief.Inverse();
   DwaGoal goal;
@@ -534,6 +597,7 @@ void NavigationController::Drive(const ControlTick& tick) {
         kRetreatM * YieldDirection(*nearest_contour_, inradius_m_, kRetreatM, points_);
   }
   AddBumpersAndMeasure(tick);
+  goal.speed_limit_mps = std::min(goal.speed_limit_mps, UncertainSpeedLimit(tick));
   const DwaResult result = Steer(tick, goal);
   constexpr double kStoppedMps = 0.01;
   UpdateDeadlock(

@@ -71,6 +71,46 @@ struct EscapeOptions {
   void Validate() const;  // throws std::invalid_argument naming the field
 };
 
+// A localized robot whose belief has grown too uncertain to place what its
+// lasers do not show — the map's ghost barriers (glass, the exits), the
+// stations the others hold, the others' hulls — slows, then stands with its
+// mission held until a match shrinks the uncertainty again or the estimator
+// declares itself lost. The uncertainty is the 2-sigma error of a point
+// `reach_m` ahead: 2 (position sigma + reach_m * heading sigma). In
+// expo_rush (seed 1, 301.8 s) a visitor's shove turned a Robox 24.5° while
+// its wheels turned 3.4°; its heading sigma grew to 6.8° (collision noise),
+// it matched nothing for 14 s among the crowd and drove on its mission at
+// 0.4 m/s on that belief, 1.1 m off by the time it was declared lost, 35 cm
+// from an exit its misplaced barrier did not close, and left the floor. A
+// robot standing keeps the error the shove left (0.11 m there); the
+// blocked monitor and the escape wait while it stands. A hold lasts at most
+// hold_max_s: a robot standing among visitors who hide its walls may wait
+// for minutes (expo_rush seed 1 with the hold unbounded: robox_17 stood
+// 500 s 1.5 cm from its belief, its position sigma 13 cm, matching nothing
+// among the crowd), so it then
+// drives on at crawl_mps at most, to see its walls from elsewhere, until its
+// error falls to slow_m again.
+struct UncertaintyOptions {
+  double reach_m = 1.0;  // m, [0, 10]. Chosen: the band's look-ahead
+  // Above this error the translation limit falls linearly from the window's
+  // top speed to zero at stop_m, m, [0, stop_m). Chosen: ten times a
+  // tracking Robox' (8 mm, 0.1°: about 1 cm), and the margin the dynamic
+  // window keeps.
+  double slow_m = 0.1;
+  // At this error and above the robot stands, m; 0: off. Chosen: the error a
+  // collision's noise reaches for a few cycles before a match (expo_rush
+  // seed 2: 472 of 116,495 cycles above it, most under 5 s).
+  double stop_m = 0.3;
+  // s, (0, 3600]. Chosen: the thesis' robots recovered from 5-10 s without
+  // a match (§4.5.3.1); twice that.
+  double hold_max_s = 20.0;
+  // m/s, (0, 2]. Chosen: a quarter of Robox' top speed; 5 m of travel without
+  // a match (LocalizerOptions::lost_no_match_travel_m) then takes half a minute.
+  double crawl_mps = 0.15;
+
+  void Validate() const;  // throws std::invalid_argument naming the field
+};
+
 struct NavigationControllerOptions {
   double step_s = 0.005;      // the physics step: the control ticks' period, s, (0, 1]
   double start_s = 0.0;       // the first mission starts then, s, [0, 1e7]
@@ -132,6 +172,7 @@ struct NavigationControllerOptions {
   // passing at 0.5 m/s, touched it).
   double lost_hull_margin_m = 0.3;
   EscapeOptions escape;
+  UncertaintyOptions uncertainty;
   // Fleet (§6.3.5), with a coordinator only: every this often while driving
   // the robot plans again on the others' current weights from where it is —
   // pushed aside, blocked or merely crossed by another's plan — and takes the
@@ -287,6 +328,14 @@ class NavigationController : public Controller {
   void PlanLocal(const ControlTick& tick, bool replan, const char* cause);
   void UpdateBand(const ControlTick& tick);
   void Drive(const ControlTick& tick);
+  // The 2-sigma error of a point uncertainty.reach_m ahead (UncertaintyOptions).
+  double UncertainErrorM(const ControlTick& tick) const;
+  // The translation limit that error allows (infinite below uncertainty.slow_m,
+  // at least crawl_mps once a hold ran out of patience).
+  double UncertainSpeedLimit(const ControlTick& tick) const;
+  // Starts or ends the hold for uncertainty (events, figures); true while
+  // the robot, driving, stands for it.
+  bool HoldForUncertainty(const ControlTick& tick);
   // Where the robot places the map and the others while not localized: where
   // it was last localized, carried on by odometry (ControlTick::last_localized),
   // else its belief.
@@ -399,6 +448,8 @@ class NavigationController : public Controller {
     core::Pose2 odometry;
   };
   std::optional<HeldBelief> goal_hold_;
+  std::optional<double> uncertain_since_s_;  // standing for its uncertainty since
+  bool uncertain_patience_out_ = false;      // held hold_max_s; crawls until certain again
   Mission current_;
   int mission_index_ = -1;
   double mission_start_s_ = 0.0;

@@ -185,11 +185,11 @@ bool NavigationController::Escape(const ControlTick& tick) {
     goal.target_in_robot =
         Eigen::Vector2d(goal.reverse ? -options_.band_lookahead_m : options_.band_lookahead_m, 0.0);
   }
-  goal.speed_limit_mps = o.speed_mps;
+  goal.speed_limit_mps = std::min(o.speed_mps, UncertainSpeedLimit(tick));
   // A pocket is where the table's cell-sized caution leaves only a crawl.
   goal.exact_clearance = true;
   if (escape_way_ == EscapeWay::kCreep || creep_turn_cycles_ > kCreepTurnAfterCycles) {
-    goal.speed_limit_mps = std::min(o.speed_mps, kCreepSpeedMps);
+    goal.speed_limit_mps = std::min(goal.speed_limit_mps, kCreepSpeedMps);
     goal.margin_m = std::min(kCreepMarginM, options_.dwa.safety_margin_m);
   }
   if (escape_way_ == EscapeWay::kCreep && creep_from_contact_) {

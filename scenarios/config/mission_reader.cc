@@ -123,6 +123,13 @@ void ReadNavigationOptions(MapReader& m, nav::NavigationControllerOptions* o) {
               {{"ghost_link_m", "link_m", &Ghost::link_m},
                {"ghost_fill_m", "fill_m", &Ghost::fill_m},
                {"ghost_clearance_m", "clearance_m", &Ghost::clearance_m}});
+  using Uncertainty = nav::UncertaintyOptions;
+  ReadOptions(m, &o->uncertainty,
+              {{"uncertain_reach_m", "reach_m", &Uncertainty::reach_m},
+               {"uncertain_slow_m", "slow_m", &Uncertainty::slow_m},
+               {"uncertain_stop_m", "stop_m", &Uncertainty::stop_m},
+               {"uncertain_hold_max_s", "hold_max_s", &Uncertainty::hold_max_s},
+               {"uncertain_crawl_mps", "crawl_mps", &Uncertainty::crawl_mps}});
   using Dwa = nav::DynamicWindowOptions;
   ReadOptions(m, &o->dwa, {{"max_speed_mps", &Dwa::max_speed_mps}});
   using Grid = nav::LocalGridOptions;

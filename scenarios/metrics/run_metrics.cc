@@ -129,7 +129,9 @@ Json NavigationJson(const nav::NavigationFigures& f, const CollisionCounts& coll
       {"dwa_cycles", f.dwa_cycles},
       {"dwa_no_admissible_cycles", f.no_admissible_cycles},
       {"band_updates", f.band_updates},
-      {"escapes", f.escapes}};
+      {"escapes", f.escapes},
+      {"uncertainty_holds", f.uncertainty_holds},
+      {"uncertainty_hold_s", n(f.uncertainty_hold_s)}};
   if (f.fleet_replans > 0 || f.station_waits > 0 || f.deadlocks_detected > 0) {
     j["fleet_replans"] = f.fleet_replans;
     j["station_wait_cycles"] = f.station_waits;
@@ -190,7 +192,8 @@ Json FleetCoordinationJson(const RunMetrics& m) {
   constexpr double kStuckS = 120.0;
   const FleetRunFigures& f = *m.fleet;
   int completed = 0, robots = 0, detected = 0, resolved = 0, unresolved = 0, stuck = 0;
-  int fleet_replans = 0, revisits = 0, rests = 0, escapes = 0;
+  int fleet_replans = 0, revisits = 0, rests = 0, escapes = 0, holds = 0;
+  double hold_s = 0.0;
   double longest_deadlock_s = 0.0, blocked_s = 0.0, longest_blocked_s = 0.0, distance_m = 0.0;
   double longest_still_s = 0.0;
   std::int64_t up = 0, down = 0;
@@ -206,6 +209,8 @@ Json FleetCoordinationJson(const RunMetrics& m) {
     revisits += n.station_revisits;
     rests += n.rest_missions;
     escapes += n.escapes;
+    holds += n.uncertainty_holds;
+    hold_s += n.uncertainty_hold_s;
     longest_deadlock_s = std::max(longest_deadlock_s, n.longest_deadlock_s);
     blocked_s += n.time_blocked_s;
     longest_blocked_s = std::max(longest_blocked_s, n.longest_blocked_s);
@@ -234,6 +239,8 @@ Json FleetCoordinationJson(const RunMetrics& m) {
            {"longest_still_with_mission_s", RoundForJson(longest_still_s, 3)},
            {"stuck_robots", stuck},
            {"escapes", escapes},
+           {"uncertainty_holds", holds},
+           {"uncertainty_hold_s", RoundForJson(hold_s, 3)},
            {"fleet_replans", fleet_replans},
            {"station_revisits", revisits},
            {"rest_missions", rests},

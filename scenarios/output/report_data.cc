@@ -16,7 +16,7 @@ namespace {
 // Timeline lanes in this order (what went wrong first), unknown kinds after
 // them by name. Run start and end and mission starts and completions stay
 // off the timeline: the missions chart shows those.
-constexpr std::array<std::string_view, 25> kLaneOrder{
+constexpr std::array<std::string_view, 26> kLaneOrder{
     "collision: visible wall or exhibit",
     "collision: invisible object",
     "collision: visitor",
@@ -35,6 +35,7 @@ constexpr std::array<std::string_view, 25> kLaneOrder{
     "spawn_group",
     "mission_aborted",
     "blocked",
+    "uncertainty_hold",
     "replanned",
     "deadlock_detected",
     "deadlock_resolved",
@@ -45,8 +46,9 @@ constexpr std::array<std::string_view, 25> kLaneOrder{
 };
 // The lane of the kinds beyond ReportSeriesOptions::max_lanes, last.
 constexpr std::string_view kOtherLane = "other";
-constexpr std::array<std::string_view, 4> kOffTimeline{"run_started", "run_finished",
-                                                       "mission_started", "mission_completed"};
+constexpr std::array<std::string_view, 5> kOffTimeline{"run_started", "run_finished",
+                                                       "mission_started", "mission_completed",
+                                                       "uncertainty_hold_ended"};
 // Fields holding where an event happened, [x, y, ...] in the world frame.
 constexpr std::array<const char*, 4> kPositionFields{"point_m", "after", "pose", "at"};
 

@@ -26,9 +26,13 @@ void ScenarioRun::EmitNavigationEvents(RobotRun& r) {
       fields["duration_s"] = RoundForJson(e.duration_s, 3);
       fields["path_length_m"] = RoundForJson(e.path_length_m, 3);
     }
-    if (e.type == nav::NavigationEvent::Type::kReplanned) fields["cause"] = e.cause;
+    if (e.type == nav::NavigationEvent::Type::kReplanned ||
+        e.type == nav::NavigationEvent::Type::kUncertaintyHoldEnded) {
+      fields["cause"] = e.cause;
+    }
     if (e.rest) fields["rest"] = true;
-    if (e.type == nav::NavigationEvent::Type::kDeadlockResolved) {
+    if (e.type == nav::NavigationEvent::Type::kDeadlockResolved ||
+        e.type == nav::NavigationEvent::Type::kUncertaintyHoldEnded) {
       fields["duration_s"] = RoundForJson(e.duration_s, 3);
     }
     events_->Emit(e.at_s, nav::ToString(e.type), fields);

@@ -27,6 +27,16 @@ using test::kStepS;
 using test::Square;
 using test::TwoStations;
 
+// The true pose a step of kStepS later, the wheels turning at `held` on an
+// ideal floor (the calibrated radii and wheelbase are the true ones).
+core::Pose2 StepBy(const core::Pose2& pose, const WheelSpeeds& held,
+                   const core::EncoderOdometryOptions& odometry) {
+  return core::DiffDriveStep(pose,
+                             {held.left_radps * odometry.left_wheel_radius_m * kStepS,
+                              held.right_radps * odometry.right_wheel_radius_m * kStepS},
+                             odometry.wheelbase_m);
+}
+
 struct MissionRun {
   std::vector<NavigationEvent> events;
   NavigationFigures figures;
@@ -44,7 +54,6 @@ MissionRun DriveToB(double relocalization_timeout_s, double lost_from_s, double 
   options.relocalization_timeout_s = relocalization_timeout_s;
   NavigationController controller(TwoStations(), Square(), MissionSequence::List({"b"}), options);
   MissionRun run;
-  const double b = options.odometry.wheelbase_m;
   WheelSpeeds held;  // a command holds until the controller changes it
   for (std::int64_t tick = 0; tick * kStepS < duration_s; ++tick) {
     const double now_s = tick * kStepS;
@@ -61,10 +70,7 @@ MissionRun DriveToB(double relocalization_timeout_s, double lost_from_s, double 
     }
     // While lost the robot stands (explore_when_lost is off).
     if (!lost) {
-      const core::WheelTravel travel{
-          held.left_radps * options.odometry.left_wheel_radius_m * kStepS,
-          held.right_radps * options.odometry.right_wheel_radius_m * kStepS};
-      run.pose = core::DiffDriveStep(run.pose, travel, b);
+      run.pose = StepBy(run.pose, held, options.odometry);
     }
     controller.TakeEvents(&run.events);
   }
@@ -72,7 +78,8 @@ MissionRun DriveToB(double relocalization_timeout_s, double lost_from_s, double 
   return run;
 }
 
-int Count(const MissionRun& run, NavigationEvent::Type type) {
+template <typename Run>
+int Count(const Run& run, NavigationEvent::Type type) {
   int n = 0;
   for (const NavigationEvent& e : run.events) n += e.type == type ? 1 : 0;
   return n;
@@ -134,10 +141,7 @@ GoalRun CorrectedNearTheGoal(bool hold_belief_at_goal) {
             controller.OnTick(ControlTick{tick, tick * kStepS, belief, pose, false})) {
       held = *w;
     }
-    pose = core::DiffDriveStep(pose,
-                               {held.left_radps * options.odometry.left_wheel_radius_m * kStepS,
-                                held.right_radps * options.odometry.right_wheel_radius_m * kStepS},
-                               options.odometry.wheelbase_m);
+    pose = StepBy(pose, held, options.odometry);
     controller.TakeEvents(&events);
     for (const NavigationEvent& e : events) {
       run.completed = run.completed || e.type == NavigationEvent::Type::kMissionCompleted;
@@ -237,7 +241,6 @@ MissionRun DriveBesideAMarker(bool resolve, double duration_s, double lost_from_
   NavigationController controller(TwoStations(), Square(), MissionSequence::List({"b"}), options);
   const Eigen::Vector2d marker(0.35, 0.2);
   MissionRun run;
-  const double b = options.odometry.wheelbase_m;
   WheelSpeeds held;
   for (std::int64_t tick = 0; tick * kStepS < duration_s; ++tick) {
     const double now_s = tick * kStepS;
@@ -246,10 +249,7 @@ MissionRun DriveBesideAMarker(bool resolve, double duration_s, double lost_from_
             controller.OnTick(ControlTick{tick, now_s, run.pose, run.pose, lost})) {
       held = *w;
     }
-    const core::WheelTravel travel{
-        held.left_radps * options.odometry.left_wheel_radius_m * kStepS,
-        held.right_radps * options.odometry.right_wheel_radius_m * kStepS};
-    run.pose = core::DiffDriveStep(run.pose, travel, b);
+    run.pose = StepBy(run.pose, held, options.odometry);
     if (tick % 40 == 0) {  // 5 Hz
       controller.OnScan(MarkerScan(run.pose, marker, now_s),
                         ScanContext{now_s, run.pose, run.pose});
@@ -347,10 +347,7 @@ SeenStationRun DriveToAnOccupiedStation(double look_m) {
         ++out.switches;
     }
     events.clear();
-    const core::WheelTravel travel{
-        held.left_radps * options.odometry.left_wheel_radius_m * kStepS,
-        held.right_radps * options.odometry.right_wheel_radius_m * kStepS};
-    pose = core::DiffDriveStep(pose, travel, options.odometry.wheelbase_m);
+    pose = StepBy(pose, held, options.odometry);
     if (marker && tick % 40 == 0) {  // 5 Hz
       controller.OnScan(MarkerScan(pose, *marker, now_s), ScanContext{now_s, pose, pose});
     }
@@ -400,6 +397,127 @@ TEST(NavigationController, ADitherCountsAsStandingStill) {
   const NavigationFigures& figures = *controller.navigation();
   EXPECT_EQ(figures.missions_aborted_total(), 0);
   EXPECT_GT(figures.longest_still_s, 59.0);
+}
+
+struct UncertainRun {
+  std::vector<NavigationEvent> events;
+  NavigationFigures figures;
+  std::vector<std::pair<double, Eigen::Vector2d>> track;  // the truth at every tick
+  double completed_at_s = -1.0;
+
+  // The true distance between the positions at from_s and to_s.
+  double Moved(double from_s, double to_s) const { return (At(to_s) - At(from_s)).norm(); }
+  // The largest true speed between from_s and to_s.
+  double MaxSpeed(double from_s, double to_s) const {
+    double v = 0.0;
+    for (std::size_t k = 1; k < track.size(); ++k) {
+      if (track[k - 1].first < from_s || track[k].first > to_s) continue;
+      v = std::max(v, (track[k].second - track[k - 1].second).norm() / kStepS);
+    }
+    return v;
+  }
+  Eigen::Vector2d At(double s) const {
+    return track.at(static_cast<std::size_t>(std::llround(s / kStepS))).second;
+  }
+};
+
+// The robot drives to b (its belief the truth) while its estimator reports a
+// heading sigma of `heading_sigma_rad` from 3 s for `spell_s`, 0 otherwise.
+constexpr double kSpellFromS = 3.0;
+UncertainRun DriveWithAnUncertainSpell(double heading_sigma_rad, double spell_s,
+                                       const UncertaintyOptions& uncertainty) {
+  NavigationControllerOptions options;
+  options.step_s = kStepS;
+  options.uncertainty = uncertainty;
+  NavigationController controller(TwoStations(), Square(), MissionSequence::List({"b"}), options);
+  UncertainRun run;
+  core::Pose2 pose;
+  WheelSpeeds held;
+  for (std::int64_t tick = 0; tick * kStepS < 60.0; ++tick) {
+    const double now_s = tick * kStepS;
+    run.track.emplace_back(now_s, pose.translation());
+    const bool spell = now_s >= kSpellFromS && now_s < kSpellFromS + spell_s;
+    ControlTick t{tick, now_s, pose, pose, false};
+    t.heading_sigma_rad = spell ? heading_sigma_rad : 0.0;
+    if (const std::optional<WheelSpeeds> w = controller.OnTick(t)) held = *w;
+    pose = StepBy(pose, held, options.odometry);
+    controller.TakeEvents(&run.events);
+    if (run.completed_at_s < 0.0 && controller.navigation()->missions_completed > 0) {
+      run.completed_at_s = now_s;
+    }
+  }
+  run.figures = *controller.navigation();
+  return run;
+}
+
+// The causes of the holds' ends, in order.
+std::vector<std::string> HoldEndings(const UncertainRun& run) {
+  std::vector<std::string> causes;
+  for (const NavigationEvent& e : run.events) {
+    if (e.type == NavigationEvent::Type::kUncertaintyHoldEnded) causes.push_back(e.cause);
+  }
+  return causes;
+}
+
+// A belief whose 2-sigma error 1 m ahead reaches uncertain_stop_m (0.3 m;
+// here 2 x 0.2 rad x 1 m = 0.4 m) holds the robot standing for the 15 s it
+// lasts — past the blocked replan (10 s), which does not fire — and it
+// drives on to the goal after. With the hold off it drives through on that
+// belief.
+TEST(NavigationController, StandsWhileItsBeliefIsTooUncertainAndDrivesOnAfter) {
+  constexpr double kSpellS = 15.0;
+  const UncertainRun run = DriveWithAnUncertainSpell(0.2, kSpellS, UncertaintyOptions{});
+  EXPECT_LT(run.Moved(kSpellFromS + 1.0, kSpellFromS + kSpellS), 0.005);
+  EXPECT_EQ(Count(run, NavigationEvent::Type::kUncertaintyHold), 1);
+  EXPECT_EQ(HoldEndings(run), std::vector<std::string>{"certain"});
+  EXPECT_EQ(Count(run, NavigationEvent::Type::kBlocked), 0);
+  EXPECT_EQ(run.figures.escapes, 0);
+  EXPECT_EQ(run.figures.uncertainty_holds, 1);
+  EXPECT_NEAR(run.figures.uncertainty_hold_s, kSpellS, 0.11);  // to the window's cycle
+  for (const NavigationEvent& e : run.events) {
+    if (e.type == NavigationEvent::Type::kUncertaintyHoldEnded) {
+      EXPECT_NEAR(e.duration_s, kSpellS, 0.11);
+    }
+  }
+  EXPECT_EQ(run.figures.missions_completed, 1);
+  EXPECT_GT(run.completed_at_s, kSpellFromS + kSpellS);
+
+  UncertaintyOptions off;
+  off.stop_m = 0.0;
+  const UncertainRun through = DriveWithAnUncertainSpell(0.2, kSpellS, off);
+  EXPECT_GT(through.Moved(kSpellFromS + 1.0, kSpellFromS + kSpellS), 3.0);
+  EXPECT_EQ(through.figures.uncertainty_holds, 0);
+  EXPECT_LT(through.completed_at_s, kSpellFromS + kSpellS);
+}
+
+// A hold lasts hold_max_s (20 s) at most; then the robot drives on at
+// crawl_mps (0.15 m/s) at most while its belief stays that uncertain, and
+// stands no more for it.
+TEST(NavigationController, AHoldRunsOutOfPatienceAndTheRobotCrawlsOn) {
+  const UncertaintyOptions o;
+  constexpr double kSpellS = 45.0;
+  const UncertainRun run = DriveWithAnUncertainSpell(0.2, kSpellS, o);
+  const double out_s = kSpellFromS + o.hold_max_s;
+  EXPECT_LT(run.Moved(kSpellFromS + 1.0, out_s), 0.005);
+  EXPECT_EQ(HoldEndings(run), std::vector<std::string>{"patience"});
+  EXPECT_NEAR(run.figures.uncertainty_hold_s, o.hold_max_s, 0.11);
+  EXPECT_LT(run.MaxSpeed(out_s, kSpellFromS + kSpellS), o.crawl_mps + 0.005);
+  EXPECT_GT(run.Moved(out_s, kSpellFromS + kSpellS), 0.8 * o.crawl_mps * (kSpellS - o.hold_max_s));
+  EXPECT_EQ(Count(run, NavigationEvent::Type::kBlocked), 0);
+}
+
+// Between uncertain_slow_m (0.1 m) and uncertain_stop_m the translation limit
+// falls linearly from the window's top speed: an error of 0.2 m (heading
+// sigma 0.1 rad) halves it, and the robot drives on at that speed.
+TEST(NavigationController, SlowsInProportionAsItsBeliefGrowsUncertain) {
+  constexpr double kSpellS = 30.0;
+  const UncertainRun run = DriveWithAnUncertainSpell(0.1, kSpellS, UncertaintyOptions{});
+  const double half_mps = 0.5 * NavigationControllerOptions{}.dwa.max_speed_mps;
+  const double max_mps = run.MaxSpeed(kSpellFromS + 1.0, kSpellFromS + kSpellS);
+  EXPECT_LT(max_mps, half_mps + 0.01);
+  EXPECT_GT(max_mps, half_mps - 0.05);
+  EXPECT_EQ(run.figures.uncertainty_holds, 0);
+  EXPECT_EQ(run.figures.missions_completed, 1);
 }
 
 }  // namespace

@@ -110,5 +110,34 @@ TEST(ScenarioLoaderTest, ReadsTheSlipSigma) {
   EXPECT_GT(all[0].line, 0);
 }
 
+// uncertain_slow_m / uncertain_stop_m / uncertain_reach_m set the hold for an
+// uncertain belief (UncertaintyOptions); slow at or above stop is an error at
+// its line.
+TEST(ScenarioLoaderTest, ReadsTheHoldForAnUncertainBelief) {
+  const std::string text = OfficeErrandsText();
+  const std::string key = "    mission:\n";
+  ASSERT_NE(text.find(key), std::string::npos);
+  const nav::UncertaintyOptions defaults;
+  const Scenario plain = LoadScenarioFile(WriteFile(TestDir(), "plain.yaml", text));
+  EXPECT_EQ(plain.robots[0].mission->navigation.uncertainty.stop_m, defaults.stop_m);
+  std::string set = text;
+  set.insert(set.find(key) + key.size(),
+             "      uncertain_slow_m: 0.2\n      uncertain_stop_m: 0.5\n"
+             "      uncertain_reach_m: 2\n      uncertain_hold_max_s: 30\n"
+             "      uncertain_crawl_mps: 0.1\n");
+  const Scenario read = LoadScenarioFile(WriteFile(TestDir(), "set.yaml", set));
+  EXPECT_EQ(read.robots[0].mission->navigation.uncertainty.slow_m, 0.2);
+  EXPECT_EQ(read.robots[0].mission->navigation.uncertainty.stop_m, 0.5);
+  EXPECT_EQ(read.robots[0].mission->navigation.uncertainty.reach_m, 2.0);
+  EXPECT_EQ(read.robots[0].mission->navigation.uncertainty.hold_max_s, 30.0);
+  EXPECT_EQ(read.robots[0].mission->navigation.uncertainty.crawl_mps, 0.1);
+  std::string bad = text;
+  bad.insert(bad.find(key) + key.size(), "      uncertain_slow_m: 0.4\n");
+  const std::vector<Diagnostic> all = LoadErrors(WriteFile(TestDir(), "bad_hold.yaml", bad));
+  ASSERT_EQ(all.size(), 1u);
+  EXPECT_EQ(all[0].key_path, "robots[0].mission.uncertain_slow_m");
+  EXPECT_GT(all[0].line, 0);
+}
+
 }  // namespace
 }  // namespace pavilion::scenarios
