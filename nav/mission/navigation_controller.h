@@ -87,9 +87,8 @@ struct EscapeOptions {
 // hold_max_s: a robot standing among visitors who hide its walls may wait
 // for minutes (expo_rush seed 1 with the hold unbounded: robox_17 stood
 // 500 s 1.5 cm from its belief, its position sigma 13 cm, matching nothing
-// among the crowd), so it then
-// drives on at crawl_mps at most, to see its walls from elsewhere, until its
-// error falls to slow_m again.
+// among the crowd), so it then drives on at crawl_mps at most, to see its
+// walls from elsewhere, until its error falls to slow_m again.
 struct UncertaintyOptions {
   double reach_m = 1.0;  // m, [0, 10]. Chosen: the band's look-ahead
   // Above this error the translation limit falls linearly from the window's
