@@ -135,7 +135,8 @@ void ReadBodyAndSocialForce(YamlDocument* doc, MapReader& r, crowd::CrowdOptions
                        {"social_rate_hz", &Social::social_rate_hz},
                        {"social_cutoff_m", &Social::social_cutoff_m},
                        {"max_substep_s", &Social::max_substep_s},
-                       {"max_push_force_n", &Social::max_push_force_n}});
+                       {"max_push_force_n", &Social::max_push_force_n},
+                       {"contact_restitution", &Social::contact_restitution}});
 }
 
 // The crowd's own fields, after its sections: CrowdOptions::Validate() checks

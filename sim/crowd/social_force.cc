@@ -4,7 +4,6 @@
 #include <cmath>
 #include <limits>
 #include <map>
-#include <numbers>
 #include <stdexcept>
 #include <string>
 
@@ -28,6 +27,44 @@ void Require(bool ok, const char* field, const char* what) {
 
 Eigen::Vector2d Perp(const Eigen::Vector2d& v) { return {-v.y(), v.x()}; }
 
+// The restitution of a head-on contact of damping ratio ζ whose force is
+// held at zero rather than pull (a contact only pushes): in units of the
+// spring's natural frequency and the approach speed, g'' = -(g + 2 ζ g')
+// while that is a push; the body leaves with the speed it has when the push
+// ends. (The linear damper's exp(-π ζ / √(1 - ζ²)) ignores the hold and
+// gives back more: 0.32 for a ζ meant for 0.2.)
+double RestitutionOf(double zeta) {
+  constexpr double kH = 1e-3;  // of a period of 2π
+  double g = 0.0, v = 1.0;
+  const auto accel = [zeta](double gg, double vv) { return -(gg + 2.0 * zeta * vv); };
+  for (int step = 0; step < 100000; ++step) {
+    // Classical Runge-Kutta on (g, v).
+    const double a1 = accel(g, v);
+    const double a2 = accel(g + 0.5 * kH * v, v + 0.5 * kH * a1);
+    const double a3 = accel(g + 0.5 * kH * (v + 0.5 * kH * a1), v + 0.5 * kH * a2);
+    const double a4 = accel(g + kH * (v + 0.5 * kH * a2), v + kH * a3);
+    g += kH * (v + kH * (a1 + a2 + a3) / 6.0);
+    v += kH * (a1 + 2.0 * a2 + 2.0 * a3 + a4) / 6.0;
+    if (g <= 0.0 || g + 2.0 * zeta * v <= 0.0) return std::max(0.0, -v);
+  }
+  return 0.0;
+}
+
+// The damping ratio whose contact gives back `restitution` (bisection; the
+// restitution falls as ζ grows, towards 0 only as ζ → ∞: 0 is taken as ζ = 10,
+// which gives back under 1 %).
+double ContactDampingRatio(double restitution) {
+  constexpr double kMaxZeta = 10.0;
+  if (restitution >= 1.0) return 0.0;
+  double lo = 0.0, hi = kMaxZeta;
+  if (RestitutionOf(hi) >= restitution) return hi;
+  for (int k = 0; k < 50; ++k) {
+    const double mid = 0.5 * (lo + hi);
+    (RestitutionOf(mid) > restitution ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
 }  // namespace
 
 void SocialForceOptions::Validate() const {
@@ -49,6 +86,7 @@ void SocialForceOptions::Validate() const {
   Require(in(social_cutoff_m, 1e-3, 10), "social_cutoff_m", "must be in (0, 10]");
   Require(in(max_substep_s, 1e-5, 0.05), "max_substep_s", "must be in (0, 0.05]");
   Require(in(max_push_force_n, 0, 1e4), "max_push_force_n", "must be in [0, 1e4]");
+  Require(in(contact_restitution, 0, 1), "contact_restitution", "must be in [0, 1]");
 }
 
 Eigen::Vector2d ClosestPointOnSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
@@ -98,6 +136,7 @@ double SignedDistanceToConvex(const std::vector<Eigen::Vector2d>& hull, const Ei
 
 SocialForceModel::SocialForceModel(SocialForceOptions options) : options_(options) {
   options_.Validate();
+  contact_damping_ratio_ = ContactDampingRatio(options_.contact_restitution);
 }
 
 void SocialForceModel::SetWalls(std::vector<WallSegment> segments,
@@ -386,11 +425,18 @@ Eigen::Vector2d SocialForceModel::ContactForce(const Agent& a, const Eigen::Vect
                                                const Eigen::Vector2d& surface_velocity,
                                                double dt) const {
   const Eigen::Vector2d tangent = Perp(normal);
+  const Eigen::Vector2d relative = surface_velocity - a.velocity_mps;
   // Sliding friction κ g Δv_t, at most what stops the relative sliding in one
   // step (the implicit limit: it never reverses it).
   const double c = std::min(options_.sliding_friction_nspm2 * overlap, a.mass_kg / dt);
-  return options_.body_stiffness_npm * overlap * normal +
-         c * (surface_velocity - a.velocity_mps).dot(tangent) * tangent;
+  // The body force k g, damped along the normal (contact_restitution) by
+  // 2 ζ √(k m) with the same implicit limit; a contact only pushes.
+  const double damping =
+      std::min(2.0 * contact_damping_ratio_ * std::sqrt(options_.body_stiffness_npm * a.mass_kg),
+               a.mass_kg / dt);
+  const double push =
+      std::max(0.0, options_.body_stiffness_npm * overlap + damping * relative.dot(normal));
+  return push * normal + c * relative.dot(tangent) * tangent;
 }
 
 void SocialForceModel::Substep(double dt, std::vector<RobotContactForce>* robot_forces,
@@ -398,6 +444,7 @@ void SocialForceModel::Substep(double dt, std::vector<RobotContactForce>* robot_
   const SocialForceOptions& o = options_;
   const std::size_t n = agents_.size();
   force_.assign(n, Eigen::Vector2d::Zero());
+  held_.assign(n, Eigen::Vector2d::Zero());
   touched_.assign(n, 0);
   for (std::size_t i = 0; i < n; ++i) {
     const Agent& a = agents_[i];
@@ -431,6 +478,8 @@ void SocialForceModel::PeopleContacts(double dt) {
                               c * (b.velocity_mps - a.velocity_mps).dot(tangent) * tangent;
     force_[i] += f;
     force_[j] -= f;
+    held_[i] += f;
+    held_[j] -= f;
     touched_[i] = touched_[j] = 1;
   }
 }
@@ -449,7 +498,10 @@ void SocialForceModel::WallContacts(double dt) {
       if (overlap > 0.0 && best > 0.0) {
         Overlap(1, overlap);
         touched_[i] = 1;
-        force_[i] += ContactForce(a, (a.position_m - best_point) / best, overlap, {0, 0}, dt);
+        const Eigen::Vector2d f =
+            ContactForce(a, (a.position_m - best_point) / best, overlap, {0, 0}, dt);
+        force_[i] += f;
+        held_[i] += f;
       }
     }
     for (int ci : near_circles_[i]) {
@@ -460,7 +512,9 @@ void SocialForceModel::WallContacts(double dt) {
       if (overlap > 0.0 && d > 0.0) {
         Overlap(1, overlap);
         touched_[i] = 1;
-        force_[i] += ContactForce(a, diff / d, overlap, {0, 0}, dt);
+        const Eigen::Vector2d f = ContactForce(a, diff / d, overlap, {0, 0}, dt);
+        force_[i] += f;
+        held_[i] += f;
       }
     }
   }
@@ -470,14 +524,19 @@ void SocialForceModel::RobotContacts(double dt, double weight,
                                      std::vector<RobotContactForce>* robot_forces) {
   const SocialForceOptions& o = options_;
   // Robots: the person feels the full body force of the machine; the machine
-  // feels the person's push, bounded by what a person can exert, unless the
-  // person is pinned against a wall, other people or another robot: then the
-  // machine meets what holds the person, through the person (Newton's third
-  // law), and cannot squeeze them flat. Pinned is judged after all the
-  // robots' contacts of the substep, so that two robots squeezing a person
-  // both meet the other's push; judged robot by robot, the first robot
-  // felt a bounded push and drove on while the second took the whole spring
-  // (expo_tours seed 5: a visitor between two Robox tipped one by 17 deg).
+  // feels the person's push, bounded by what a person can exert, plus what
+  // holds the person against it: the contact forces of walls, other people
+  // and other robots on the person, as far as they push back against this
+  // robot's push (Newton's third law through the person). A person pinned
+  // hard against a wall passes the whole body force on (a robot cannot
+  // squeeze a person flat); one who merely brushes a neighbour passes little
+  // more than the push. (Passing the whole force on at any touch threw a
+  // Robox that drove into a visitor brushing others against its wheels'
+  // grip, expo_rush session 30.) The other robots' contacts count, so that
+  // two robots squeezing a person both meet the other's push; judged robot by
+  // robot, the first robot felt a bounded push and drove on while the second
+  // took the whole spring (expo_tours seed 5: a visitor between two Robox
+  // tipped one by 17 deg).
   robot_contacts_.clear();
   std::vector<RobotTouch>& touches = robot_touches_;
   touches.clear();
@@ -495,20 +554,26 @@ void SocialForceModel::RobotContacts(double dt, double weight,
     const Eigen::Vector2d surface_velocity = robot.velocity_mps + robot.yaw_rate_radps * Perp(arm);
     touches.push_back({r, i, ContactForce(a, normal, overlap, surface_velocity, dt), closest});
   }
-  // People touching more than one robot: few, so a scan of the few touches.
-  const auto robots_touching = [&](int person) {
-    return std::count_if(touches.begin(), touches.end(),
-                         [&](const RobotTouch& t) { return t.person == person; });
+  // What holds a person against robot touch t: the person's other contacts
+  // (people touching more than one robot are few: a scan of the few touches).
+  const auto holding = [&](const RobotTouch& t) {
+    Eigen::Vector2d held = held_[t.person];
+    for (const RobotTouch& other : touches) {
+      if (other.person == t.person && &other != &t) held += other.force_n;
+    }
+    const double push = t.force_n.norm();
+    return push > 0.0 ? std::max(0.0, -held.dot(t.force_n) / push) : 0.0;
   };
   for (const RobotTouch& t : touches) {
-    const bool pinned = touched_[t.person] != 0 || robots_touching(t.person) > 1;
+    const double held_n = holding(t);
     force_[t.person] += t.force_n;
     robot_contacts_.emplace_back(t.person, t.robot);
     if (robot_forces) {
       Eigen::Vector2d on_robot = -t.force_n;
       const double magnitude = on_robot.norm();
-      if (!pinned && magnitude > o.max_push_force_n) on_robot *= o.max_push_force_n / magnitude;
-      robot_forces->push_back({t.robot, t.person, weight * on_robot, t.closest_m, pinned});
+      const double bound = o.max_push_force_n + held_n;
+      if (magnitude > bound) on_robot *= bound / magnitude;
+      robot_forces->push_back({t.robot, t.person, weight * on_robot, t.closest_m, held_n > 0.0});
     }
   }
   for (const RobotTouch& t : touches) touched_[t.person] = 1;

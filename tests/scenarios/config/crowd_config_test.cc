@@ -102,7 +102,7 @@ const std::string kFullCrowd =
     "                 robot_strength_n: 2500, robot_range_m: 0.25, body_stiffness_npm: 1.0e5,\n"
     "                 sliding_friction_nspm2: 2.0e5, max_speed_factor: 1.4,\n"
     "                 social_rate_hz: 25, social_cutoff_m: 0.7, max_substep_s: 0.004,\n"
-    "                 max_push_force_n: 250}\n"
+    "                 max_push_force_n: 250, contact_restitution: 0.35}\n"
     "  route_cell_m: 0.25\n"
     "  route_clearance_m: 0.35\n"
     "  watch_spots: 8\n";
@@ -210,6 +210,7 @@ TEST(CrowdConfigTest, FullCrowdBlockFillsEveryField) {
   EXPECT_DOUBLE_EQ(o.social.social_cutoff_m, 0.7);
   EXPECT_DOUBLE_EQ(o.social.max_substep_s, 0.004);
   EXPECT_DOUBLE_EQ(o.social.max_push_force_n, 250.0);
+  EXPECT_DOUBLE_EQ(o.social.contact_restitution, 0.35);
 
   EXPECT_EQ(c.entrance, s.world.places.at("gate_in").area.value());
   EXPECT_EQ(c.exit, s.world.places.at("gate_out").area.value());

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
 
 #include "core/random/random_stream.h"
 
@@ -129,6 +130,119 @@ TEST(SocialForceTest, APersonSqueezedBetweenTwoRobotsPinsBoth) {
   ASSERT_EQ(one.size(), 1u);
   EXPECT_FALSE(one[0].pinned);
   EXPECT_NEAR(one[0].force_n.norm(), options.max_push_force_n, 1e-6);
+}
+
+// A person walking head-on into a wall at 1 m/s, with nothing but the body
+// contact acting (no wish, no long-range wall force): the speed at which it
+// leaves the wall over the speed at which it met it.
+double WallRebound(double restitution) {
+  SocialForceOptions options;
+  options.contact_restitution = restitution;
+  options.wall_strength_n = 0.0;
+  options.relaxation_s = 10.0;  // its wish (to stand) barely brakes it
+  SocialForceModel model{options};
+  model.SetWalls({{{0.0, -5.0}, {0.0, 5.0}, 0}}, {});  // x = 0, facing -x
+  Agent a;
+  a.position_m = {-0.3, 0.0};
+  a.velocity_mps = {1.0, 0.0};
+  a.active = true;
+  model.agents().push_back(a);
+  double approach = 0.0;
+  for (int step = 0; step < 400; ++step) {
+    const Agent& now = model.agents()[0];
+    const bool touching = now.position_m.x() + now.radius_m > 0.0;
+    if (!touching && now.velocity_mps.x() > 0.0) approach = now.velocity_mps.x();
+    if (!touching && now.velocity_mps.x() < 0.0) return -now.velocity_mps.x() / approach;
+    model.Step(0.001, nullptr);
+  }
+  // Still against the wall after 0.4 s (some 8 contact times): how fast it
+  // is leaving.
+  return std::max(0.0, -model.agents()[0].velocity_mps.x()) / approach;
+}
+
+// contact_restitution is what a head-on contact gives back: 1 is HFV00's
+// spring, elastic; the default 0.2 leaves the wall at a fifth of the speed.
+// Lifting the damped force where the spring alone would still push (a contact
+// only pushes) lets a body leave a little faster than the linear damper's e.
+TEST(SocialForceTest, AContactGivesBackItsRestitutionOfTheApproachSpeed) {
+  EXPECT_NEAR(WallRebound(1.0), 1.0, 0.03);
+  EXPECT_NEAR(WallRebound(0.2), 0.2, 0.05);
+  EXPECT_NEAR(WallRebound(0.5), 0.5, 0.05);
+  EXPECT_NEAR(WallRebound(0.0), 0.0, 0.02);
+  SocialForceOptions bad;
+  bad.contact_restitution = 1.5;
+  EXPECT_THROW(bad.Validate(), std::invalid_argument);
+}
+
+// A robot driving at 0.5 m/s into a standing person damps the contact by its
+// own motion (the surface's velocity): the person leaves the robot's face
+// at (1 + e) times the robot's speed, as off an unyielding mass, and the robot
+// meets a force above the spring's alone while it closes in.
+TEST(SocialForceTest, ARobotDrivingIntoAPersonIsMetByTheDampedContact) {
+  for (const double e : {1.0, 0.2}) {
+    SocialForceOptions options;
+    options.contact_restitution = e;
+    options.robot_strength_n = 0.0;
+    options.relaxation_s = 10.0;
+    SocialForceModel model{options};
+    Agent a;
+    a.active = true;
+    model.agents().push_back(a);  // at the origin, standing
+    constexpr double kHalf = 0.3, kSpeed = 0.5, kDt = 0.001;
+    double face = -0.23;  // the robot's front face, 1 cm short of the person
+    double first_push = 0.0;
+    for (int step = 0; step < 300; ++step) {
+      RobotObstacle robot = SquareRobot(face - kHalf, kHalf);
+      robot.velocity_mps = {kSpeed, 0.0};
+      model.SetRobots({robot});
+      std::vector<RobotContactForce> forces;
+      model.Step(kDt, &forces);
+      if (first_push == 0.0 && !forces.empty()) first_push = -forces[0].force_n.x();
+      face += kSpeed * kDt;
+    }
+    EXPECT_NEAR(model.agents()[0].velocity_mps.x(), (1.0 + e) * kSpeed, 0.05 * kSpeed) << e;
+    // The first contact step: the damper's 2 ζ √(k m) v is the whole push
+    // (the overlap is still under a millimetre), bounded by 300 N.
+    if (e < 1.0) {
+      EXPECT_GT(first_push, 100.0) << e;
+    } else {
+      EXPECT_LT(first_push, 100.0) << e;
+    }
+  }
+}
+
+// A robot 3 cm into a person (3.6 kN of body force) meets the person's push
+// (300 N) plus what holds the person against it: a wall the person presses
+// 3 cm into passes the whole force on, one the person brushes by 1 mm (120 N)
+// little more than the push.
+TEST(SocialForceTest, APersonPassesOnWhatHoldsIt) {
+  SocialForceOptions options;
+  options.wall_strength_n = 0.0;
+  constexpr double kHalf = 0.3;
+  const auto robot_force = [&](double wall_overlap_m) {
+    SocialForceModel model{options};
+    Agent a;
+    a.radius_m = 0.22;
+    a.active = true;
+    model.agents().push_back(a);  // at the origin, standing
+    const double wall_x = a.radius_m - wall_overlap_m;
+    model.SetWalls({{{wall_x, 5.0}, {wall_x, -5.0}, 0}}, {});  // facing -x
+    model.SetRobots({SquareRobot(-(0.19 + kHalf), kHalf)});    // its face 3 cm in
+    std::vector<RobotContactForce> forces;
+    model.Step(0.001, &forces);
+    EXPECT_EQ(forces.size(), 1u);
+    return forces.empty() ? RobotContactForce{} : forces[0];
+  };
+  const double k = options.body_stiffness_npm;
+  const RobotContactForce pressed = robot_force(0.03);
+  EXPECT_TRUE(pressed.pinned);
+  EXPECT_NEAR(-pressed.force_n.x(), k * 0.03, 1e-6 * k);
+  const RobotContactForce brushing = robot_force(0.001);
+  EXPECT_TRUE(brushing.pinned);
+  EXPECT_NEAR(-brushing.force_n.x(), options.max_push_force_n + k * 0.001, 1e-6 * k);
+  const RobotContactForce free = robot_force(-0.01);  // the wall 1 cm off
+  EXPECT_FALSE(free.pinned);
+  EXPECT_NEAR(free.force_n.norm(), options.max_push_force_n, 1e-6);
 }
 
 }  // namespace
